@@ -1,0 +1,8 @@
+# One place for compiler warnings, applied to every gimg target through gimg_set_warnings().
+function(gimg_set_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wnon-virtual-dtor
+                                           -Wcast-align -Woverloaded-virtual -Wnull-dereference)
+  if(GIMG_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()

@@ -1,0 +1,1 @@
+#include "gimg/engine/error.h"

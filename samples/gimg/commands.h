@@ -1,0 +1,16 @@
+#pragma once
+// Each gimg command lives in its own cmd_<name>.cpp and registers itself on the CLI11 app here.
+
+#include <CLI/CLI.hpp>
+
+namespace gimg::cli {
+
+struct GlobalOptions {
+    bool verbose = false;
+    bool quiet = false;
+};
+
+
+
+
+}  // namespace gimg::cli

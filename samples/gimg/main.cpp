@@ -1,0 +1,42 @@
+// gimg command line. Exit codes: 0 success, 2 bad input or usage (with a one-line message),
+// 1 any other failure (no Vulkan device, device lost, out of memory).
+#include "commands.h"
+
+#include "gimg/engine/error.h"
+#include "gimg/geometry/error.h"
+
+#include <cstdio>
+#include <exception>
+
+int main(int argc, char** argv) {
+    using namespace gimg::cli;
+    CLI::App app{"gimg: triangle meshes to geometry images and parameterizations, and back, on a "
+                 "Vulkan render graph"};
+    app.require_subcommand(1);
+    app.set_help_all_flag("--help-all", "Print help for every command");
+    GlobalOptions global;
+    app.add_flag("-v,--verbose", global.verbose, "Print the chosen Vulkan device and progress");
+    app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
+
+
+    try {
+        app.parse(argc, argv);
+    } catch (const CLI::CallForHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::CallForAllHelp& e) {
+        return app.exit(e);
+    } catch (const CLI::ParseError& e) {
+        app.exit(e);
+        return 2;
+    } catch (const gimg::geo::InputError& e) {
+        std::fprintf(stderr, "gimg: error: %s\n", e.what());
+        return 2;
+    } catch (const gimg::Error& e) {
+        std::fprintf(stderr, "gimg: error: %s\n", e.what());
+        return e.is_input_error() ? 2 : 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "gimg: error: %s\n", e.what());
+        return 1;
+    }
+    return 0;
+}
