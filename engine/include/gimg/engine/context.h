@@ -1,0 +1,131 @@
+#pragma once
+// The Vulkan context: instance, device and queue gimg works on, either its own (headless, no
+// window system) or borrowed from an embedding host. One queue. Not thread-safe: use a Context
+// and everything made from it from one thread at a time.
+
+#include "gimg/engine/memory.h"
+#include "gimg/engine/resources.h"
+
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace gimg {
+
+namespace detail {
+struct Device;
+}
+
+struct ContextOptions {
+    bool validation = false;          // Khronos validation with synchronization validation
+    bool require_validation = false;  // fail instead of warning when the layer is missing
+    std::string device_filter;        // case-insensitive part of the device name
+    bool verbose = false;             // print the chosen device to stderr
+
+    // GIMG_VALIDATION=1 turns validation on; GIMG_DEVICE=<part of a name> picks the device.
+    static ContextOptions from_environment();
+};
+
+struct DeviceInfo {
+    std::string name;                // VkPhysicalDeviceProperties::deviceName
+    std::string driver;              // driver name and info, e.g. "llvmpipe: Mesa 22.3.6 (LLVM 15)"
+    VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+    VkDriverId driver_id = VkDriverId(0);
+    std::uint32_t api_version = 0;
+    bool is_lavapipe = false;        // Mesa's CPU driver (driverID MESA_LLVMPIPE)
+    bool shader_float64 = false;
+    bool shader_int64 = false;
+    bool float_atomics = false;      // shaderBufferFloat32AtomicAdd
+    bool fill_mode_non_solid = false;
+    VkDeviceSize max_storage_buffer_range = 0;
+    std::uint32_t max_push_constants_size = 0;
+    std::uint32_t subgroup_size = 0;
+    double timestamp_period_ns = 0.0;  // 0 when the queue has no timestamps
+    std::string summary() const;       // one line: name, type, driver, API version
+};
+
+// Handles an embedding host owns and lends to gimg. The device must have been created with
+// Vulkan 1.3 and what required_device_extensions() and RequiredFeatures name. gimg creates its own
+// command pool, fences and pipelines on it and destroys them again; it never destroys the
+// host's objects and never waits on work that is not its own.
+struct ExternalDevice {
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physical_device = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;  // the host must not use it from another thread meanwhile
+    std::uint32_t queue_family = 0;
+    PFN_vkGetInstanceProcAddr get_instance_proc_addr = nullptr;  // the host's loader
+    // Optional: the VkPhysicalDeviceFeatures2 chain the device was created with, so gimg knows
+    // which optional features (float64, float atomics, ...) it may use.
+    const VkPhysicalDeviceFeatures2* enabled_features = nullptr;
+};
+
+// Device extensions gimg needs on a borrowed device.
+std::span<const char* const> required_device_extensions();
+
+// Features gimg needs, ready to chain into VkDeviceCreateInfo::pNext:
+//   RequiredFeatures f; create_info.pNext = f.chain();
+struct RequiredFeatures {
+    VkPhysicalDeviceFeatures2 features2{};
+    VkPhysicalDeviceVulkan12Features vulkan12{};
+    VkPhysicalDeviceVulkan13Features vulkan13{};
+    RequiredFeatures();
+    RequiredFeatures(const RequiredFeatures&) = delete;
+    RequiredFeatures& operator=(const RequiredFeatures&) = delete;
+    const void* chain() const { return &features2; }
+};
+
+class Context {
+public:
+    // A headless context on the best device: discrete > integrated > virtual > CPU, or the one
+    // options.device_filter names. Throws gimg::Error(Unsupported) when none qualifies.
+    static std::unique_ptr<Context> create(const ContextOptions& options = ContextOptions::from_environment());
+    // A context on the host's device and queue (see ExternalDevice).
+    static std::unique_ptr<Context> borrow(const ExternalDevice& external, const ContextOptions& options = {});
+    ~Context();
+    Context(const Context&) = delete;
+    Context& operator=(const Context&) = delete;
+
+    const DeviceInfo& device_info() const;
+    bool validation_enabled() const;
+    // Warnings and errors the validation layer reported so far (0 when validation is off).
+    std::uint64_t validation_message_count() const;
+
+    Buffer create_buffer(const BufferDesc& desc, MemoryUsage usage = MemoryUsage::DeviceLocal);
+    Image create_image(const ImageDesc& desc);
+
+    // Copies host data into a buffer (mapped memcpy or staging copy) and waits. Synchronises with
+    // earlier GPU use of the buffer through its last access.
+    void upload(Buffer& buffer, const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
+    template <class T>
+    void upload(Buffer& buffer, std::span<const T> data, VkDeviceSize offset = 0) {
+        upload(buffer, data.data(), data.size_bytes(), offset);
+    }
+    // Copies buffer contents to the host once all GPU work gimg submitted has finished.
+    void download(Buffer& buffer, void* out, VkDeviceSize bytes, VkDeviceSize offset = 0);
+    template <class T>
+    std::vector<T> download(Buffer& buffer) {
+        std::vector<T> out(buffer.size() / sizeof(T));
+        download(buffer, out.data(), out.size() * sizeof(T));
+        return out;
+    }
+    // Whole-image transfers, tightly packed rows of bytes_per_pixel(format).
+    void upload(Image& image, const void* pixels, VkDeviceSize bytes);
+    std::vector<std::byte> download(Image& image);
+
+    // Waits for every submission gimg made on this context.
+    void wait_idle();
+    MemoryStats memory_stats() const;
+
+    detail::Device& device() { return *device_; }
+
+private:
+    explicit Context(std::unique_ptr<detail::Device> device);
+    std::unique_ptr<detail::Device> device_;
+};
+
+}  // namespace gimg

@@ -1,0 +1,104 @@
+#include "gimg/engine/context.h"
+
+#include "check.h"
+#include "device.h"
+#include "device_setup.h"
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace gimg {
+
+ContextOptions ContextOptions::from_environment() {
+    ContextOptions o;
+    if (const char* v = std::getenv("GIMG_VALIDATION")) o.validation = std::string(v) == "1";
+    if (const char* d = std::getenv("GIMG_DEVICE")) o.device_filter = d;
+    return o;
+}
+
+std::string DeviceInfo::summary() const {
+    const char* kind = "other";
+    switch (type) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: kind = "discrete GPU"; break;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: kind = "integrated GPU"; break;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: kind = "virtual GPU"; break;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: kind = "CPU"; break;
+        default: break;
+    }
+    return name + " (" + kind + ", driver " + driver + ", Vulkan " +
+           std::to_string(VK_API_VERSION_MAJOR(api_version)) + "." +
+           std::to_string(VK_API_VERSION_MINOR(api_version)) + "." +
+           std::to_string(VK_API_VERSION_PATCH(api_version)) + ")";
+}
+
+namespace {
+constexpr const char* kRequiredExtensions[] = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+}
+
+std::span<const char* const> required_device_extensions() { return kRequiredExtensions; }
+
+RequiredFeatures::RequiredFeatures() {
+    features2.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2;
+    features2.pNext = &vulkan12;
+    vulkan12.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES;
+    vulkan12.pNext = &vulkan13;
+    vulkan12.timelineSemaphore = VK_TRUE;
+    vulkan13.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_3_FEATURES;
+    vulkan13.synchronization2 = VK_TRUE;
+    vulkan13.dynamicRendering = VK_TRUE;
+    vulkan13.maintenance4 = VK_TRUE;
+}
+
+Context::Context(std::unique_ptr<detail::Device> device) : device_(std::move(device)) {}
+Context::~Context() = default;
+
+std::unique_ptr<Context> Context::create(const ContextOptions& options) {
+    auto d = std::make_unique<detail::Device>();
+    detail::create_instance(*d, options);
+    d->physical = detail::choose_physical_device(*d, options.device_filter);
+    detail::create_device(*d);
+    d->init_engine_objects();
+    if (options.verbose)
+        std::fprintf(stderr, "gimg: device: %s%s\n", d->info.summary().c_str(),
+                     d->validation ? " [validation on]" : "");
+    return std::unique_ptr<Context>(new Context(std::move(d)));
+}
+
+std::unique_ptr<Context> Context::borrow(const ExternalDevice& ext, const ContextOptions& options) {
+    if (!ext.instance || !ext.physical_device || !ext.device || !ext.queue || !ext.get_instance_proc_addr)
+        throw Error(ErrorKind::InvalidArgument,
+                    "Context::borrow needs instance, physical device, device, queue and "
+                    "vkGetInstanceProcAddr");
+    auto d = std::make_unique<detail::Device>();
+    d->global = detail::load_global_functions(ext.get_instance_proc_addr);
+    d->instance = ext.instance;
+    d->physical = ext.physical_device;
+    d->device = ext.device;
+    d->queue = ext.queue;
+    d->queue_family = ext.queue_family;
+    d->ifn = detail::load_instance_functions(d->global, d->instance);
+    d->fn = detail::load_device_functions(d->ifn, d->device);
+    detail::describe_device(*d, ext.enabled_features);
+    if (d->info.api_version < VK_API_VERSION_1_3)
+        throw Error(ErrorKind::Unsupported, "the borrowed device " + d->info.name + " is not Vulkan 1.3");
+    d->init_engine_objects();
+    if (options.verbose)
+        std::fprintf(stderr, "gimg: device (borrowed): %s\n", d->info.summary().c_str());
+    return std::unique_ptr<Context>(new Context(std::move(d)));
+}
+
+const DeviceInfo& Context::device_info() const { return device_->info; }
+bool Context::validation_enabled() const { return device_->validation; }
+std::uint64_t Context::validation_message_count() const { return device_->validation_messages.load(); }
+
+Buffer Context::create_buffer(const BufferDesc& desc, MemoryUsage usage) {
+    return device_->create_buffer(desc, usage);
+}
+
+Image Context::create_image(const ImageDesc& desc) { return device_->create_image(desc); }
+
+void Context::wait_idle() { device_->wait_idle(); }
+
+MemoryStats Context::memory_stats() const { return device_->allocator.stats(); }
+
+}  // namespace gimg

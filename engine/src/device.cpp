@@ -1,0 +1,300 @@
+#include "device.h"
+
+#include "barrier_rules.h"
+#include "check.h"
+
+#include <cstdio>
+
+namespace gimg::detail {
+
+Device::~Device() {
+    if (device != VK_NULL_HANDLE) {
+        // Only gimg's own work: a borrowed queue may carry the host's work, which is not ours
+        // to wait for.
+        if (timeline != VK_NULL_HANDLE) {
+            try {
+                wait_idle();
+            } catch (const Error& e) {
+                std::fprintf(stderr, "gimg: while shutting down: %s\n", e.what());
+            }
+        }
+        if (pipelines) pipelines->clear();
+        if (sampler) fn.vkDestroySampler(device, sampler, nullptr);
+        if (command_pool) fn.vkDestroyCommandPool(device, command_pool, nullptr);
+        if (timeline) fn.vkDestroySemaphore(device, timeline, nullptr);
+        if (allocator.stats().allocations != 0)
+            std::fprintf(stderr, "gimg: %u device allocations outlived their Context (destroy "
+                                 "buffers, images and plans first)\n",
+                         allocator.stats().allocations);
+        if (owns_device) fn.vkDestroyDevice(device, nullptr);
+    }
+    if (messenger != VK_NULL_HANDLE) ifn.vkDestroyDebugUtilsMessengerEXT(instance, messenger, nullptr);
+    if (owns_instance && instance != VK_NULL_HANDLE) ifn.vkDestroyInstance(instance, nullptr);
+}
+
+void Device::init_engine_objects() {
+    allocator.init(&fn, device, memory_properties, 0, limits.nonCoherentAtomSize);
+    pipelines = std::make_unique<PipelineCache>(*this);
+
+    VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+    pool.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+    pool.queueFamilyIndex = queue_family;
+    GIMG_VK_CHECK(fn.vkCreateCommandPool(device, &pool, nullptr, &command_pool));
+
+    VkSemaphoreTypeCreateInfo type{VK_STRUCTURE_TYPE_SEMAPHORE_TYPE_CREATE_INFO};
+    type.semaphoreType = VK_SEMAPHORE_TYPE_TIMELINE;
+    type.initialValue = 0;
+    VkSemaphoreCreateInfo sem{VK_STRUCTURE_TYPE_SEMAPHORE_CREATE_INFO, &type};
+    GIMG_VK_CHECK(fn.vkCreateSemaphore(device, &sem, nullptr, &timeline));
+    set_name(VK_OBJECT_TYPE_SEMAPHORE, std::uint64_t(timeline), "gimg timeline");
+
+    VkSamplerCreateInfo s{VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO};
+    s.magFilter = s.minFilter = VK_FILTER_NEAREST;
+    s.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    s.addressModeU = s.addressModeV = s.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
+    s.maxLod = 0.0f;
+    GIMG_VK_CHECK(fn.vkCreateSampler(device, &s, nullptr, &sampler));
+}
+
+void Device::set_name(VkObjectType type, std::uint64_t handle, const std::string& name) const {
+    if (!debug_utils || !ifn.vkSetDebugUtilsObjectNameEXT || name.empty()) return;
+    VkDebugUtilsObjectNameInfoEXT name_info{VK_STRUCTURE_TYPE_DEBUG_UTILS_OBJECT_NAME_INFO_EXT};
+    name_info.objectType = type;
+    name_info.objectHandle = handle;
+    name_info.pObjectName = name.c_str();
+    ifn.vkSetDebugUtilsObjectNameEXT(device, &name_info);
+}
+
+namespace {
+// Every buffer can serve every purpose: choosing usage per buffer would buy nothing measurable
+// and would make imports fail in passes their creator did not foresee.
+constexpr VkBufferUsageFlags kBufferUsage =
+    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+    VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT |
+    VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+    VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+}  // namespace
+
+Buffer Device::create_buffer_unbound(const BufferDesc& desc) {
+    if (desc.size == 0)
+        throw Error(ErrorKind::InvalidArgument, "buffer '" + desc.name + "' has size 0");
+    Buffer b;
+    b.device_ = this;
+    b.size_ = desc.size;
+    b.name_ = desc.name;
+    VkBufferCreateInfo create{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+    create.size = desc.size;
+    create.usage = kBufferUsage;
+    create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    GIMG_VK_CHECK(fn.vkCreateBuffer(device, &create, nullptr, &b.buffer_));
+    set_name(VK_OBJECT_TYPE_BUFFER, std::uint64_t(b.buffer_), desc.name);
+    return b;
+}
+
+Buffer Device::create_buffer(const BufferDesc& desc, MemoryUsage usage) {
+    Buffer b = create_buffer_unbound(desc);
+    VkMemoryRequirements req;
+    fn.vkGetBufferMemoryRequirements(device, b.buffer_, &req);
+    Allocation a = allocator.allocate(req, usage, desc.name.empty() ? "buffer" : desc.name);
+    try {
+        bind(b, a);
+    } catch (...) {
+        allocator.free(a);
+        throw;
+    }
+    return b;
+}
+
+void Device::bind(Buffer& b, const Allocation& a) {
+    GIMG_VK_CHECK(fn.vkBindBufferMemory(device, b.buffer_, a.memory, a.offset));
+    b.allocation_ = a;
+}
+
+namespace {
+VkImageUsageFlags default_image_usage(Format format, VkFormatFeatureFlags features) {
+    VkImageUsageFlags usage = VK_IMAGE_USAGE_TRANSFER_SRC_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+    if (features & VK_FORMAT_FEATURE_SAMPLED_IMAGE_BIT) usage |= VK_IMAGE_USAGE_SAMPLED_BIT;
+    if (is_depth(format)) {
+        if (features & VK_FORMAT_FEATURE_DEPTH_STENCIL_ATTACHMENT_BIT)
+            usage |= VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+        return usage;
+    }
+    if (features & VK_FORMAT_FEATURE_STORAGE_IMAGE_BIT) usage |= VK_IMAGE_USAGE_STORAGE_BIT;
+    if (features & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BIT) usage |= VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+    return usage;
+}
+}  // namespace
+
+Image Device::create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usage) {
+    if (desc.width == 0 || desc.height == 0)
+        throw Error(ErrorKind::InvalidArgument, "image '" + desc.name + "' has a zero size");
+    if (desc.width > limits.maxImageDimension2D || desc.height > limits.maxImageDimension2D)
+        throw Error(ErrorKind::Unsupported,
+                    "image '" + desc.name + "' is " + std::to_string(desc.width) + "x" +
+                        std::to_string(desc.height) + "; the device allows at most " +
+                        std::to_string(limits.maxImageDimension2D) + " per side");
+    Image img;
+    img.device_ = this;
+    img.desc_ = desc;
+    VkImageCreateInfo create{VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO};
+    create.imageType = VK_IMAGE_TYPE_2D;
+    create.format = to_vk(desc.format);
+    create.extent = {desc.width, desc.height, 1};
+    create.mipLevels = 1;
+    create.arrayLayers = 1;
+    create.samples = VK_SAMPLE_COUNT_1_BIT;
+    create.tiling = VK_IMAGE_TILING_OPTIMAL;
+    create.usage = usage;
+    create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+    create.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    GIMG_VK_CHECK(fn.vkCreateImage(device, &create, nullptr, &img.image_));
+    set_name(VK_OBJECT_TYPE_IMAGE, std::uint64_t(img.image_), desc.name);
+    return img;
+}
+
+Image Device::create_image(const ImageDesc& desc) {
+    VkFormatProperties props;
+    ifn.vkGetPhysicalDeviceFormatProperties(physical, to_vk(desc.format), &props);
+    VkImageUsageFlags usage = default_image_usage(desc.format, props.optimalTilingFeatures);
+    Image img = create_image_unbound(desc, usage);
+    VkMemoryRequirements req;
+    fn.vkGetImageMemoryRequirements(device, img.image_, &req);
+    Allocation a = allocator.allocate(req, MemoryUsage::DeviceLocal, desc.name.empty() ? "image" : desc.name);
+    try {
+        bind(img, a);
+    } catch (...) {
+        allocator.free(a);
+        throw;
+    }
+    return img;
+}
+
+void Device::bind(Image& img, const Allocation& a) {
+    GIMG_VK_CHECK(fn.vkBindImageMemory(device, img.image_, a.memory, a.offset));
+    img.allocation_ = a;
+    VkImageViewCreateInfo view{VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO};
+    view.image = img.image_;
+    view.viewType = VK_IMAGE_VIEW_TYPE_2D;
+    view.format = to_vk(img.desc_.format);
+    view.subresourceRange = {
+        VkImageAspectFlags(is_depth(img.desc_.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
+        0, 1, 0, 1};
+    GIMG_VK_CHECK(fn.vkCreateImageView(device, &view, nullptr, &img.view_));
+}
+
+void Device::destroy(Buffer& b) {
+    if (b.buffer_) fn.vkDestroyBuffer(device, b.buffer_, nullptr);
+    allocator.free(b.allocation_);
+    b.buffer_ = VK_NULL_HANDLE;
+}
+
+void Device::destroy(Image& img) {
+    if (img.view_) fn.vkDestroyImageView(device, img.view_, nullptr);
+    if (img.image_) fn.vkDestroyImage(device, img.image_, nullptr);
+    allocator.free(img.allocation_);
+    img.view_ = VK_NULL_HANDLE;
+    img.image_ = VK_NULL_HANDLE;
+}
+
+VkCommandBuffer Device::allocate_command_buffer() {
+    VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+    alloc.commandPool = command_pool;
+    alloc.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+    alloc.commandBufferCount = 1;
+    VkCommandBuffer cmd;
+    GIMG_VK_CHECK(fn.vkAllocateCommandBuffers(device, &alloc, &cmd));
+    return cmd;
+}
+
+std::uint64_t Device::submit(VkCommandBuffer cmd) {
+    const std::uint64_t value = timeline_value + 1;
+    VkCommandBufferSubmitInfo cb{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
+    cb.commandBuffer = cmd;
+    VkSemaphoreSubmitInfo signal{VK_STRUCTURE_TYPE_SEMAPHORE_SUBMIT_INFO};
+    signal.semaphore = timeline;
+    signal.value = value;
+    signal.stageMask = VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT;
+    VkSubmitInfo2 submit{VK_STRUCTURE_TYPE_SUBMIT_INFO_2};
+    submit.commandBufferInfoCount = 1;
+    submit.pCommandBufferInfos = &cb;
+    submit.signalSemaphoreInfoCount = 1;
+    submit.pSignalSemaphoreInfos = &signal;
+    GIMG_VK_CHECK(fn.vkQueueSubmit2(queue, 1, &submit, VK_NULL_HANDLE));
+    timeline_value = value;
+    return value;
+}
+
+void Device::wait(std::uint64_t value) {
+    if (value == 0) return;
+    VkSemaphoreWaitInfo wait_info{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO};
+    wait_info.semaphoreCount = 1;
+    wait_info.pSemaphores = &timeline;
+    wait_info.pValues = &value;
+    GIMG_VK_CHECK(fn.vkWaitSemaphores(device, &wait_info, UINT64_MAX));
+}
+
+bool Device::finished(std::uint64_t value) {
+    std::uint64_t done = 0;
+    GIMG_VK_CHECK(fn.vkGetSemaphoreCounterValue(device, timeline, &done));
+    return done >= value;
+}
+
+void Device::run_now(const std::function<void(VkCommandBuffer)>& fill) {
+    VkCommandBuffer cmd = allocate_command_buffer();
+    struct Free {
+        Device* d;
+        VkCommandBuffer c;
+        ~Free() { d->fn.vkFreeCommandBuffers(d->device, d->command_pool, 1, &c); }
+    } free_later{this, cmd};
+    VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+    begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+    GIMG_VK_CHECK(fn.vkBeginCommandBuffer(cmd, &begin));
+    fill(cmd);
+    GIMG_VK_CHECK(fn.vkEndCommandBuffer(cmd));
+    wait(submit(cmd));
+}
+
+namespace {
+void record_barrier(const DeviceFns& fn, VkCommandBuffer cmd, const Barrier& b, VkImage image, Format format) {
+    VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
+    VkMemoryBarrier2 mem{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    VkImageMemoryBarrier2 img{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    if (image == VK_NULL_HANDLE) {
+        mem.srcStageMask = b.src_stages;
+        mem.srcAccessMask = b.src_access;
+        mem.dstStageMask = b.dst_stages;
+        mem.dstAccessMask = b.dst_access;
+        dep.memoryBarrierCount = 1;
+        dep.pMemoryBarriers = &mem;
+    } else {
+        img.srcStageMask = b.src_stages;
+        img.srcAccessMask = b.src_access;
+        img.dstStageMask = b.dst_stages;
+        img.dstAccessMask = b.dst_access;
+        img.oldLayout = b.old_layout;
+        img.newLayout = b.new_layout;
+        img.srcQueueFamilyIndex = img.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+        img.image = image;
+        img.subresourceRange = {
+            VkImageAspectFlags(is_depth(format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
+            0, 1, 0, 1};
+        dep.imageMemoryBarrierCount = 1;
+        dep.pImageMemoryBarriers = &img;
+    }
+    fn.vkCmdPipelineBarrier2(cmd, &dep);
+}
+}  // namespace
+
+void Device::transition(VkCommandBuffer cmd, Buffer& buffer, Access next) {
+    if (auto b = advance(buffer.sync_state(), access_info(next), false, false))
+        record_barrier(fn, cmd, *b, VK_NULL_HANDLE, Format::R32F);
+    buffer.last_access_ = next;
+}
+
+void Device::transition(VkCommandBuffer cmd, Image& image, Access next) {
+    if (auto b = advance(image.sync_state(), access_info(next), true, false))
+        record_barrier(fn, cmd, *b, image.vk(), image.format());
+    image.last_access_ = next;
+}
+
+}  // namespace gimg::detail

@@ -1,0 +1,89 @@
+#pragma once
+// Everything a Context holds: the Vulkan objects (owned or borrowed), the loaded entry points,
+// the allocator, the pipeline cache and the submission timeline. Engine-internal.
+
+#include "gimg/engine/context.h"
+#include "gimg/engine/resources.h"
+
+#include "allocator.h"
+#include "pipelines.h"
+#include "vk_dispatch.h"
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <string>
+
+namespace gimg::detail {
+
+struct Device {
+    GlobalFns global{};
+    InstanceFns ifn{};
+    DeviceFns fn{};
+
+    VkInstance instance = VK_NULL_HANDLE;
+    VkPhysicalDevice physical = VK_NULL_HANDLE;
+    VkDevice device = VK_NULL_HANDLE;
+    VkQueue queue = VK_NULL_HANDLE;
+    std::uint32_t queue_family = 0;
+    bool owns_instance = false;
+    bool owns_device = false;
+
+    bool validation = false;
+    bool debug_utils = false;  // object names available
+    VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+    std::atomic<std::uint64_t> validation_messages{0};
+
+    DeviceInfo info;
+    VkPhysicalDeviceMemoryProperties memory_properties{};
+    VkPhysicalDeviceLimits limits{};
+
+    Allocator allocator;
+    std::unique_ptr<PipelineCache> pipelines;
+    VkCommandPool command_pool = VK_NULL_HANDLE;
+    VkSampler sampler = VK_NULL_HANDLE;  // nearest, clamp-to-edge: for combined image samplers
+
+    // Every submission signals the next value of one timeline semaphore, so "wait for all of
+    // gimg's work" is one wait, and no fence is ever left behind on a borrowed queue.
+    VkSemaphore timeline = VK_NULL_HANDLE;
+    std::uint64_t timeline_value = 0;
+
+    Device() = default;
+    ~Device();
+    Device(const Device&) = delete;
+    Device& operator=(const Device&) = delete;
+
+    // Creates the engine's own objects once instance/device/queue are set.
+    void init_engine_objects();
+
+    void set_name(VkObjectType type, std::uint64_t handle, const std::string& name) const;
+
+    Buffer create_buffer(const BufferDesc& desc, MemoryUsage usage);
+    // A buffer whose memory the caller provides (a graph's aliasing block), or unbound (memory
+    // left empty) so the caller can query its requirements first.
+    Buffer create_buffer_unbound(const BufferDesc& desc);
+    Image create_image(const ImageDesc& desc);
+    Image create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usage);
+    void bind(Buffer& buffer, const Allocation& memory);
+    void bind(Image& image, const Allocation& memory);
+    void destroy(Buffer& buffer);
+    // For non-coherent host-visible memory (no-ops otherwise).
+    void flush_host_writes(const Buffer& buffer) const { allocator.flush(buffer.allocation_, 0); }
+    void invalidate_for_host(const Buffer& buffer) const { allocator.invalidate(buffer.allocation_, 0); }
+    void destroy(Image& image);
+
+    VkCommandBuffer allocate_command_buffer();
+    // Submits and returns the timeline value that marks its completion.
+    std::uint64_t submit(VkCommandBuffer cmd);
+    void wait(std::uint64_t value);
+    bool finished(std::uint64_t value);
+    void wait_idle() { wait(timeline_value); }
+    // Records `fill` into a one-time command buffer, submits it and waits.
+    void run_now(const std::function<void(VkCommandBuffer)>& fill);
+
+    // Barrier from a resource's tracked state to `next`, recorded into cmd; updates the state.
+    void transition(VkCommandBuffer cmd, Buffer& buffer, Access next);
+    void transition(VkCommandBuffer cmd, Image& image, Access next);
+};
+
+}  // namespace gimg::detail

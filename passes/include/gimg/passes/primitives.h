@@ -1,0 +1,23 @@
+#pragma once
+// Parallel primitives as render-graph passes: inclusive prefix sum and sum reduction of uint32
+// arrays (exact, deterministic). Building blocks for compaction (reconstruction), counting and
+// convergence tests of the solvers.
+
+#include "gimg/engine/graph.h"
+
+#include <cstdint>
+#include <string>
+
+namespace gimg::passes {
+
+// out[i] = in[0] + ... + in[i] for i < count. Adds one or more passes named "<name> ..." (names
+// must be unique in the graph). Returns the new version of `out`.
+BufferHandle add_inclusive_scan(Graph& graph, BufferHandle in, BufferHandle out, std::uint32_t count,
+                                const std::string& name = "scan");
+
+// out[0] = in[0] + ... + in[count-1] (modulo 2^32), by a fixed tree. Returns the new version of
+// `out` (at least 4 bytes).
+BufferHandle add_reduce_sum(Graph& graph, BufferHandle in, BufferHandle out, std::uint32_t count,
+                            const std::string& name = "sum");
+
+}  // namespace gimg::passes
