@@ -3,7 +3,6 @@
 #include "check.h"
 
 #include <algorithm>
-#include <cstdio>
 
 namespace gimg::detail {
 
@@ -49,17 +48,16 @@ std::uint32_t Allocator::choose_type(std::uint32_t type_bits, MemoryUsage usage)
 
 Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryUsage usage,
                                const std::string& what) {
-    auto mib = [](VkDeviceSize bytes) {
-        char buf[32];
-        std::snprintf(buf, sizeof buf, "%.1f MiB", double(bytes) / (1024.0 * 1024.0));
-        return std::string(buf);
-    };
     if (max_allocation_size_ && requirements.size > max_allocation_size_)
         throw Error(ErrorKind::OutOfMemory, "'" + what + "' needs " + mib(requirements.size) +
                                                 " in one allocation; the device allows at most " +
                                                 mib(max_allocation_size_));
     Allocation a;
     a.memory_type = choose_type(requirements.memoryTypeBits, usage);
+    const VkDeviceSize heap = props_.memoryHeaps[props_.memoryTypes[a.memory_type].heapIndex].size;
+    if (requirements.size > heap)
+        throw Error(ErrorKind::OutOfMemory, "'" + what + "' needs " + mib(requirements.size) +
+                                                "; the device's memory heap holds " + mib(heap));
     VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     info.allocationSize = requirements.size;
     info.memoryTypeIndex = a.memory_type;

@@ -1,5 +1,6 @@
 #include "check.h"
 
+#include <cstdio>
 #include <cstring>
 
 namespace gimg::detail {
@@ -50,12 +51,11 @@ const char* result_name(VkResult result) {
     }
 }
 
-void throw_vk_error(VkResult result, const char* call, const char* file, int line) {
+namespace {
+[[noreturn]] void throw_for(VkResult result, const std::string& what) {
     std::string where;
     if (const std::string* pass = PassScope::current()) where = "pass '" + *pass + "': ";
-    const char* base = std::strrchr(file, '/');
-    std::string message = where + call_name(call) + " failed with " + result_name(result) + " (" +
-                          (base ? base + 1 : file) + ":" + std::to_string(line) + ")";
+    const std::string message = where + what;
     switch (result) {
         case VK_ERROR_DEVICE_LOST:
             throw Error(ErrorKind::DeviceLost, message + ": the GPU device was lost");
@@ -72,6 +72,23 @@ void throw_vk_error(VkResult result, const char* call, const char* file, int lin
         default:
             throw Error(ErrorKind::Vulkan, message);
     }
+}
+}  // namespace
+
+void throw_vk_error(VkResult result, const char* call, const char* file, int line) {
+    const char* base = std::strrchr(file, '/');
+    throw_for(result, call_name(call) + " failed with " + result_name(result) + " (" + (base ? base + 1 : file) + ":" +
+                          std::to_string(line) + ")");
+}
+
+void check(VkResult result, const std::string& what) {
+    if (result != VK_SUCCESS) throw_for(result, what + " failed with " + result_name(result));
+}
+
+std::string mib(VkDeviceSize bytes) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.1f MiB", double(bytes) / (1024.0 * 1024.0));
+    return buf;
 }
 
 PassScope::PassScope(const std::string& pass_name) : previous_(current_pass) { current_pass = &pass_name; }

@@ -20,6 +20,11 @@ inline void check(VkResult result, const char* call, const char* file, int line)
     if (result != VK_SUCCESS) throw_vk_error(result, call, file, line);
 }
 
+// Like check(), with what was being done in words ("vkCreateBuffer for 'positions' (12.0 MiB)").
+void check(VkResult result, const std::string& what);
+
+std::string mib(VkDeviceSize bytes);
+
 // Names the render-graph pass that is recording on this thread, for error messages.
 class PassScope {
 public:

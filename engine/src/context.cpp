@@ -87,6 +87,12 @@ std::unique_ptr<Context> Context::borrow(const ExternalDevice& ext, const Contex
     return std::unique_ptr<Context>(new Context(std::move(d)));
 }
 
+std::vector<AvailableDevice> Context::list_devices(const std::string& device_filter) {
+    detail::Device d;
+    detail::create_instance(d, ContextOptions{});
+    return detail::list_physical_devices(d, device_filter);
+}
+
 const DeviceInfo& Context::device_info() const { return device_->info; }
 bool Context::validation_enabled() const { return device_->validation; }
 std::uint64_t Context::validation_message_count() const { return device_->validation_messages.load(); }

@@ -33,7 +33,7 @@ Device::~Device() {
 }
 
 void Device::init_engine_objects() {
-    allocator.init(&fn, device, memory_properties, 0, limits.nonCoherentAtomSize);
+    allocator.init(&fn, device, memory_properties, max_allocation_size, limits.nonCoherentAtomSize);
     pipelines = std::make_unique<PipelineCache>(*this);
 
     VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
@@ -86,7 +86,8 @@ Buffer Device::create_buffer_unbound(const BufferDesc& desc) {
     create.size = desc.size;
     create.usage = kBufferUsage;
     create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-    GIMG_VK_CHECK(fn.vkCreateBuffer(device, &create, nullptr, &b.buffer_));
+    check(fn.vkCreateBuffer(device, &create, nullptr, &b.buffer_),
+          "vkCreateBuffer for '" + desc.name + "' (" + mib(desc.size) + ")");
     set_name(VK_OBJECT_TYPE_BUFFER, std::uint64_t(b.buffer_), desc.name);
     return b;
 }
@@ -147,7 +148,9 @@ Image Device::create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usag
     create.usage = usage;
     create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     create.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-    GIMG_VK_CHECK(fn.vkCreateImage(device, &create, nullptr, &img.image_));
+    check(fn.vkCreateImage(device, &create, nullptr, &img.image_),
+          "vkCreateImage for '" + desc.name + "' (" + std::to_string(desc.width) + "x" +
+              std::to_string(desc.height) + " " + to_string(desc.format) + ")");
     set_name(VK_OBJECT_TYPE_IMAGE, std::uint64_t(img.image_), desc.name);
     return img;
 }

@@ -37,6 +37,7 @@ struct Device {
     DeviceInfo info;
     VkPhysicalDeviceMemoryProperties memory_properties{};
     VkPhysicalDeviceLimits limits{};
+    VkDeviceSize max_allocation_size = 0;
 
     Allocator allocator;
     std::unique_ptr<PipelineCache> pipelines;

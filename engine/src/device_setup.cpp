@@ -86,36 +86,48 @@ std::string missing_requirement(const InstanceFns& ifn, VkPhysicalDevice pd) {
 
 }  // namespace
 
-VkPhysicalDevice choose_physical_device(Device& d, const std::string& filter) {
+namespace {
+
+std::vector<Candidate> candidates_of(Device& d) {
     std::uint32_t n = 0;
     GIMG_VK_CHECK(d.ifn.vkEnumeratePhysicalDevices(d.instance, &n, nullptr));
     std::vector<VkPhysicalDevice> devices(n);
     GIMG_VK_CHECK(d.ifn.vkEnumeratePhysicalDevices(d.instance, &n, devices.data()));
-    if (devices.empty())
-        throw Error(ErrorKind::Unsupported,
-                    "no Vulkan device found (install mesa-vulkan-drivers for the lavapipe CPU driver)");
-
     std::vector<Candidate> candidates;
     for (VkPhysicalDevice pd : devices) {
         VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
         d.ifn.vkGetPhysicalDeviceProperties2(pd, &p2);
-        candidates.push_back({pd, p2.properties.deviceName, p2.properties.deviceType,
-                              missing_requirement(d.ifn, pd)});
+        candidates.push_back({pd, p2.properties.deviceName, p2.properties.deviceType, missing_requirement(d.ifn, pd)});
     }
-    std::string listing;
-    for (const auto& c : candidates)
-        listing += "\n  " + c.name + (c.problem.empty() ? "" : " (unusable: " + c.problem + ")");
+    return candidates;
+}
 
+// The best usable candidate the filter admits; nullptr when none. Throws when the filter names
+// a device that cannot serve.
+const Candidate* best_candidate(const std::vector<Candidate>& candidates, const std::string& filter) {
     const Candidate* best = nullptr;
     for (const auto& c : candidates) {
         if (!filter.empty() && lower(c.name).find(lower(filter)) == std::string::npos) continue;
         if (!filter.empty() && !c.problem.empty())
-            throw Error(ErrorKind::Unsupported, "GIMG_DEVICE='" + filter + "' names " + c.name +
-                                                    ", which " + c.problem);
+            throw Error(ErrorKind::Unsupported, "GIMG_DEVICE='" + filter + "' names " + c.name + ", which " + c.problem);
         if (!c.problem.empty()) continue;
         if (!best || type_rank(c.type) < type_rank(best->type)) best = &c;
     }
+    return best;
+}
+
+}  // namespace
+
+VkPhysicalDevice choose_physical_device(Device& d, const std::string& filter) {
+    std::vector<Candidate> candidates = candidates_of(d);
+    if (candidates.empty())
+        throw Error(ErrorKind::Unsupported,
+                    "no Vulkan device found (install mesa-vulkan-drivers for the lavapipe CPU driver)");
+    const Candidate* best = best_candidate(candidates, filter);
     if (!best) {
+        std::string listing;
+        for (const auto& c : candidates)
+            listing += "\n  " + c.name + (c.problem.empty() ? "" : " (unusable: " + c.problem + ")");
         if (!filter.empty())
             throw Error(ErrorKind::Unsupported,
                         "GIMG_DEVICE='" + filter + "' matches no Vulkan device; devices:" + listing);
@@ -124,6 +136,19 @@ VkPhysicalDevice choose_physical_device(Device& d, const std::string& filter) {
                                             "devices:" + listing);
     }
     return best->physical;
+}
+
+std::vector<AvailableDevice> list_physical_devices(Device& d, const std::string& filter) {
+    std::vector<Candidate> candidates = candidates_of(d);
+    const Candidate* best = nullptr;
+    try {
+        best = best_candidate(candidates, filter);
+    } catch (const Error&) {
+        best = nullptr;  // the listing shows why
+    }
+    std::vector<AvailableDevice> out;
+    for (const auto& c : candidates) out.push_back({c.name, c.type, c.problem, &c == best});
+    return out;
 }
 
 void create_device(Device& d) {
@@ -209,6 +234,7 @@ void describe_device(Device& d, const VkPhysicalDeviceFeatures2* enabled) {
     info.max_storage_buffer_range = d.limits.maxStorageBufferRange;
     info.max_push_constants_size = d.limits.maxPushConstantsSize;
     info.subgroup_size = p11.subgroupSize;
+    d.max_allocation_size = p11.maxMemoryAllocationSize;
 
     std::uint32_t n = 0;
     d.ifn.vkGetPhysicalDeviceQueueFamilyProperties(d.physical, &n, nullptr);

@@ -12,6 +12,8 @@ namespace gimg::detail {
 void create_instance(Device& d, const ContextOptions& options);
 // Picks the device: GIMG_DEVICE-style filter first, else discrete > integrated > virtual > CPU.
 VkPhysicalDevice choose_physical_device(Device& d, const std::string& filter);
+// Every device with what makes it unusable, and the one choose_physical_device would pick.
+std::vector<AvailableDevice> list_physical_devices(Device& d, const std::string& filter);
 // Creates the device with the required features and every optional one gimg can use.
 void create_device(Device& d);
 // Fills d.info and d.limits from the physical device (and the enabled-features chain, if any).

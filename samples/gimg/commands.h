@@ -10,7 +10,7 @@ struct GlobalOptions {
     bool quiet = false;
 };
 
-
-
+void add_devices_command(CLI::App& app, const GlobalOptions& global);
+void add_demo_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace gimg::cli

@@ -17,6 +17,8 @@ protected:
     void SetUp() override;
     void TearDown() override;
     Context& ctx() { return *ctx_; }
+    // For tests that provoke validation messages on purpose, after checking them.
+    void accept_validation_messages();
 
 private:
     Context* ctx_ = nullptr;

@@ -64,6 +64,14 @@ struct ExternalDevice {
     const VkPhysicalDeviceFeatures2* enabled_features = nullptr;
 };
 
+// A Vulkan device as gimg sees it when choosing one.
+struct AvailableDevice {
+    std::string name;
+    VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+    std::string problem;  // why gimg cannot use it; empty when it can
+    bool chosen = false;  // what Context::create would pick with the same filter
+};
+
 // Device extensions gimg needs on a borrowed device.
 std::span<const char* const> required_device_extensions();
 
@@ -86,6 +94,8 @@ public:
     static std::unique_ptr<Context> create(const ContextOptions& options = ContextOptions::from_environment());
     // A context on the host's device and queue (see ExternalDevice).
     static std::unique_ptr<Context> borrow(const ExternalDevice& external, const ContextOptions& options = {});
+    // Every device the Vulkan loader offers, and which one create() would choose.
+    static std::vector<AvailableDevice> list_devices(const std::string& device_filter = "");
     ~Context();
     Context(const Context&) = delete;
     Context& operator=(const Context&) = delete;

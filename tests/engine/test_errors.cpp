@@ -1,0 +1,130 @@
+// Failures become gimg::Error naming the pass, the call and the result; the validation harness
+// itself is checked by provoking a hazard it must see.
+#include "gimg/engine/error.h"
+#include "gimg/engine/graph.h"
+
+#include "gpu_test.h"
+
+#include "engine/scale_add_comp.h"
+
+#include <string>
+
+using namespace gimg;
+
+namespace {
+class EngineErrors : public gimg::test::GpuTest {};
+const Spirv kScaleAdd = GIMG_SPIRV(gimg_spv_engine_scale_add_comp);
+struct ScaleAdd {
+    std::uint32_t count;
+    float scale, offset;
+};
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+}  // namespace
+
+TEST_F(EngineErrors, WrongBindingsNameThePassAndTheProgram) {
+    Buffer a = ctx().create_buffer({256, "a"});
+    Graph g(ctx());
+    auto h = g.import_buffer(a);
+    g.add_compute_pass("one binding short", [&](PassBuilder& b) { h = b.write(h, Access::ComputeReadWrite); },
+                       [=](Cmd& c) { c.dispatch(kScaleAdd, {1}, {h}, ScaleAdd{64, 1.0f, 0.0f}); });
+    Plan plan = g.compile();
+    try {
+        plan.execute();
+        FAIL() << "a missing binding must fail";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::InvalidGraph);
+        EXPECT_TRUE(contains(e.what(), "one binding short")) << e.what();
+        EXPECT_TRUE(contains(e.what(), "scale_add")) << e.what();
+    }
+}
+
+TEST_F(EngineErrors, UndeclaredResourcesAndWrongPushConstantsAreRejected) {
+    Buffer a = ctx().create_buffer({256, "a"});
+    Buffer b = ctx().create_buffer({256, "b"});
+    {
+        Graph g(ctx());
+        auto ha = g.import_buffer(a);
+        auto hb = g.import_buffer(b);
+        g.add_compute_pass("reads b without saying", [&](PassBuilder& p) { ha = p.write(ha, Access::ComputeWrite); },
+                           [=](Cmd& c) { c.dispatch(kScaleAdd, {1}, {hb, ha}, ScaleAdd{64, 1.0f, 0.0f}); });
+        Plan plan = g.compile();
+        try {
+            plan.execute();
+            FAIL() << "an undeclared resource must fail";
+        } catch (const Error& e) {
+            EXPECT_TRUE(contains(e.what(), "did not declare")) << e.what();
+            EXPECT_TRUE(contains(e.what(), "'b'")) << e.what();
+        }
+    }
+    {
+        Graph g(ctx());
+        auto ha = g.import_buffer(a);
+        auto hb = g.import_buffer(b);
+        g.add_compute_pass("short push", [&](PassBuilder& p) {
+            p.read(ha, Access::ComputeRead);
+            hb = p.write(hb, Access::ComputeWrite);
+        }, [=](Cmd& c) { c.dispatch(kScaleAdd, {1}, {ha, hb}, std::uint32_t(64)); });
+        Plan plan = g.compile();
+        try {
+            plan.execute();
+            FAIL() << "too few push-constant bytes must fail";
+        } catch (const Error& e) {
+            EXPECT_TRUE(contains(e.what(), "12 bytes of push constants")) << e.what();
+        }
+    }
+}
+
+TEST_F(EngineErrors, ImpossibleAllocationsAreReportedNotCrashedOn) {
+    try {
+        Buffer huge = ctx().create_buffer({VkDeviceSize(1) << 45, "huge"});
+        FAIL() << "a 32 TiB buffer cannot exist";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::OutOfMemory) << e.what();
+        EXPECT_TRUE(contains(e.what(), "'huge'")) << e.what();
+    }
+    // Bigger than the memory heap or one allocation may be: refused before Vulkan is asked.
+    const VkDeviceSize too_big = VkDeviceSize(1) << 40;
+    try {
+        Buffer big = ctx().create_buffer({too_big / 1024 * 1023, "bigger than the heap"});
+        FAIL() << "a 1023 GiB allocation cannot succeed";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::OutOfMemory) << e.what();
+        EXPECT_TRUE(contains(e.what(), "bigger than the heap")) << e.what();
+    }
+    // The context stays usable.
+    Buffer fine = ctx().create_buffer({64, "fine"});
+    std::uint32_t v = 7;
+    ctx().upload(fine, &v, 4);
+    std::uint32_t back = 0;
+    ctx().download(fine, &back, 4);
+    EXPECT_EQ(back, 7u);
+}
+
+TEST_F(EngineErrors, SynchronizationValidationSeesAMissingBarrier) {
+    if (!ctx().validation_enabled()) GTEST_SKIP() << "validation is off";
+    // A raw copy the pass does not declare: the graph cannot order it, and syncval must notice.
+    Buffer a = ctx().create_buffer({256, "a"});
+    Buffer b = ctx().create_buffer({256, "b"});
+    Graph g(ctx());
+    auto ha = g.import_buffer(a);
+    auto hb = g.import_buffer(b);
+    g.add_compute_pass("write b", [&](PassBuilder& p) {
+        p.read(ha, Access::ComputeRead);
+        hb = p.write(hb, Access::ComputeWrite);
+    }, [=](Cmd& c) { c.dispatch(kScaleAdd, {1}, {ha, hb}, ScaleAdd{64, 1.0f, 0.0f}); });
+    g.add_compute_pass("undeclared copy", [&](PassBuilder& p) {
+        p.read(ha, Access::TransferSrc);
+        p.keep();
+    }, [=, vb = b.vk(), va = a.vk()](Cmd& c) {
+        VkBufferCopy region{0, 0, 256};
+        vkCmdCopyBuffer(c.vk(), va, vb, 1, &region);  // writes b: write-after-write hazard
+    });
+    const std::uint64_t before = ctx().validation_message_count();
+    testing::internal::CaptureStderr();
+    g.compile().execute();
+    const std::string log = testing::internal::GetCapturedStderr();
+    EXPECT_GT(ctx().validation_message_count(), before);
+    EXPECT_TRUE(contains(log, "SYNC-HAZARD")) << log;
+    accept_validation_messages();
+}

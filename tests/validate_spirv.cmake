@@ -1,0 +1,10 @@
+# ctest driver: spirv-val --target-env vulkan1.3 over every SPIR-V module the build embeds.
+string(REPLACE "|" ";" SPV_FILES "${SPV_FILES}")
+foreach(spv IN LISTS SPV_FILES)
+  execute_process(COMMAND "${SPIRV_VAL}" --target-env vulkan1.3 "${spv}" RESULT_VARIABLE r ERROR_VARIABLE err)
+  if(r)
+    message(SEND_ERROR "spirv-val rejects ${spv}: ${err}")
+  endif()
+endforeach()
+list(LENGTH SPV_FILES n)
+message(STATUS "spirv-val accepted ${n} modules")
