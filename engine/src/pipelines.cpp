@@ -94,12 +94,6 @@ Pipeline PipelineCache::make_layout(const std::vector<ShaderReflection>& stages,
     std::sort(p.bindings.begin(), p.bindings.end(),
               [](const ReflectedBinding& a, const ReflectedBinding& b) { return a.binding < b.binding; });
 
-    VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
-    set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
-    set.bindingCount = std::uint32_t(bindings.size());
-    set.pBindings = bindings.data();
-    GIMG_VK_CHECK(device_.fn.vkCreateDescriptorSetLayout(device_.device, &set, nullptr, &p.set_layout));
-
     VkPushConstantRange range{};
     p.push_range_bytes = std::min(device_.limits.maxPushConstantsSize, kPushRangeCap);
     if (p.push_constant_bytes > p.push_range_bytes)
@@ -107,6 +101,12 @@ Pipeline PipelineCache::make_layout(const std::vector<ShaderReflection>& stages,
                                                     std::to_string(p.push_constant_bytes) +
                                                     " bytes of push constants; the limit is " +
                                                     std::to_string(p.push_range_bytes));
+    VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+    set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+    set.bindingCount = std::uint32_t(bindings.size());
+    set.pBindings = bindings.data();
+    GIMG_VK_CHECK(device_.fn.vkCreateDescriptorSetLayout(device_.device, &set, nullptr, &p.set_layout));
+
     range.stageFlags = p.push_stages;
     range.size = p.push_range_bytes;
     VkPipelineLayoutCreateInfo layout{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
@@ -114,7 +114,9 @@ Pipeline PipelineCache::make_layout(const std::vector<ShaderReflection>& stages,
     layout.pSetLayouts = &p.set_layout;
     layout.pushConstantRangeCount = p.push_stages ? 1 : 0;
     layout.pPushConstantRanges = &range;
-    GIMG_VK_CHECK(device_.fn.vkCreatePipelineLayout(device_.device, &layout, nullptr, &p.layout));
+    VkResult result = device_.fn.vkCreatePipelineLayout(device_.device, &layout, nullptr, &p.layout);
+    if (result != VK_SUCCESS) destroy_layouts(p);
+    GIMG_VK_CHECK(result);
     if (!p.push_stages) p.push_range_bytes = 0;
     return p;
 }

@@ -165,14 +165,7 @@ void hand_back_imports(PlanData& d, const detail::Schedule& s) {
         auto& ph = d.physicals[p];
         const bool imported = ph.imported();
         const detail::ResourceDecl* decl = imported ? &d.graph.resources[ph.import_of] : nullptr;
-        Access last = Access::None;
-        if (ph.export_access) {
-            last = *ph.export_access;
-        } else {
-            for (const auto& cp : d.passes)
-                for (const auto& a : d.graph.passes[cp.decl].accesses)
-                    if (d.physical_of[a.resource] == std::int32_t(p)) last = a.access;
-        }
+        const Access last = ph.export_access ? *ph.export_access : ph.last_access;
         if (ph.image) {
             Image& img = imported ? *decl->imported_image : ph.image_object;
             img.set_last_access(last);

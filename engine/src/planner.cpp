@@ -235,6 +235,10 @@ std::unique_ptr<PlanData> plan_graph(Context* ctx, GraphData&& graph) {
         }
     }
 
+    for (const CompiledPass& cp : plan->passes)
+        for (const AccessDecl& a : plan->graph.passes[cp.decl].accesses)
+            if (plan->physical_of[a.resource] >= 0) plan->physicals[plan->physical_of[a.resource]].last_access = a.access;
+
     plan->device = ctx ? &ctx->device() : nullptr;
     place_transient_memory(*plan);
 

@@ -41,6 +41,7 @@ struct PhysicalResource {
     std::int32_t import_of = -1;  // logical index when this is an imported resource
     bool exported = false;        // holds an exported transient: never reused or aliased
     std::optional<Access> export_access;
+    Access last_access = Access::None;  // of the last pass using it (what Buffer::last_access says after)
     BufferDesc buffer_desc;
     ImageDesc image_desc;
     VkImageUsageFlags image_usage = 0;
