@@ -1,0 +1,43 @@
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/image.h"
+
+#include "test_data.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+using namespace gimg::geo;
+
+TEST(Image, PngRoundTripIsLossless) {
+    RgbaImage img(17, 9);
+    for (std::size_t i = 0; i < img.pixels.size(); ++i) img.pixels[i] = std::uint8_t(i * 37 % 256);
+    auto path = gimg::test::output_dir("image") / "roundtrip.png";
+    write_png(img, path);
+    RgbaImage back = read_png(path);
+    EXPECT_EQ(back.width, 17u);
+    EXPECT_EQ(back.height, 9u);
+    EXPECT_EQ(back.pixels, img.pixels);
+}
+
+TEST(Image, CompareCountsPixelsBeyondTheTolerance) {
+    RgbaImage a(10, 10), b(10, 10);
+    b.at(3, 4)[0] = 10;   // within a tolerance of 10
+    b.at(5, 5)[2] = 200;  // beyond
+    b.at(9, 9)[3] = 11;   // beyond
+    ImageDifference d = compare_images(a, b, 10);
+    EXPECT_TRUE(d.same_size);
+    EXPECT_EQ(d.max_abs_difference, 200);
+    EXPECT_EQ(d.differing_pixels, 2u);
+    EXPECT_DOUBLE_EQ(d.differing_share, 0.02);
+    EXPECT_GT(d.diff.at(5, 5)[0], 200);
+    EXPECT_EQ(compare_images(a, RgbaImage(10, 11), 0).differing_share, 1.0);
+}
+
+TEST(Image, UnreadableFilesAreInputErrors) {
+    auto path = gimg::test::output_dir("image") / "not_a.png";
+    std::ofstream(path) << "garbage";
+    EXPECT_THROW(read_png(path), InputError);
+    EXPECT_THROW(read_png(gimg::test::output_dir("image") / "missing.png"), InputError);
+    EXPECT_THROW(write_png(RgbaImage(2, 2), "/nonexistent-folder/x.png"), InputError);
+}
