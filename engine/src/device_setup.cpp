@@ -234,6 +234,7 @@ void describe_device(Device& d, const VkPhysicalDeviceFeatures2* enabled) {
     info.max_storage_buffer_range = d.limits.maxStorageBufferRange;
     info.max_push_constants_size = d.limits.maxPushConstantsSize;
     info.subgroup_size = p11.subgroupSize;
+    info.max_image_dimension_2d = d.limits.maxImageDimension2D;
     d.max_allocation_size = p11.maxMemoryAllocationSize;
 
     std::uint32_t n = 0;

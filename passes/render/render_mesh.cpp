@@ -1,0 +1,183 @@
+#include "gimg/passes/render.h"
+
+#include "gimg/engine/graph.h"
+#include "gimg/geometry/error.h"
+
+#include "render/downsample_comp.h"
+#include "render/mesh_frag.h"
+#include "render/mesh_vert.h"
+#include "render/render_params.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace gimg::passes {
+
+namespace {
+
+const RasterProgram kMeshProgram{GIMG_SPIRV(gimg_spv_render_mesh_vert), GIMG_SPIRV(gimg_spv_render_mesh_frag),
+                                 RasterState{}};
+const Spirv kDownsample = GIMG_SPIRV(gimg_spv_render_downsample_comp);
+
+struct DrawPush {
+    glm::mat4 view_projection;
+    glm::vec4 eye;
+    glm::vec4 scalar_range;  // min, max, checker scale, wire width
+    std::uint32_t color_mode;
+    std::uint32_t flags;
+    std::uint32_t pad[2];
+};
+static_assert(sizeof(DrawPush) <= 128);
+
+struct DownsamplePush {
+    std::uint32_t size[2];
+    std::uint32_t factor;
+    std::uint32_t pad;
+    float background[4];
+};
+
+// Angle-weighted vertex normals, for smooth shading.
+std::vector<float> vertex_normals(const geo::Mesh& mesh) {
+    std::vector<glm::dvec3> n(mesh.vertex_count(), glm::dvec3(0.0));
+    for (const glm::uvec3& t : mesh.triangles) {
+        const unsigned c[3] = {t.x, t.y, t.z};
+        glm::dvec3 face = glm::cross(mesh.positions[c[1]] - mesh.positions[c[0]], mesh.positions[c[2]] - mesh.positions[c[0]]);
+        const double len = glm::length(face);
+        if (len == 0.0) continue;
+        face /= len;
+        for (int k = 0; k < 3; ++k) {
+            const glm::dvec3 e1 = mesh.positions[c[(k + 1) % 3]] - mesh.positions[c[k]];
+            const glm::dvec3 e2 = mesh.positions[c[(k + 2) % 3]] - mesh.positions[c[k]];
+            const double l1 = glm::length(e1), l2 = glm::length(e2);
+            if (l1 == 0.0 || l2 == 0.0) continue;
+            n[c[k]] += face * std::acos(std::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0));
+        }
+    }
+    std::vector<float> out(3 * n.size());
+    for (std::size_t i = 0; i < n.size(); ++i) {
+        const double len = glm::length(n[i]);
+        const glm::dvec3 u = len > 0.0 ? n[i] / len : glm::dvec3(0.0, 0.0, 1.0);
+        out[3 * i] = float(u.x), out[3 * i + 1] = float(u.y), out[3 * i + 2] = float(u.z);
+    }
+    return out;
+}
+
+std::pair<float, float> default_range(std::vector<float> values, bool symmetric) {
+    std::sort(values.begin(), values.end());
+    const float lo = values[std::size_t(0.02 * double(values.size() - 1))];
+    const float hi = values[std::size_t(0.98 * double(values.size() - 1))];
+    if (symmetric) {
+        const float m = std::max(std::max(std::abs(lo), std::abs(hi)), 1e-20f);
+        return {-m, m};
+    }
+    return {lo, hi > lo ? hi : lo + 1.0f};
+}
+
+Buffer upload(Context& ctx, const void* data, std::size_t bytes, const char* name) {
+    const float dummy[4] = {0, 0, 0, 0};
+    if (bytes == 0) data = dummy, bytes = sizeof dummy;  // every binding needs a buffer
+    Buffer b = ctx.create_buffer({bytes, name});
+    ctx.upload(b, data, bytes);
+    return b;
+}
+
+}  // namespace
+
+geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOptions& o,
+                           const std::optional<Camera>& camera_override) {
+    if (mesh.face_count() == 0) throw geo::InputError("nothing to render: the mesh has no faces");
+    if (o.width == 0 || o.height == 0) throw geo::InputError("render size must be at least 1x1");
+    const bool scalar_mode = o.color == MeshColor::Scalar || o.color == MeshColor::Diverging;
+    if (scalar_mode && o.scalars.size() != mesh.vertex_count())
+        throw geo::InputError("colour by scalar needs one value per vertex: got " + std::to_string(o.scalars.size()) +
+                              " for " + std::to_string(mesh.vertex_count()) + " vertices");
+    const std::uint32_t limit = std::max(ctx.device_info().max_image_dimension_2d, 1u);
+    if (o.width > limit || o.height > limit)
+        throw geo::InputError("render size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
+                              " exceeds the device's limit of " + std::to_string(limit));
+    const std::uint32_t ss = std::clamp(std::min(o.supersample, limit / std::max(o.width, o.height)), 1u, 8u);
+
+    std::vector<float> positions(3 * mesh.vertex_count());
+    for (std::size_t i = 0; i < mesh.vertex_count(); ++i)
+        for (int k = 0; k < 3; ++k) positions[3 * i + k] = float(mesh.positions[i][k]);
+    std::vector<float> normals = o.smooth ? vertex_normals(mesh) : std::vector<float>{};
+    std::vector<float> texcoords;
+    if (mesh.has_texcoords())
+        for (const auto& t : mesh.texcoords) texcoords.push_back(float(t.x)), texcoords.push_back(float(t.y));
+
+    Buffer pos_buf = upload(ctx, positions.data(), positions.size() * 4, "positions");
+    Buffer tri_buf = upload(ctx, mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3), "triangles");
+    Buffer nrm_buf = upload(ctx, normals.data(), normals.size() * 4, "normals");
+    Buffer sca_buf = upload(ctx, o.scalars.data(), scalar_mode ? o.scalars.size() * 4 : 0, "scalars");
+    Buffer tex_buf = upload(ctx, texcoords.data(), texcoords.size() * 4, "texcoords");
+
+    const geo::Bounds bounds = mesh.bounds();
+    const double aspect = double(o.width) / double(o.height);
+    const Camera camera = camera_override ? *camera_override : fit_camera(mesh.positions, o.view, aspect);
+    DrawPush push{};
+    push.view_projection = camera.view_projection(aspect);
+    push.eye = glm::vec4(glm::vec3(camera.eye), 1.0f);
+    const auto range = o.scalar_range ? *o.scalar_range
+                       : scalar_mode  ? default_range(o.scalars, o.color == MeshColor::Diverging)
+                                      : std::pair<float, float>{0.0f, 1.0f};
+    const double cells = mesh.has_texcoords() ? o.checker_cells : o.checker_cells / std::max(bounds.diagonal(), 1e-12);
+    push.scalar_range = {range.first, range.second, float(cells), 1.1f * float(ss)};
+    switch (o.color) {
+        case MeshColor::Plain: push.color_mode = GIMG_COLOR_PLAIN; break;
+        case MeshColor::Normal: push.color_mode = GIMG_COLOR_NORMAL; break;
+        case MeshColor::Checker: push.color_mode = GIMG_COLOR_CHECKER; break;
+        case MeshColor::Scalar: push.color_mode = GIMG_COLOR_SCALAR; break;
+        case MeshColor::Diverging: push.color_mode = GIMG_COLOR_DIVERGING; break;
+    }
+    push.flags = (o.wireframe ? GIMG_RENDER_WIREFRAME : 0u) | (mesh.has_texcoords() ? GIMG_RENDER_HAS_TEXCOORDS : 0u) |
+                 (o.smooth ? GIMG_RENDER_SMOOTH : 0u);
+
+    Graph g(ctx);
+    auto pos = g.import_buffer(pos_buf), tri = g.import_buffer(tri_buf), nrm = g.import_buffer(nrm_buf);
+    auto sca = g.import_buffer(sca_buf), tex = g.import_buffer(tex_buf);
+    auto samples = g.create_image({o.width * ss, o.height * ss, Format::RGBA8, "samples"});
+    auto depth = g.create_image({o.width * ss, o.height * ss, Format::D32F, "depth"});
+    auto picture = g.create_image({o.width, o.height, Format::RGBA8, "picture"});
+    const std::uint32_t vertex_count = std::uint32_t(3 * mesh.face_count());
+    g.add_raster_pass("draw mesh", [&](PassBuilder& b) {
+        for (auto h : {pos, tri, nrm, sca, tex}) b.read(h, Access::VertexRead);
+        samples = b.color(samples, ClearValue::color(0, 0, 0, 0));
+        depth = b.depth(depth, ClearValue::depth(1.0f));
+    }, [=](Cmd& c) { c.draw(kMeshProgram, vertex_count, 1, {pos, tri, nrm, sca, tex}, push); });
+    DownsamplePush dpush{{o.width, o.height}, ss, 0, {o.background[0], o.background[1], o.background[2], 1.0f}};
+    g.add_compute_pass("downsample", [&](PassBuilder& b) {
+        b.read(samples, Access::ComputeRead);
+        picture = b.write(picture, Access::ComputeWrite);
+    }, [=](Cmd& c) { c.dispatch_threads(kDownsample, {o.width, o.height}, {samples, picture}, dpush); });
+    g.export_image(picture, Access::TransferSrc);
+    Plan plan = g.compile();
+    plan.execute();
+
+    std::vector<std::byte> bytes = ctx.download(plan.image(picture));
+    geo::RgbaImage image(o.width, o.height);
+    std::memcpy(image.pixels.data(), bytes.data(), image.pixels.size());
+    return image;
+}
+
+geo::RgbaImage render_side_by_side(Context& ctx, const geo::Mesh& left, const geo::Mesh& right,
+                                   const RenderOptions& options) {
+    std::vector<glm::dvec3> both = left.positions;
+    both.insert(both.end(), right.positions.begin(), right.positions.end());
+    const Camera camera = fit_camera(both, options.view, double(options.width) / double(options.height));
+    RenderOptions right_options = options;
+    if (options.color == MeshColor::Scalar || options.color == MeshColor::Diverging) right_options.scalars.clear(),
+        right_options.color = MeshColor::Plain;  // scalars belong to one mesh
+    geo::RgbaImage l = render_mesh(ctx, left, options, camera);
+    geo::RgbaImage r = render_mesh(ctx, right, right_options, camera);
+    geo::RgbaImage out(2 * options.width, options.height);
+    for (std::uint32_t y = 0; y < options.height; ++y) {
+        std::memcpy(out.at(0, y), l.at(0, y), std::size_t(options.width) * 4);
+        std::memcpy(out.at(options.width, y), r.at(0, y), std::size_t(options.width) * 4);
+    }
+    return out;
+}
+
+}  // namespace gimg::passes
