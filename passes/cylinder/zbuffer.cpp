@@ -1,0 +1,250 @@
+// The GPU cylindrical Z-buffer: classify + split (compute), curved raster (graphics), one graph.
+#include "gimg/passes/cylinder.h"
+
+#include "gimg/engine/error.h"
+#include "gimg/engine/graph.h"
+
+#include "cylinder/classify_comp.h"
+#include "cylinder/cylinder_layout.h"
+#include "cylinder/zbuffer_float_frag.h"
+#include "cylinder/zbuffer_frag.h"
+#include "cylinder/zbuffer_vert.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+
+namespace gimg::passes {
+
+namespace {
+
+const Spirv kClassify = GIMG_SPIRV(gimg_spv_cylinder_classify_comp);
+const RasterState kDepthMax{.cull = CullMode::None, .depth_test = true, .depth_write = true,
+                            .depth_compare = CompareOp::Less};
+const RasterProgram kZBuffer{GIMG_SPIRV(gimg_spv_cylinder_zbuffer_vert), GIMG_SPIRV(gimg_spv_cylinder_zbuffer_frag),
+                             kDepthMax};
+const RasterProgram kZBufferFloat{GIMG_SPIRV(gimg_spv_cylinder_zbuffer_vert),
+                                  GIMG_SPIRV(gimg_spv_cylinder_zbuffer_float_frag), kDepthMax};
+
+// Mirrors struct CylinderJob in shaders/cylinder/cylinder_job.h (std430).
+struct JobGpu {
+    float rows[12];
+    std::uint32_t first_face, face_count, face_prefix, vertex_offset, tile_x, tile_y, pad0, pad1;
+};
+static_assert(sizeof(JobGpu) == 80);
+
+struct ClassifyPush {
+    std::uint32_t total_faces, job_count, width, height, max_rects;
+};
+struct DrawPush {
+    float atlas_size[2];
+    std::uint32_t image_size[2];
+};
+
+struct MeshRange {
+    std::uint32_t vertex_offset, first_face, face_count;
+};
+
+}  // namespace
+
+std::vector<std::array<double, 2>> cylinder_directions(std::uint32_t width) {
+    std::vector<std::array<double, 2>> d(width);
+    for (std::uint32_t u = 0; u < width; ++u) {
+        const double theta = 2.0 * std::numbers::pi * (double(u) + 0.5) / double(width);
+        d[u] = {std::cos(theta), std::sin(theta)};
+    }
+    return d;
+}
+
+struct CylinderZBuffer::State {
+    Context& ctx;
+    std::uint32_t width, height;
+    bool use_double;
+
+    std::vector<float> positions;
+    std::vector<std::uint32_t> triangles;
+    std::vector<MeshRange> meshes;
+    bool geometry_dirty = true;
+
+    Buffer positions_buf, triangles_buf, directions_buf, jobs_buf, rects_buf, args_buf;
+    Image atlas;
+    std::uint32_t job_capacity = 0, rect_capacity = 0, tiles_per_row = 1;
+    std::optional<Plan> plan;
+
+    // Read by the record callbacks at every execution.
+    ClassifyPush classify{};
+    DrawPush draw{};
+
+    State(Context& c, std::uint32_t w, std::uint32_t h) : ctx(c), width(w), height(h) {
+        use_double = ctx.device_info().shader_float64;
+        const auto dirs = cylinder_directions(w);
+        if (use_double) {
+            directions_buf = ctx.create_buffer({w * 16ull, "cylinder directions"});
+            ctx.upload(directions_buf, dirs.data(), w * 16ull);
+        } else {
+            std::vector<float> f(2 * w);
+            for (std::uint32_t u = 0; u < w; ++u) f[2 * u] = float(dirs[u][0]), f[2 * u + 1] = float(dirs[u][1]);
+            directions_buf = ctx.create_buffer({w * 8ull, "cylinder directions"});
+            ctx.upload(directions_buf, f.data(), w * 8ull);
+        }
+        args_buf = ctx.create_buffer({16, "cylinder draw arguments"});
+    }
+
+    void upload_geometry() {
+        positions_buf = ctx.create_buffer({std::max<std::size_t>(positions.size(), 4) * 4, "cylinder positions"});
+        triangles_buf = ctx.create_buffer({std::max<std::size_t>(triangles.size(), 4) * 4, "cylinder triangles"});
+        if (!positions.empty()) ctx.upload(positions_buf, positions.data(), positions.size() * 4);
+        if (!triangles.empty()) ctx.upload(triangles_buf, triangles.data(), triangles.size() * 4);
+        geometry_dirty = false;
+        plan.reset();
+    }
+
+    void reserve(std::uint32_t jobs, std::uint64_t faces) {
+        const std::uint64_t rects = std::max<std::uint64_t>(GIMG_CYL_RECTS_PER_FACE * faces, 1);
+        if (jobs <= job_capacity && rects <= rect_capacity && plan) return;
+        const std::uint32_t max_dim = ctx.device_info().max_image_dimension_2d;
+        tiles_per_row = std::max(1u, max_dim / width);
+        if (jobs > job_capacity) job_capacity = std::max(jobs, 2 * job_capacity);
+        const std::uint32_t columns = std::min(job_capacity, tiles_per_row);
+        const std::uint32_t rows = (job_capacity + tiles_per_row - 1) / tiles_per_row;
+        if (std::uint64_t(rows) * height > max_dim)
+            throw Error(ErrorKind::InvalidArgument, "a batch of " + std::to_string(jobs) + " images of " +
+                                                        std::to_string(width) + "x" + std::to_string(height) +
+                                                        " does not fit one atlas; project fewer at a time");
+        if (rects > rect_capacity)
+            rect_capacity = std::uint32_t(std::min<std::uint64_t>(std::max<std::uint64_t>(rects, 2ull * rect_capacity), UINT32_MAX));
+        const VkDeviceSize rect_bytes = VkDeviceSize(rect_capacity) * 16;
+        if (rect_bytes > ctx.device_info().max_storage_buffer_range)
+            throw Error(ErrorKind::InvalidArgument, "too many faces in one batch for this device (" +
+                                                        std::to_string(faces) + "); project fewer at a time");
+        jobs_buf = ctx.create_buffer({VkDeviceSize(job_capacity) * sizeof(JobGpu), "cylinder jobs"});
+        rects_buf = ctx.create_buffer({rect_bytes, "cylinder rectangles"});
+        atlas = ctx.create_image({columns * width, rows * height, Format::R32F, "cylinder atlas"});
+        build_plan();
+    }
+
+    void build_plan() {
+        Graph g(ctx);
+        auto pos = g.import_buffer(positions_buf), tri = g.import_buffer(triangles_buf);
+        auto jobs = g.import_buffer(jobs_buf), rects = g.import_buffer(rects_buf);
+        auto args = g.import_buffer(args_buf), dirs = g.import_buffer(directions_buf);
+        auto image = g.import_image(atlas);
+        auto depth = g.create_image({atlas.width(), atlas.height(), Format::D32F, "cylinder depth"});
+        g.add_compute_pass("reset draw arguments", [&](PassBuilder& b) { args = b.write(args, Access::TransferDst); },
+                           [args](Cmd& c) {
+                               const std::uint32_t init[4] = {0, 1, 0, 0};
+                               c.update(args, init, sizeof init);
+                           });
+        g.add_compute_pass("classify and split", [&](PassBuilder& b) {
+            b.read(pos, Access::ComputeRead);
+            b.read(tri, Access::ComputeRead);
+            b.read(jobs, Access::ComputeRead);
+            rects = b.write(rects, Access::ComputeWrite);
+            args = b.write(args, Access::ComputeReadWrite);
+        }, [this, pos, tri, jobs, rects, args](Cmd& c) {
+            const std::uint32_t groups = (classify.total_faces + GIMG_CYL_CLASSIFY_GROUP - 1) / GIMG_CYL_CLASSIFY_GROUP;
+            const std::uint32_t gx = std::min(groups, 65535u), gy = (groups + gx - 1) / std::max(gx, 1u);
+            c.dispatch(kClassify, {gx, gy, 1}, {pos, tri, jobs, rects, args}, classify);
+        });
+        g.add_raster_pass("cylindrical z-buffer", [&](PassBuilder& b) {
+            b.read(rects, Access::VertexRead);
+            b.read(jobs, Access::VertexRead);
+            b.read(jobs, Access::FragmentRead);
+            b.read(pos, Access::FragmentRead);
+            b.read(tri, Access::FragmentRead);
+            b.read(dirs, Access::FragmentRead);
+            b.read(args, Access::IndirectArgs);
+            image = b.color(image, ClearValue::color(float(GIMG_CYL_EMPTY)));
+            depth = b.depth(depth, ClearValue::depth(1.0f));
+        }, [this, rects, jobs, pos, tri, dirs, args](Cmd& c) {
+            c.draw_indirect(use_double ? kZBuffer : kZBufferFloat, args, 0, 1, {rects, jobs, pos, tri, dirs}, draw);
+        });
+        g.export_image(image, Access::TransferSrc);
+        plan = g.compile();
+    }
+};
+
+CylinderZBuffer::CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height) {
+    if (width == 0 || height == 0 || width > 65535 || height > 65535)
+        throw Error(ErrorKind::InvalidArgument, "cylinder image size must be between 1x1 and 65535x65535");
+    state_ = std::make_unique<State>(ctx, width, height);
+}
+
+CylinderZBuffer::~CylinderZBuffer() = default;
+
+bool CylinderZBuffer::double_precision() const { return state_->use_double; }
+
+std::uint32_t CylinderZBuffer::add_mesh(const CylinderMesh& mesh) {
+    State& s = *state_;
+    if (mesh.triangles.size() % 3 != 0 || mesh.positions.size() % 3 != 0)
+        throw Error(ErrorKind::InvalidArgument, "cylinder mesh arrays are not whole triangles / vertices");
+    const std::uint32_t vertices = std::uint32_t(mesh.positions.size() / 3);
+    for (std::uint32_t i : mesh.triangles)
+        if (i >= vertices) throw Error(ErrorKind::InvalidArgument, "cylinder mesh face names a missing vertex");
+    s.meshes.push_back({std::uint32_t(s.positions.size() / 3), std::uint32_t(s.triangles.size() / 3),
+                        std::uint32_t(mesh.face_count())});
+    s.positions.insert(s.positions.end(), mesh.positions.begin(), mesh.positions.end());
+    s.triangles.insert(s.triangles.end(), mesh.triangles.begin(), mesh.triangles.end());
+    s.geometry_dirty = true;
+    return std::uint32_t(s.meshes.size() - 1);
+}
+
+std::vector<CylinderImage> CylinderZBuffer::project(std::span<const Job> jobs) {
+    State& s = *state_;
+    if (jobs.empty()) return {};
+    if (s.geometry_dirty) s.upload_geometry();
+    std::uint64_t total = 0;
+    for (const Job& j : jobs) {
+        if (j.mesh >= s.meshes.size()) throw Error(ErrorKind::InvalidArgument, "project(): unknown mesh id");
+        total += s.meshes[j.mesh].face_count;
+    }
+    if (total > UINT32_MAX / GIMG_CYL_RECTS_PER_FACE)
+        throw Error(ErrorKind::InvalidArgument, "too many faces in one batch");
+    s.reserve(std::uint32_t(jobs.size()), total);
+
+    std::vector<JobGpu> gpu(jobs.size());
+    std::uint32_t prefix = 0;
+    for (std::size_t k = 0; k < jobs.size(); ++k) {
+        const MeshRange& m = s.meshes[jobs[k].mesh];
+        JobGpu& g = gpu[k];
+        std::memcpy(g.rows, jobs[k].transform.data(), sizeof g.rows);
+        g.first_face = m.first_face;
+        g.face_count = m.face_count;
+        g.face_prefix = prefix;
+        g.vertex_offset = m.vertex_offset;
+        g.tile_x = std::uint32_t(k % s.tiles_per_row) * s.width;
+        g.tile_y = std::uint32_t(k / s.tiles_per_row) * s.height;
+        g.pad0 = g.pad1 = 0;
+        prefix += m.face_count;
+    }
+    s.ctx.upload(s.jobs_buf, gpu.data(), gpu.size() * sizeof(JobGpu));
+    s.classify = {std::uint32_t(total), std::uint32_t(jobs.size()), s.width, s.height, s.rect_capacity};
+    s.draw = {{float(s.atlas.width()), float(s.atlas.height())}, {s.width, s.height}};
+    s.plan->execute({.wait = true, .timestamps = s.ctx.device_info().timestamp_period_ns > 0.0});
+    last_gpu_ms_ = s.ctx.device_info().timestamp_period_ns > 0.0 ? s.plan->total_gpu_ms() : 0.0;
+
+    std::vector<std::byte> bytes = s.ctx.download(s.atlas);
+    const float* atlas = reinterpret_cast<const float*>(bytes.data());
+    std::vector<CylinderImage> out;
+    out.reserve(jobs.size());
+    for (std::size_t k = 0; k < jobs.size(); ++k) {
+        CylinderImage img(s.width, s.height);
+        for (std::uint32_t v = 0; v < s.height; ++v)
+            for (std::uint32_t u = 0; u < s.width; ++u) {
+                const float d = atlas[std::size_t(gpu[k].tile_y + v) * s.atlas.width() + gpu[k].tile_x + u];
+                const bool hit = d >= -1.0f;
+                img.covered[img.index(u, v)] = hit;
+                img.distance[img.index(u, v)] = hit ? d : 0.0f;
+            }
+        out.push_back(std::move(img));
+    }
+    return out;
+}
+
+CylinderImage CylinderZBuffer::project(std::uint32_t mesh, const CylinderTransform& transform) {
+    const Job job{mesh, transform};
+    return std::move(project(std::span<const Job>(&job, 1)).front());
+}
+
+}  // namespace gimg::passes

@@ -1,0 +1,8 @@
+#version 460
+// Double precision (devices with shaderFloat64): agrees with the CPU ray caster to rounding.
+#define REAL double
+#define REAL2 dvec2
+#define REAL3 dvec3
+#define REAL4 dvec4
+#extension GL_GOOGLE_include_directive : require
+#include "cylinder/zbuffer_fragment.glsl"
