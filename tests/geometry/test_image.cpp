@@ -41,3 +41,28 @@ TEST(Image, UnreadableFilesAreInputErrors) {
     EXPECT_THROW(read_png(gimg::test::output_dir("image") / "missing.png"), InputError);
     EXPECT_THROW(write_png(RgbaImage(2, 2), "/nonexistent-folder/x.png"), InputError);
 }
+
+#include "gimg/geometry/exr.h"
+
+TEST(Exr, FloatChannelsRoundTripBitExactly) {
+    FloatImage img;
+    img.width = 7;
+    img.height = 5;
+    auto& d = img.channels["d"];
+    auto& mask = img.channels["mask"];
+    for (int i = 0; i < 35; ++i) {
+        d.push_back(0.1f * float(i) - 1.0f + 1e-7f * float(i));
+        mask.push_back(i % 3 == 0 ? 0.0f : 1.0f);
+    }
+    auto path = gimg::test::output_dir("image") / "roundtrip.exr";
+    write_exr(img, path);
+    FloatImage back = read_exr(path);
+    EXPECT_EQ(back.width, 7u);
+    EXPECT_EQ(back.height, 5u);
+    EXPECT_EQ(back.channels.at("d"), d);
+    EXPECT_EQ(back.channels.at("mask"), mask);
+    auto bad = gimg::test::output_dir("image") / "bad.exr";
+    std::ofstream(bad) << "not an exr";
+    EXPECT_THROW(read_exr(bad), InputError);
+    EXPECT_THROW(read_exr(gimg::test::output_dir("image") / "missing.exr"), InputError);
+}

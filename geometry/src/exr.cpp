@@ -1,0 +1,79 @@
+#include "gimg/geometry/exr.h"
+
+#include "gimg/geometry/error.h"
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+
+#include <system_error>
+#include <unistd.h>
+
+namespace gimg::geo {
+
+void write_exr(const FloatImage& image, const std::filesystem::path& path) {
+    if (image.width == 0 || image.height == 0 || image.channels.empty())
+        throw InputError("cannot write " + path.string() + ": empty image");
+    const std::size_t pixels = std::size_t(image.width) * image.height;
+    for (const auto& [name, data] : image.channels)
+        if (data.size() != pixels) throw InputError("cannot write " + path.string() + ": channel " + name + " has the wrong size");
+    std::filesystem::path tmp = path;
+    tmp += ".tmp" + std::to_string(::getpid());
+    try {
+        Imf::Header header(int(image.width), int(image.height));
+        header.compression() = Imf::ZIP_COMPRESSION;
+        Imf::FrameBuffer frame;
+        for (const auto& [name, data] : image.channels) {
+            header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+            frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(data.data())),
+                                          sizeof(float), sizeof(float) * image.width));
+        }
+        Imf::OutputFile file(tmp.c_str(), header);
+        file.setFrameBuffer(frame);
+        file.writePixels(int(image.height));
+    } catch (const std::exception& e) {
+        std::error_code ec;
+        std::filesystem::remove(tmp, ec);
+        throw InputError("cannot write " + path.string() + ": " + e.what());
+    }
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::filesystem::remove(tmp, ec);
+        throw InputError("cannot write " + path.string() + ": " + ec.message());
+    }
+}
+
+FloatImage read_exr(const std::filesystem::path& path) {
+    if (!std::filesystem::is_regular_file(path)) throw InputError("cannot read " + path.string() + ": no such file");
+    try {
+        Imf::InputFile file(path.c_str());
+        const Imath::Box2i window = file.header().dataWindow();
+        FloatImage image;
+        const long w = long(window.max.x) - window.min.x + 1, h = long(window.max.y) - window.min.y + 1;
+        if (w <= 0 || h <= 0 || w > 65536 || h > 65536)
+            throw InputError("cannot read " + path.string() + ": implausible size");
+        image.width = std::uint32_t(w);
+        image.height = std::uint32_t(h);
+        Imf::FrameBuffer frame;
+        for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) {
+            auto& data = image.channels[it.name()];
+            data.assign(std::size_t(w) * h, 0.0f);
+            // Slices are addressed from the data window's origin.
+            char* base = reinterpret_cast<char*>(data.data()) -
+                         (std::ptrdiff_t(window.min.x) + std::ptrdiff_t(window.min.y) * w) * std::ptrdiff_t(sizeof(float));
+            frame.insert(it.name(), Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * std::size_t(w)));
+        }
+        file.setFrameBuffer(frame);
+        file.readPixels(window.min.y, window.max.y);
+        return image;
+    } catch (const InputError&) {
+        throw;
+    } catch (const std::exception& e) {
+        throw InputError("cannot read " + path.string() + ": " + e.what());
+    }
+}
+
+}  // namespace gimg::geo
