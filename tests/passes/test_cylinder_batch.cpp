@@ -1,0 +1,51 @@
+// Batch mode: many images (rotations of one mesh, several meshes) in one graph execution, each
+// equal to projecting it alone.
+#include "cylinder_cases.h"
+#include "gpu_test.h"
+
+#include "gimg/passes/cylinder.h"
+
+#include <glm/ext/matrix_transform.hpp>
+
+using namespace gimg;
+
+namespace {
+class CylinderBatch : public gimg::test::GpuTest {};
+
+passes::CylinderTransform rotation_about_z(double degrees) {
+    // Rotate about the horizontal z axis through (0, 0.5, 0): the image changes a lot.
+    const glm::dmat4 m = glm::translate(glm::dmat4(1.0), {0, 0.5, 0}) *
+                         glm::rotate(glm::dmat4(1.0), glm::radians(degrees), {0, 0, 1}) *
+                         glm::translate(glm::dmat4(1.0), {0, -0.5, 0});
+    passes::CylinderTransform t{};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) t[4 * r + c] = float(m[c][r]);
+    return t;
+}
+}  // namespace
+
+TEST_F(CylinderBatch, RotationsAndMeshesInOneExecutionEqualSingleProjections) {
+    const std::uint32_t W = 96, H = 48;
+    passes::CylinderZBuffer z(ctx(), W, H);
+    const auto torus = z.add_mesh(gimg::test::to_cylinder_mesh(
+        geo::make_torus(0.3, 0.1, 24, 12)));  // centred at the origin: moved by the transforms
+    const auto box = z.add_mesh(gimg::test::to_cylinder_mesh(geo::make_box({0.5, 0.3, 0.2}, 2)));
+    std::vector<passes::CylinderZBuffer::Job> jobs;
+    for (int k = 0; k < 40; ++k) {
+        auto t = rotation_about_z(9.0 * k);
+        t[7] += 0.5f;  // lift into the cylinder
+        jobs.push_back({k % 3 == 2 ? box : torus, t});
+    }
+    const auto batch = z.project(jobs);
+    ASSERT_EQ(batch.size(), jobs.size());
+    std::size_t covered = 0;
+    for (std::size_t k = 0; k < jobs.size(); ++k) {
+        const auto single = z.project(jobs[k].mesh, jobs[k].transform);
+        ASSERT_EQ(batch[k].covered, single.covered) << "image " << k;
+        ASSERT_EQ(batch[k].distance, single.distance) << "image " << k;
+        for (auto c : single.covered) covered += c;
+    }
+    EXPECT_GT(covered, 40u * 300u);
+    // Different rotations give different pictures.
+    EXPECT_NE(batch[0].covered, batch[1].covered);
+}
