@@ -10,6 +10,8 @@ struct GlobalOptions {
     bool quiet = false;
 };
 
+// gimg compare A B [--json FILE] [--samples N] [--seed S]  (cmd_compare.cpp)
+void add_compare_command(CLI::App& app, const GlobalOptions& global);
 
 
 
