@@ -135,7 +135,10 @@ PcaAlignment compute_pca_alignment(const Mesh& mesh, PcaWeighting weighting) {
     main = oriented(source, result.centroid, main, values[2]);
     second = oriented(source, result.centroid, second, values[1]);
     // Eq. A.9: the third axis is the cross product of the second and the main axis, never an
-    // independently signed eigenvector; with x = second, y = main this is z = x cross y.
+    // independently signed eigenvector; with x = second, y = main this is z = x cross y, a proper
+    // rotation. (Read literally, the paper's R = [v1, v2, v2 x v1] with v1 -> x, v2 -> y has
+    // determinant -1 in a right-handed frame; its point is fixing the third axis by a cross
+    // product, and putting the main axis on y, as its cylinder needs, makes that order right.)
     const glm::dvec3 third = glm::cross(second, main);
 
     result.main_axis = main;
