@@ -1,0 +1,111 @@
+#pragma once
+// Bounding-volume hierarchy over the triangles of a Mesh: binned-SAH build into one flat node
+// array (parallel over subtrees), exact closest-point queries and ray queries. Queries are const
+// and thread-safe; results do not depend on traversal order (ties go to the lowest face index),
+// so they equal a brute-force scan over all faces.
+
+#include "gimg/geometry/adjacency.h"
+#include "gimg/geometry/mesh.h"
+#include "gimg/geometry/triangle_queries.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <new>
+#include <optional>
+#include <vector>
+
+namespace gimg::geo {
+
+// 32 bytes, laid out for upload as it is (std430: vec3 + uint, vec3 + uint). Bounds are float,
+// rounded outward from the double-precision triangles, so a box always contains its triangles;
+// queries stay exact because leaves test the double-precision triangles. Float boxes halve the
+// tree's memory (1M triangles: ~32 MB of nodes) and let a sibling pair share one cache line.
+struct alignas(32) BvhNode {
+    glm::vec3 bounds_min{0.0f};
+    // Leaf (count > 0): triangles [first, first + count) of TriangleBvh's BVH order.
+    // Inner node (count == 0): its children are nodes `first` and `first + 1`.
+    std::uint32_t first = 0;
+    glm::vec3 bounds_max{0.0f};
+    std::uint32_t count = 0;
+    bool is_leaf() const { return count > 0; }
+};
+static_assert(sizeof(BvhNode) == 32);
+
+// Allocates the node array on a 64-byte boundary. Node 0 is the root and node 1 unused padding,
+// so every sibling pair (2k, 2k + 1) shares one cache line.
+template <class T>
+struct CacheLineAllocator {
+    using value_type = T;
+    static constexpr std::align_val_t kAlignment{64};
+    CacheLineAllocator() = default;
+    template <class U>
+    CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}
+    T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlignment)); }
+    void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, kAlignment); }
+    template <class U>
+    bool operator==(const CacheLineAllocator<U>&) const noexcept { return true; }
+};
+using BvhNodeArray = std::vector<BvhNode, CacheLineAllocator<BvhNode>>;
+
+struct BvhBuildOptions {
+    std::uint32_t max_leaf_size = 4;  // a leaf never holds more triangles
+    unsigned threads = 0;             // 0: default_thread_count()
+};
+
+struct ClosestPointResult {
+    double distance = std::numeric_limits<double>::infinity();
+    glm::dvec3 point{0.0};
+    std::uint32_t face = kInvalidIndex;   // kInvalidIndex: nothing within the search radius
+    glm::dvec3 barycentric{1.0, 0.0, 0.0};  // weights of the face's corners 0, 1, 2
+    bool found() const { return face != kInvalidIndex; }
+};
+
+struct RayHit {
+    double t = std::numeric_limits<double>::infinity();
+    std::uint32_t face = kInvalidIndex;
+    glm::dvec3 barycentric{1.0, 0.0, 0.0};
+};
+
+class TriangleBvh {
+public:
+    TriangleBvh() = default;
+    // Copies the triangles' corner positions (in BVH order), so `mesh` may go away afterwards.
+    explicit TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options = {});
+
+    // Closest point of the surface to p: the minimum over all faces of the exact point-triangle
+    // distance, ties broken by the lowest face index. Faces farther than max_distance are
+    // ignored (result.found() is false when all are). `hint_face`, e.g. the answer for a nearby
+    // query point, only speeds the search up: it seeds the search radius and never changes the
+    // result.
+    ClosestPointResult closest_point(const glm::dvec3& p,
+                                     double max_distance = std::numeric_limits<double>::infinity(),
+                                     std::uint32_t hint_face = kInvalidIndex) const;
+
+    // Nearest hit with t in [ray.t_min, ray.t_max] (ties: lowest face index), or nullopt.
+    std::optional<RayHit> intersect_nearest(const Ray& ray) const;
+    // Whether any face is hit in [ray.t_min, ray.t_max]; stops at the first hit found.
+    bool intersect_any(const Ray& ray) const;
+    // Every hit in [ray.t_min, ray.t_max], sorted by (t, face). A ray through a shared edge or
+    // corner reports each face it touches (callers counting crossings must merge those).
+    std::vector<RayHit> intersect_all(const Ray& ray) const;
+
+    const BvhNodeArray& nodes() const { return nodes_; }
+    // BVH order -> original face index.
+    const std::vector<std::uint32_t>& face_order() const { return face_order_; }
+    std::size_t face_count() const { return face_order_.size(); }
+    bool empty() const { return face_order_.empty(); }
+
+private:
+    struct Triangle {
+        glm::dvec3 a, b, c;
+    };
+    BvhNodeArray nodes_;
+    std::vector<std::uint32_t> face_order_;
+    std::vector<std::uint32_t> slot_of_face_;  // original face index -> BVH order
+    std::vector<Triangle> triangles_;          // corner positions in BVH order
+};
+
+}  // namespace gimg::geo

@@ -1,0 +1,283 @@
+// Binned-SAH build of TriangleBvh. Subtrees above a size threshold are built on their own thread
+// into their own node array and appended afterwards, which reproduces the serial layout exactly:
+// the tree, and therefore every query, does not depend on the thread count.
+#include "gimg/geometry/bvh.h"
+
+#include "gimg/geometry/parallel_for.h"
+
+#include <glm/common.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <exception>
+#include <limits>
+#include <stdexcept>
+#include <thread>
+
+namespace gimg::geo {
+
+namespace {
+
+constexpr int kBins = 16;
+// Below this depth every split is SAH; deeper (pathological inputs) splits at the object median,
+// which halves the range, so no tree is deeper than kMedianSplitDepth + log2(F) < kMaxBvhDepth.
+constexpr int kMedianSplitDepth = 64;
+// Subtrees smaller than this are not worth a thread.
+constexpr std::size_t kParallelSubtree = 16384;
+
+struct Box {
+    glm::dvec3 lo{std::numeric_limits<double>::infinity()};
+    glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
+    void grow(const glm::dvec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
+    void grow(const Box& b) { lo = glm::min(lo, b.lo); hi = glm::max(hi, b.hi); }
+    double half_area() const {
+        const glm::dvec3 d = hi - lo;
+        return d.x < 0.0 ? 0.0 : d.x * d.y + d.y * d.z + d.z * d.x;
+    }
+};
+
+// Outward rounding to float: the float box contains the double one (out-of-range values become
+// infinite, which still contains them).
+glm::vec3 round_down(const glm::dvec3& v) {
+    glm::vec3 out;
+    for (int i = 0; i < 3; ++i) {
+        if (v[i] < -double(std::numeric_limits<float>::max())) {
+            out[i] = -std::numeric_limits<float>::infinity();
+            continue;
+        }
+        float f = static_cast<float>(std::min(v[i], double(std::numeric_limits<float>::max())));
+        if (double(f) > v[i]) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+        out[i] = f;
+    }
+    return out;
+}
+
+glm::vec3 round_up(const glm::dvec3& v) { return -round_down(-v); }
+
+struct PrimRef {
+    Box box;
+    std::uint32_t face;
+    glm::dvec3 centroid() const { return 0.5 * (box.lo + box.hi); }
+};
+
+struct Range {
+    std::size_t begin, end;
+    Box bounds;           // of the triangles
+    Box centroid_bounds;  // of their box centroids
+    std::size_t size() const { return end - begin; }
+};
+
+struct Split {
+    int axis = -1;
+    int bin = 0;  // primitives with bin index <= this go left
+    double cost = std::numeric_limits<double>::infinity();
+    Box left, right, left_centroids, right_centroids;
+};
+
+class BvhBuilder {
+public:
+    BvhBuilder(std::vector<PrimRef>& prims, const BvhBuildOptions& options, unsigned threads)
+        : prims_(prims), options_(options), threads_(threads) {}
+
+    void build_node(std::uint32_t index, const Range& range, BvhNodeArray& nodes, int depth) {
+        nodes[index].bounds_min = round_down(range.bounds.lo);
+        nodes[index].bounds_max = round_up(range.bounds.hi);
+        const std::size_t n = range.size();
+        Range left, right;
+        if (!split(range, depth, left, right)) {
+            nodes[index].first = static_cast<std::uint32_t>(range.begin);
+            nodes[index].count = static_cast<std::uint32_t>(n);
+            return;
+        }
+        const auto child = static_cast<std::uint32_t>(nodes.size());
+        nodes.resize(nodes.size() + 2);  // nodes.size() stays even: pairs share a cache line
+        nodes[index].first = child;
+        nodes[index].count = 0;
+        if (right.size() >= kParallelSubtree && (1u << std::min(depth, 30)) < threads_) {
+            BvhNodeArray right_nodes(1);  // its root; its pairs then start at odd indices
+            right_nodes.reserve(2 * right.size() / std::max<std::uint32_t>(1, options_.max_leaf_size) + 1);
+            std::exception_ptr worker_error;
+            std::thread worker([&] {
+                try {
+                    build_node(0, right, right_nodes, depth + 1);
+                } catch (...) {
+                    worker_error = std::current_exception();
+                }
+            });
+            try {
+                build_node(child, left, nodes, depth + 1);
+            } catch (...) {
+                worker.join();
+                throw;
+            }
+            worker.join();
+            if (worker_error) std::rethrow_exception(worker_error);
+            // right_nodes[i], i >= 1, lands at nodes[base + i] (base odd, so pairs stay at even
+            // indices); right_nodes[0] is the child slot.
+            const auto base = static_cast<std::uint32_t>(nodes.size() - 1);
+            for (BvhNode& node : right_nodes)
+                if (!node.is_leaf()) node.first += base;
+            nodes[child + 1] = right_nodes[0];
+            nodes.insert(nodes.end(), right_nodes.begin() + 1, right_nodes.end());
+        } else {
+            build_node(child, left, nodes, depth + 1);
+            build_node(child + 1, right, nodes, depth + 1);
+        }
+    }
+
+private:
+    static int bin_of(double c, double lo, double scale) {
+        return std::min(kBins - 1, static_cast<int>((c - lo) * scale));
+    }
+
+    // Chooses and performs a split of `range`; false makes it a leaf.
+    bool split(const Range& range, int depth, Range& left, Range& right) {
+        const std::size_t n = range.size();
+        if (n <= 1) return false;
+        const glm::dvec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
+        const bool all_centroids_equal = !(extent.x > 0.0 || extent.y > 0.0 || extent.z > 0.0);
+        if (all_centroids_equal && n <= options_.max_leaf_size) return false;
+        if (all_centroids_equal || depth >= kMedianSplitDepth) return median_split(range, left, right);
+
+        Split best;
+        for (int axis = 0; axis < 3; ++axis) {
+            if (!(extent[axis] > 0.0)) continue;
+            std::array<Box, kBins> boxes, centroids;
+            std::array<std::size_t, kBins> counts{};
+            const double lo = range.centroid_bounds.lo[axis];
+            const double scale = kBins * (1.0 - 1e-12) / extent[axis];
+            for (std::size_t i = range.begin; i < range.end; ++i) {
+                const glm::dvec3 c = prims_[i].centroid();
+                const int b = bin_of(c[axis], lo, scale);
+                boxes[b].grow(prims_[i].box);
+                centroids[b].grow(c);
+                counts[b]++;
+            }
+            // Sweep from the right, then evaluate each plane from the left.
+            std::array<double, kBins> right_cost{};
+            Box acc;
+            std::size_t count = 0;
+            for (int b = kBins - 1; b > 0; --b) {
+                acc.grow(boxes[b]);
+                count += counts[b];
+                right_cost[b] = acc.half_area() * double(count);
+            }
+            acc = Box{};
+            count = 0;
+            for (int b = 0; b < kBins - 1; ++b) {
+                acc.grow(boxes[b]);
+                count += counts[b];
+                if (count == 0 || count == n) continue;
+                const double cost = acc.half_area() * double(count) + right_cost[b + 1];
+                if (cost < best.cost) {
+                    best.cost = cost;
+                    best.axis = axis;
+                    best.bin = b;
+                }
+            }
+            if (best.axis == axis) {
+                best.left = best.right = best.left_centroids = best.right_centroids = Box{};
+                for (int b = 0; b < kBins; ++b) {
+                    (b <= best.bin ? best.left : best.right).grow(boxes[b]);
+                    (b <= best.bin ? best.left_centroids : best.right_centroids).grow(centroids[b]);
+                }
+            }
+        }
+        if (best.axis < 0) return median_split(range, left, right);
+        // SAH in units of one triangle test, a traversal step costing about as much.
+        const double split_cost = 1.0 + best.cost / range.bounds.half_area();
+        if (n <= options_.max_leaf_size && split_cost >= double(n)) return false;
+
+        const int axis = best.axis;
+        const double lo = range.centroid_bounds.lo[axis];
+        const double scale = kBins * (1.0 - 1e-12) / extent[axis];
+        const auto mid = std::partition(prims_.begin() + std::ptrdiff_t(range.begin),
+                                        prims_.begin() + std::ptrdiff_t(range.end), [&](const PrimRef& p) {
+                                            return bin_of(p.centroid()[axis], lo, scale) <= best.bin;
+                                        });
+        const auto m = static_cast<std::size_t>(mid - prims_.begin());
+        left = {range.begin, m, best.left, best.left_centroids};
+        right = {m, range.end, best.right, best.right_centroids};
+        return true;
+    }
+
+    // Halves the range at the median centroid along the widest centroid axis (by face index when
+    // all centroids coincide), so the result never depends on the sort's internal order.
+    bool median_split(const Range& range, Range& left, Range& right) {
+        const glm::dvec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
+        int axis = 0;
+        for (int a = 1; a < 3; ++a)
+            if (extent[a] > extent[axis]) axis = a;
+        const std::size_t m = range.begin + range.size() / 2;
+        std::nth_element(prims_.begin() + std::ptrdiff_t(range.begin), prims_.begin() + std::ptrdiff_t(m),
+                         prims_.begin() + std::ptrdiff_t(range.end), [&](const PrimRef& x, const PrimRef& y) {
+                             const double cx = x.centroid()[axis], cy = y.centroid()[axis];
+                             return cx != cy ? cx < cy : x.face < y.face;
+                         });
+        left = {range.begin, m, {}, {}};
+        right = {m, range.end, {}, {}};
+        for (Range* r : {&left, &right})
+            for (std::size_t i = r->begin; i < r->end; ++i) {
+                r->bounds.grow(prims_[i].box);
+                r->centroid_bounds.grow(prims_[i].centroid());
+            }
+        return true;
+    }
+
+    std::vector<PrimRef>& prims_;
+    const BvhBuildOptions& options_;
+    unsigned threads_;
+};
+
+}  // namespace
+
+TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
+    const std::size_t fcount = mesh.face_count();
+    if (fcount >= std::numeric_limits<std::uint32_t>::max() / 2)
+        throw std::length_error("mesh too large for a 32-bit BVH");
+    if (options.max_leaf_size == 0) throw std::invalid_argument("BVH max_leaf_size must be >= 1");
+    for (const glm::uvec3& t : mesh.triangles)
+        if (t.x >= mesh.vertex_count() || t.y >= mesh.vertex_count() || t.z >= mesh.vertex_count())
+            throw std::invalid_argument("BVH: a triangle names a vertex index past the vertex count");
+    if (fcount == 0) return;
+    const unsigned threads = options.threads ? options.threads : default_thread_count();
+
+    std::vector<PrimRef> prims(fcount);
+    parallel_for_chunks(fcount, 65536, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t f = begin; f < end; ++f) {
+            const glm::uvec3& t = mesh.triangles[f];
+            PrimRef& p = prims[f];
+            p.box.grow(mesh.positions[t.x]);
+            p.box.grow(mesh.positions[t.y]);
+            p.box.grow(mesh.positions[t.z]);
+            p.face = static_cast<std::uint32_t>(f);
+        }
+    }, threads);
+    Range root{0, fcount, {}, {}};
+    for (const PrimRef& p : prims) {
+        root.bounds.grow(p.box);
+        root.centroid_bounds.grow(p.centroid());
+    }
+
+    nodes_.reserve(2 * fcount / options.max_leaf_size + 1);
+    nodes_.resize(2);  // root and padding
+    BvhBuilder builder(prims, options, threads);
+    builder.build_node(0, root, nodes_, 0);
+    nodes_.shrink_to_fit();
+
+    face_order_.resize(fcount);
+    slot_of_face_.resize(fcount);
+    triangles_.resize(fcount);
+    parallel_for_chunks(fcount, 65536, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const std::uint32_t f = prims[i].face;
+            const glm::uvec3& t = mesh.triangles[f];
+            face_order_[i] = f;
+            slot_of_face_[f] = static_cast<std::uint32_t>(i);
+            triangles_[i] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
+        }
+    }, threads);
+}
+
+}  // namespace gimg::geo
