@@ -1,0 +1,164 @@
+// save_mesh: PLY (binary little endian or ascii) and OBJ, written by gimg rather than OpenMesh:
+// OpenMesh's writers work on its halfedge mesh, which cannot hold the non-manifold and duplicate
+// faces a gimg Mesh may have. The whole file is built in memory and written atomically.
+
+#include "gimg/geometry/io.h"
+
+#include "gimg/geometry/atomic_file.h"
+#include "gimg/geometry/error.h"
+
+#include <algorithm>
+#include <bit>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace gimg::geo {
+
+namespace {
+
+void check_savable(const Mesh& mesh) {
+    if (!mesh.texcoords.empty() && mesh.texcoords.size() != mesh.positions.size()) {
+        throw InputError("cannot save: " + std::to_string(mesh.texcoords.size()) + " texture coordinates for " +
+                         std::to_string(mesh.positions.size()) + " vertices");
+    }
+    for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+        const glm::vec3 p(mesh.positions[i]);  // as written
+        if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+            throw InputError("cannot save: vertex " + std::to_string(i) + " has a NaN, infinite or out-of-float-range coordinate");
+        }
+    }
+    for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
+        for (int k = 0; k < 3; ++k) {
+            if (mesh.triangles[f][k] >= mesh.positions.size()) {
+                throw InputError("cannot save: triangle " + std::to_string(f) + " names vertex " +
+                                 std::to_string(mesh.triangles[f][k]) + " of " + std::to_string(mesh.positions.size()));
+            }
+        }
+    }
+}
+
+// Shortest decimal text that reads back as the same float.
+void append_number(std::string& out, float v) {
+    char buf[32];
+    const auto result = std::to_chars(buf, buf + sizeof buf, v);
+    out.append(buf, result.ptr);
+}
+
+void append_number(std::string& out, std::uint64_t v) {
+    char buf[24];
+    const auto result = std::to_chars(buf, buf + sizeof buf, v);
+    out.append(buf, result.ptr);
+}
+
+template <typename T>
+void append_binary(std::string& out, T value) {
+    static_assert(std::endian::native == std::endian::little, "binary PLY is written little endian");
+    char bytes[sizeof(T)];
+    std::memcpy(bytes, &value, sizeof(T));
+    out.append(bytes, sizeof(T));
+}
+
+std::string ply_contents(const Mesh& mesh, bool binary) {
+    const bool uv = mesh.has_texcoords();
+    std::string out = "ply\nformat ";
+    out += binary ? "binary_little_endian" : "ascii";
+    // The comment goes first: OpenMesh's reader misplaces binary data after a comment just
+    // before end_header.
+    out += " 1.0\ncomment written by gimg\nelement vertex " + std::to_string(mesh.vertex_count()) +
+           "\nproperty float x\nproperty float y\nproperty float z\n";
+    if (uv) out += "property float s\nproperty float t\n";
+    out += "element face " + std::to_string(mesh.face_count()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+    out.reserve(out.size() + mesh.vertex_count() * (binary ? 20 : 40) + mesh.face_count() * (binary ? 13 : 24));
+    for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
+        const glm::vec3 p(mesh.positions[i]);
+        float values[5] = {p.x, p.y, p.z, 0.0f, 0.0f};
+        if (uv) {
+            values[3] = static_cast<float>(mesh.texcoords[i].x);
+            values[4] = static_cast<float>(mesh.texcoords[i].y);
+        }
+        const int n = uv ? 5 : 3;
+        for (int k = 0; k < n; ++k) {
+            if (binary) {
+                append_binary(out, values[k]);
+            } else {
+                if (k > 0) out += ' ';
+                append_number(out, values[k]);
+            }
+        }
+        if (!binary) out += '\n';
+    }
+    for (const glm::uvec3& t : mesh.triangles) {
+        if (binary) {
+            append_binary(out, std::uint8_t{3});
+            for (int k = 0; k < 3; ++k) append_binary(out, static_cast<std::int32_t>(t[k]));
+        } else {
+            out += '3';
+            for (int k = 0; k < 3; ++k) {
+                out += ' ';
+                append_number(out, std::uint64_t{t[k]});
+            }
+            out += '\n';
+        }
+    }
+    return out;
+}
+
+std::string obj_contents(const Mesh& mesh) {
+    const bool uv = mesh.has_texcoords();
+    std::string out = "# written by gimg\n";
+    out.reserve(mesh.vertex_count() * (uv ? 64 : 36) + mesh.face_count() * (uv ? 40 : 24));
+    for (const glm::dvec3& position : mesh.positions) {
+        const glm::vec3 p(position);
+        out += "v ";
+        append_number(out, p.x);
+        out += ' ';
+        append_number(out, p.y);
+        out += ' ';
+        append_number(out, p.z);
+        out += '\n';
+    }
+    if (uv) {
+        for (const glm::dvec2& t : mesh.texcoords) {
+            out += "vt ";
+            append_number(out, static_cast<float>(t.x));
+            out += ' ';
+            append_number(out, static_cast<float>(t.y));
+            out += '\n';
+        }
+    }
+    for (const glm::uvec3& t : mesh.triangles) {
+        out += 'f';
+        for (int k = 0; k < 3; ++k) {
+            out += ' ';
+            const std::uint64_t index = std::uint64_t{t[k]} + 1;  // OBJ counts from 1
+            append_number(out, index);
+            if (uv) {
+                out += '/';
+                append_number(out, index);
+            }
+        }
+        out += '\n';
+    }
+    return out;
+}
+
+}  // namespace
+
+void save_mesh(const Mesh& mesh, const std::filesystem::path& path, const SaveOptions& options) {
+    std::string ext = path.extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (ext != ".ply" && ext != ".obj") {
+        throw InputError(path.string() + ": cannot save as '" + ext + "' (gimg writes .ply and .obj)");
+    }
+    try {
+        check_savable(mesh);
+    } catch (const InputError& e) {
+        throw InputError(path.string() + ": " + e.what());
+    }
+    write_file_atomically(path, ext == ".ply" ? ply_contents(mesh, options.binary) : obj_contents(mesh));
+}
+
+}  // namespace gimg::geo
