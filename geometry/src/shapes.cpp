@@ -48,6 +48,34 @@ Mesh make_icosphere(double radius, int level, glm::dvec3 center) {
     return m;
 }
 
+Mesh make_uv_sphere(int segments, int rings, double radius, glm::dvec3 center) {
+    if (segments < 3 || rings < 2) throw InputError("a uv sphere needs at least 3 segments and 2 rings");
+    Mesh m;
+    m.positions.push_back(center + glm::dvec3(0, radius, 0));  // north pole
+    for (int r = 1; r < rings; ++r) {
+        const double phi = std::numbers::pi * r / rings;
+        for (int s = 0; s < segments; ++s) {
+            const double theta = 2.0 * std::numbers::pi * s / segments;
+            m.positions.push_back(center + radius * glm::dvec3(std::sin(phi) * std::cos(theta), std::cos(phi),
+                                                               std::sin(phi) * std::sin(theta)));
+        }
+    }
+    const unsigned south = unsigned(m.positions.size());
+    m.positions.push_back(center + glm::dvec3(0, -radius, 0));
+    auto at = [&](int r, int s) { return unsigned(1 + (r - 1) * segments + s % segments); };
+    // Seen from outside, increasing theta runs clockwise when looking down y: order faces so
+    // their normals point away from the centre.
+    for (int s = 0; s < segments; ++s) {
+        m.triangles.push_back({0, at(1, s + 1), at(1, s)});
+        for (int r = 1; r + 1 < rings; ++r) {
+            m.triangles.push_back({at(r, s), at(r, s + 1), at(r + 1, s)});
+            m.triangles.push_back({at(r, s + 1), at(r + 1, s + 1), at(r + 1, s)});
+        }
+        m.triangles.push_back({south, at(rings - 1, s), at(rings - 1, s + 1)});
+    }
+    return m;
+}
+
 Mesh make_box(glm::dvec3 size, int divisions) {
     if (divisions < 1) throw InputError("box divisions must be at least 1");
     Mesh m;

@@ -5,7 +5,10 @@
 #include "gimg/geometry/parallel_for.h"
 #include "gimg/geometry/surface_distance.h"
 
-#include "procedural_meshes.h"
+#include "gimg/geometry/shapes.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <benchmark/benchmark.h>
 
@@ -17,14 +20,14 @@ namespace {
 
 // 2 * 1000 * 499 = 998,000 triangles.
 const Mesh& million_triangle_sphere() {
-    static const Mesh m = gimg::test::make_uv_sphere(1000, 500, 1.0);
+    static const Mesh m = gimg::geo::make_uv_sphere(1000, 500, 1.0);
     return m;
 }
 
 // 2 * 250 * 100 = 50,000 triangles.
 const Mesh& fifty_k_sphere(double radius) {
-    static const Mesh a = gimg::test::make_uv_sphere(250, 101, 1.0);
-    static const Mesh b = gimg::test::make_uv_sphere(250, 101, 1.05);
+    static const Mesh a = gimg::geo::make_uv_sphere(250, 101, 1.0);
+    static const Mesh b = gimg::geo::make_uv_sphere(250, 101, 1.05);
     return radius == 1.0 ? a : b;
 }
 
@@ -78,7 +81,7 @@ BENCHMARK(BM_ClosestPointRandomOrder)
 // Includes generating the samples.
 void BM_ClosestPointCoherent(benchmark::State& state) {
     static const TriangleBvh bvh(million_triangle_sphere());
-    static const Mesh from = gimg::test::make_uv_sphere(250, 201, 1.01);
+    static const Mesh from = gimg::geo::make_uv_sphere(250, 201, 1.01);
     SurfaceDistanceOptions o;
     o.threads = static_cast<unsigned>(state.range(0));
     o.sampling.sample_count = 1'000'000;

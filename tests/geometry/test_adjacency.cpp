@@ -1,6 +1,9 @@
 #include "gimg/geometry/adjacency.h"
 
-#include "procedural_meshes.h"
+#include "gimg/geometry/shapes.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <gtest/gtest.h>
 
@@ -67,7 +70,7 @@ TEST(Adjacency, RejectsOutOfRangeIndex) {
 }
 
 TEST(Adjacency, ClosedIcosphereMatchesEulerAndIsSymmetric) {
-    const Mesh m = gimg::test::make_icosphere(3);
+    const Mesh m = gimg::geo::make_icosphere(1.0, 3);
     const MeshAdjacency adj = build_adjacency(m);
     const std::size_t v = m.vertex_count(), e = adj.edge_count(), f = m.face_count();
     EXPECT_EQ(long(v) - long(e) + long(f), 2);  // sphere
@@ -105,7 +108,7 @@ TEST(Adjacency, ClosedIcosphereMatchesEulerAndIsSymmetric) {
 }
 
 TEST(Adjacency, InteriorVerticesOfGridAndBowtie) {
-    const Mesh grid = gimg::test::make_plane_grid(3, 2);
+    const Mesh grid = gimg::geo::make_grid(3, 2, 3, 2);
     const auto interior = build_adjacency(grid).interior_vertices();
     // Only the two grid points off the border, (1,1) and (2,1), are interior.
     std::vector<std::uint8_t> expected(12, 0);

@@ -2,7 +2,10 @@
 #include "gimg/geometry/parallel_for.h"
 #include "gimg/geometry/triangle_queries.h"
 
-#include "procedural_meshes.h"
+#include "gimg/geometry/shapes.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <gtest/gtest.h>
 
@@ -44,7 +47,7 @@ std::vector<RayHit> brute_force_hits(const Mesh& m, const Ray& ray) {
 // A sphere plus a soup of random triangles, slivers, collinear and repeated-corner faces and a
 // duplicated face, so ties and degenerate cases are exercised.
 Mesh awkward_mesh() {
-    Mesh m = gimg::test::make_icosphere(3, 1.0);
+    Mesh m = gimg::geo::make_icosphere(1.0, 3);
     std::mt19937_64 rng(11);
     std::uniform_real_distribution<double> u(-1.5, 1.5);
     for (int i = 0; i < 200; ++i) {
@@ -130,7 +133,7 @@ TEST(Bvh, ClosestPointEqualsBruteForce) {
 }
 
 TEST(Bvh, ClosestPointOnSphereIsRadial) {
-    const Mesh s = gimg::test::make_icosphere(4, 1.0);
+    const Mesh s = gimg::geo::make_icosphere(1.0, 4);
     const TriangleBvh bvh(s);
     // Points far outside: distance between |p| - 1 and |p| - (1 - sag), sag < 1e-3 at level 4.
     for (double r : {1.5, 3.0, 10.0}) {
@@ -181,7 +184,7 @@ TEST(Bvh, RayQueriesEqualBruteForce) {
 }
 
 TEST(Bvh, RayThroughSphereCrossesTwice) {
-    const TriangleBvh bvh(gimg::test::make_icosphere(4, 2.0));
+    const TriangleBvh bvh(gimg::geo::make_icosphere(2.0, 4));
     const auto hits = bvh.intersect_all({{0.1, 0.2, -10}, {0, 0, 1}});
     ASSERT_EQ(hits.size(), 2u);
     EXPECT_NEAR(hits[0].t, 10 - std::sqrt(4 - 0.05), 2e-3);
@@ -190,7 +193,7 @@ TEST(Bvh, RayThroughSphereCrossesTwice) {
 
 TEST(Bvh, LayoutIsIndependentOfThreadCount) {
     // ~160K faces: with 4 threads the two depth-1 subtrees are built on threads of their own too.
-    const Mesh m = gimg::test::make_uv_sphere(400, 200);
+    const Mesh m = gimg::geo::make_uv_sphere(400, 200);
     BvhBuildOptions one;
     one.threads = 1;
     const TriangleBvh a(m, one);

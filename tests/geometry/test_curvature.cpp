@@ -2,7 +2,10 @@
 #include "gimg/geometry/cotangent.h"
 #include "gimg/geometry/curvature.h"
 
-#include "procedural_meshes.h"
+#include "gimg/geometry/shapes.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <gtest/gtest.h>
 
@@ -14,7 +17,7 @@ using namespace gimg::geo;
 
 TEST(Curvature, FineSphereHasHOneOverRAndKOneOverRSquared) {
     const double r = 2.5;
-    const Mesh sphere = gimg::test::make_icosphere(5, r);  // 10242 vertices, all interior
+    const Mesh sphere = gimg::geo::make_icosphere(r, 5);  // 10242 vertices, all interior
     const VertexCurvature c = compute_curvature(sphere, build_adjacency(sphere));
     double worst_h = 0.0, worst_k = 0.0;
     for (std::size_t v = 0; v < sphere.vertex_count(); ++v) {
@@ -30,7 +33,7 @@ TEST(Curvature, FineSphereHasHOneOverRAndKOneOverRSquared) {
 }
 
 TEST(Curvature, GaussBonnetAndSignFollowOrientation) {
-    Mesh sphere = gimg::test::make_uv_sphere(40, 20, 1.0);
+    Mesh sphere = gimg::geo::make_uv_sphere(40, 20, 1.0);
     const MeshAdjacency adj = build_adjacency(sphere);
     const VertexCurvature c = compute_curvature(sphere, adj);
     const auto area = vertex_areas(sphere, VertexAreaKind::MixedVoronoi);
@@ -48,7 +51,7 @@ TEST(Curvature, GaussBonnetAndSignFollowOrientation) {
 }
 
 TEST(Curvature, FlatGridIsZeroEverywhere) {
-    const Mesh grid = gimg::test::make_plane_grid(6, 5, 0.3);
+    const Mesh grid = gimg::geo::make_grid(6, 5, 6 * 0.3, 5 * 0.3);
     const VertexCurvature c = compute_curvature(grid, build_adjacency(grid));
     for (std::size_t v = 0; v < grid.vertex_count(); ++v) {
         EXPECT_NEAR(c.mean[v], 0.0, 1e-12);
@@ -58,7 +61,7 @@ TEST(Curvature, FlatGridIsZeroEverywhere) {
 
 TEST(Curvature, BoundaryVerticesTakeTheMeanOfInteriorNeighbours) {
     // A sphere cap: faces above y = -0.3. Its rim vertices are boundary vertices.
-    const Mesh full = gimg::test::make_icosphere(3, 1.0);
+    const Mesh full = gimg::geo::make_icosphere(1.0, 3);
     Mesh cap;
     cap.positions = full.positions;
     for (const auto& t : full.triangles)

@@ -2,7 +2,10 @@
 #include "gimg/geometry/cotangent.h"
 #include "gimg/geometry/normals.h"
 
-#include "procedural_meshes.h"
+#include "gimg/geometry/shapes.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <gtest/gtest.h>
 
@@ -45,7 +48,7 @@ TEST(Normals, FaceNormalAndAreaOfRightTriangle) {
 TEST(Normals, AngleWeightedNormalAtBoxCornerIsTheDiagonal) {
     // Box faces are split into two triangles each; a corner lies in one or two triangles of each
     // face depending on the diagonal, and only angle weighting makes that irrelevant.
-    const Mesh box = gimg::test::make_box({2.0, 3.0, 5.0});
+    const Mesh box = gimg::geo::make_box({2.0, 3.0, 5.0});
     const auto n = vertex_normals(box);
     for (std::size_t v = 0; v < box.vertex_count(); ++v) {
         const glm::dvec3 expected = glm::normalize(glm::sign(box.positions[v]));
@@ -54,7 +57,7 @@ TEST(Normals, AngleWeightedNormalAtBoxCornerIsTheDiagonal) {
 }
 
 TEST(Normals, SphereVertexNormalsAreRadial) {
-    const Mesh s = gimg::test::make_icosphere(3, 2.0);
+    const Mesh s = gimg::geo::make_icosphere(2.0, 3);
     const auto n = vertex_normals(s);
     for (std::size_t v = 0; v < s.vertex_count(); ++v)
         EXPECT_GT(glm::dot(n[v], glm::normalize(s.positions[v])), 0.9999);
@@ -122,7 +125,7 @@ TEST(VertexAreas, RightAndObtuseTriangles) {
 }
 
 TEST(VertexAreas, TileTheSurface) {
-    Mesh m = gimg::test::make_uv_sphere(24, 12, 1.5);  // obtuse triangles near the poles
+    Mesh m = gimg::geo::make_uv_sphere(24, 12, 1.5);  // obtuse triangles near the poles
     double total = 0.0;
     for (double a : face_areas(m)) total += a;
     for (auto kind : {VertexAreaKind::Barycentric, VertexAreaKind::MixedVoronoi}) {

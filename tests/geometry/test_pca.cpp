@@ -1,6 +1,9 @@
 #include "gimg/geometry/pca.h"
 
-#include "procedural_meshes.h"
+#include "gimg/geometry/shapes.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/matrix.hpp>
@@ -32,7 +35,7 @@ double signed_volume(const Mesh& m) {
 // An egg-like closed surface with distinct extents (y 3, z 2, x 1) and skewed along y and z, so
 // every principal axis and the skewness signs are well defined.
 Mesh skewed_ellipsoid() {
-    Mesh m = gimg::test::make_uv_sphere(32, 16);
+    Mesh m = gimg::geo::make_uv_sphere(32, 16);
     for (auto& p : m.positions) {
         p *= glm::dvec3(1.0, 3.0, 2.0);
         p.y += 0.15 * p.y * p.y;
@@ -51,7 +54,7 @@ void expect_rotation(const glm::dmat3& r) {
 }  // namespace
 
 TEST(Pca, RotatedBoxComesBackAxisAlignedLongestSideAlongY) {
-    const Mesh box = gimg::test::make_box({1.0, 3.0, 2.0});
+    const Mesh box = gimg::geo::make_box({1.0, 3.0, 2.0});
     const glm::dmat3 q = rotation_about({0.3, -1.0, 0.7}, 1.1);
     const glm::dvec3 offset(5.0, -2.0, 0.25);
     const Mesh input = transformed(box, q, offset);
@@ -76,7 +79,7 @@ TEST(Pca, RotatedBoxComesBackAxisAlignedLongestSideAlongY) {
 
 TEST(Pca, VarianceOfBoxVerticesAndOfBoxSurface) {
     const double a = 1.0, b = 3.0, c = 2.0;
-    const Mesh box = gimg::test::make_box({a, b, c});
+    const Mesh box = gimg::geo::make_box({a, b, c});
     const PcaAlignment vertices = compute_pca_alignment(box, PcaWeighting::Vertices);
     EXPECT_NEAR(vertices.variances.x, b * b / 4, 1e-12);  // main
     EXPECT_NEAR(vertices.variances.y, c * c / 4, 1e-12);  // second

@@ -3,7 +3,10 @@
 #include "gimg/geometry/surface_distance.h"
 #include "gimg/geometry/surface_sampling.h"
 
-#include "procedural_meshes.h"
+#include "gimg/geometry/shapes.h"
+
+#include <glm/geometric.hpp>
+#include <glm/vector_relational.hpp>
 
 #include <gtest/gtest.h>
 
@@ -96,8 +99,8 @@ TEST(SurfaceDistance, ConcentricSpheres) {
     // are inscribed in their spheres, dipping inside by at most their sagitta s_in, s_out, so
     // every distance, either way, lies in [0.1 - s_out, 0.1 + s_in + s_out]; the meshes are fine
     // enough for that interval to sit inside 0.1 +- 1 %.
-    const Mesh inner = gimg::test::make_icosphere(5, 1.0);
-    const Mesh outer = gimg::test::make_uv_sphere(256, 128, 1.1);
+    const Mesh inner = gimg::geo::make_icosphere(1.0, 5);
+    const Mesh outer = gimg::geo::make_uv_sphere(256, 128, 1.1);
     const double s_in = sagitta(inner, 1.0, glm::dvec3(0.0)), s_out = sagitta(outer, 1.1, glm::dvec3(0.0));
     ASSERT_LT(s_in + s_out, 1e-3);
     const SurfaceDistance d = surface_distance(inner, outer, with_samples(200'000));
@@ -118,7 +121,7 @@ TEST(SurfaceDistance, ConcentricSpheres) {
 }
 
 TEST(SurfaceDistance, MeshAgainstItselfIsZero) {
-    const Mesh m = gimg::test::make_uv_sphere(60, 30, 3.0);
+    const Mesh m = gimg::geo::make_uv_sphere(60, 30, 3.0);
     const SurfaceDistance d = surface_distance(m, m, with_samples(100'000));
     for (const DistanceStats* s : {&d.a_to_b, &d.b_to_a, &d.symmetric}) {
         EXPECT_LE(s->mean, 1e-12);
@@ -137,7 +140,7 @@ TEST(SurfaceDistance, TranslatedSphere) {
     // element, negligible here).
     const glm::dvec3 t(0.03, -0.04, 0.0);
     const double len = glm::length(t);
-    const Mesh a = gimg::test::make_icosphere(5, 1.0);
+    const Mesh a = gimg::geo::make_icosphere(1.0, 5);
     Mesh b = a;
     for (auto& p : b.positions) p += t;
     const double s = sagitta(a, 1.0, glm::dvec3(0.0));
@@ -165,8 +168,8 @@ TEST(SurfaceDistance, TranslatedSphere) {
 }
 
 TEST(SurfaceDistance, SameBitsForAnyThreadCount) {
-    const Mesh a = gimg::test::make_icosphere(3, 1.0);
-    const Mesh b = gimg::test::make_uv_sphere(40, 20, 1.05);
+    const Mesh a = gimg::geo::make_icosphere(1.0, 3);
+    const Mesh b = gimg::geo::make_uv_sphere(40, 20, 1.05);
     SurfaceDistanceOptions o = with_samples(50'000);
     o.threads = 1;
     const SurfaceDistance one = surface_distance(a, b, o);
@@ -185,8 +188,8 @@ TEST(SurfaceDistance, MaximumIncludesTheVertices) {
     // A coarse icosahedron of radius 1.2 around a fine unit sphere: its farthest points from the
     // sphere are its 12 corners (distance 0.2 + at most the fine mesh's sagitta), which area
     // samples practically never hit. The reported max includes them; the samples alone fall short.
-    const Mesh coarse = gimg::test::make_icosphere(0, 1.2);
-    const Mesh fine = gimg::test::make_icosphere(5, 1.0);
+    const Mesh coarse = gimg::geo::make_icosphere(1.2, 0);
+    const Mesh fine = gimg::geo::make_icosphere(1.0, 5);
     const double s = sagitta(fine, 1.0, glm::dvec3(0.0));
     const TriangleBvh bvh(fine);
     SurfaceDistanceOptions o = with_samples(2000);
@@ -204,7 +207,7 @@ TEST(SurfaceDistance, RejectsSurfacesWithoutArea) {
     Mesh flat;
     flat.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
     flat.triangles = {{0, 1, 2}};
-    const Mesh s = gimg::test::make_icosphere(1);
+    const Mesh s = gimg::geo::make_icosphere(1.0, 1);
     EXPECT_THROW(surface_distance(flat, s), InputError);
     EXPECT_THROW(surface_distance(s, flat), InputError);
     EXPECT_THROW(surface_distance(Mesh{}, s), InputError);

@@ -10,6 +10,11 @@ namespace gimg::geo {
 // vertices, closed, genus 0, outward counter-clockwise faces.
 Mesh make_icosphere(double radius, int level, glm::dvec3 center = glm::dvec3(0.0));
 
+// Latitude-longitude sphere: `segments` around, `rings` bands from pole to pole (rings >= 2),
+// 2 * segments * (rings - 1) faces. Its thin triangles near the poles are a different
+// tessellation from the icosphere's, which some tests want.
+Mesh make_uv_sphere(int segments, int rings, double radius = 1.0, glm::dvec3 center = glm::dvec3(0.0));
+
 // Axis-aligned box with the given edge lengths around the origin, each face split into
 // `divisions` x `divisions` quads (two triangles each); vertices shared along edges.
 Mesh make_box(glm::dvec3 size, int divisions = 1);
