@@ -98,6 +98,7 @@ TrianglePoint closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a
 bool intersect_ray_triangle(const Ray& ray, const glm::dvec3& a, const glm::dvec3& b,
                             const glm::dvec3& c, TriangleHit& hit) {
     const glm::dvec3 e1 = b - a, e2 = c - a;
+    if (ray.front_faces_only && !(glm::dot(glm::cross(e1, e2), ray.direction) < 0.0)) return false;
     const glm::dvec3 pvec = glm::cross(ray.direction, e2);
     const double det = glm::dot(e1, pvec);
     if (det == 0.0) return false;

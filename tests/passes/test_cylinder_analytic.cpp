@@ -5,6 +5,8 @@
 
 #include "gimg/passes/cylinder.h"
 
+#include <string>
+
 #include <glm/ext/matrix_transform.hpp>
 
 #include <cstdio>
@@ -15,11 +17,16 @@ using gimg::test::y_of;
 
 namespace {
 
-class CylinderAnalytic : public gimg::test::GpuTest {
+enum class Method { ZBuffer, Raycast };
+
+// Every case runs for every method: they share one definition, so one set of exact answers.
+class CylinderAnalytic : public gimg::test::GpuTest, public ::testing::WithParamInterface<Method> {
 protected:
     passes::CylinderImage zbuffer(const geo::Mesh& m, std::uint32_t w, std::uint32_t h) {
+        const passes::CylinderMesh mesh = gimg::test::to_cylinder_mesh(m);
+        if (GetParam() == Method::Raycast) return passes::cylinder_raycast(mesh, w, h);
         passes::CylinderZBuffer z(ctx(), w, h);
-        return z.project(z.add_mesh(gimg::test::to_cylinder_mesh(m)));
+        return z.project(z.add_mesh(mesh));
     }
 };
 
@@ -30,7 +37,7 @@ geo::Mesh transformed(geo::Mesh m, const glm::dmat4& t) {
 
 }  // namespace
 
-TEST_F(CylinderAnalytic, SphereCentredOnTheAxis) {
+TEST_P(CylinderAnalytic, SphereCentredOnTheAxis) {
     const double r = 0.4, y0 = 0.5;
     const geo::Mesh sphere = geo::make_icosphere(r, 5, {0.0, y0, 0.0});
     // The inscribed polyhedron lies between the sphere and its faces' smallest distance to the centre.
@@ -61,7 +68,7 @@ TEST_F(CylinderAnalytic, SphereCentredOnTheAxis) {
     EXPECT_GT(checked, W * 80u);
 }
 
-TEST_F(CylinderAnalytic, CubeAroundTheAxis) {
+TEST_P(CylinderAnalytic, CubeAroundTheAxis) {
     const double a = 0.3;
     // y from 0.3 to 0.7: no row of the image lies exactly on the top or bottom face.
     const geo::Mesh cube = transformed(geo::make_box({2 * a, 0.4, 2 * a}, 4), glm::translate(glm::dmat4(1.0), {0, 0.5, 0}));
@@ -81,7 +88,7 @@ TEST_F(CylinderAnalytic, CubeAroundTheAxis) {
     }
 }
 
-TEST_F(CylinderAnalytic, SphereOffTheAxisIsSeenThroughTheAxisToo) {
+TEST_P(CylinderAnalytic, SphereOffTheAxisIsSeenThroughTheAxisToo) {
     const double r = 0.25, cx = 0.5, y0 = 0.5;
     const geo::Mesh sphere = geo::make_icosphere(r, 6, {cx, y0, 0.0});
     const std::uint32_t W = 512, H = 128;
@@ -107,7 +114,7 @@ TEST_F(CylinderAnalytic, SphereOffTheAxisIsSeenThroughTheAxisToo) {
     EXPECT_GT(back, 1000u);  // back projection (d < 0) really happened
 }
 
-TEST_F(CylinderAnalytic, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrossesTheSeam) {
+TEST_P(CylinderAnalytic, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrossesTheSeam) {
     // A thin box tilted 35 degrees about z and 20 about y, pierced by the axis.
     const glm::dmat4 rot = glm::rotate(glm::rotate(glm::dmat4(1.0), glm::radians(20.0), {0, 1, 0}), glm::radians(35.0), {0, 0, 1});
     const glm::dmat4 model = glm::translate(glm::dmat4(1.0), {0.0, 0.5, 0.0}) * rot;
@@ -137,7 +144,7 @@ TEST_F(CylinderAnalytic, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrosse
     EXPECT_LE(mismatched, covered / 10000) << "coverage differs from the exact box at " << mismatched << " pixels";
 }
 
-TEST_F(CylinderAnalytic, ConeDistanceIsLinearInHeight) {
+TEST_P(CylinderAnalytic, ConeDistanceIsLinearInHeight) {
     // A cone (n facets) with its apex on the axis at y = 0.9 and its base (radius 0.5) at y = 0.1.
     const int n = 48;
     geo::Mesh cone;
@@ -170,7 +177,7 @@ TEST_F(CylinderAnalytic, ConeDistanceIsLinearInHeight) {
     }
 }
 
-TEST_F(CylinderAnalytic, CylindricalShellAcrossTheSeam) {
+TEST_P(CylinderAnalytic, CylindricalShellAcrossTheSeam) {
     // A thick tube, inner radius 0.5, outer 0.7, 36 facets with one facet centred on theta = 0.
     const int n = 36;
     const double r_in = 0.5, r_out = 0.7, y0 = 0.2, y1 = 0.8;
@@ -208,3 +215,8 @@ TEST_F(CylinderAnalytic, CylindricalShellAcrossTheSeam) {
         }
     }
 }
+
+INSTANTIATE_TEST_SUITE_P(Methods, CylinderAnalytic, ::testing::Values(Method::ZBuffer, Method::Raycast),
+                         [](const ::testing::TestParamInfo<Method>& param) {
+                             return param.param == Method::ZBuffer ? std::string("zbuffer") : std::string("raycast");
+                         });

@@ -26,6 +26,8 @@ struct Ray {
     glm::dvec3 direction{0.0, 0.0, 1.0};  // need not be unit length; t is in its units
     double t_min = 0.0;
     double t_max = std::numeric_limits<double>::infinity();
+    // Only triangles facing the ray's origin: dot(cross(b - a, c - a), direction) < 0.
+    bool front_faces_only = false;
 };
 
 struct TriangleHit {
@@ -34,7 +36,7 @@ struct TriangleHit {
     glm::dvec3 barycentric{1.0, 0.0, 0.0};
 };
 
-// Moeller-Trumbore, both faces hit (no culling), edges and corners included (closed test on the
+// Moeller-Trumbore, both faces hit unless ray.front_faces_only, edges and corners included (closed test on the
 // barycentrics), t in the closed range [ray.t_min, ray.t_max]. A ray in the triangle's plane
 // (determinant exactly 0) never hits. Returns false on a miss.
 bool intersect_ray_triangle(const Ray& ray, const glm::dvec3& a, const glm::dvec3& b,

@@ -10,7 +10,10 @@
 // optional per-image 3x4 transform applied in double), so they can agree to rounding.
 
 #include "gimg/engine/context.h"
-#include "gimg/engine/plan.h"
+#include "gimg/geometry/mesh.h"
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec3.hpp>
 
 #include <array>
 #include <cstdint>
@@ -41,9 +44,32 @@ struct CylinderMesh {
 using CylinderTransform = std::array<float, 12>;
 inline constexpr CylinderTransform kIdentityTransform{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
 
+// Where the cylinder frame sits in the model's: p_cylinder = scale * (rotation * p) + translation.
+// rotation comes from PCA (main axis -> y, never a mirror); scale and translation fit the model
+// into the cylinder of radius 1 and height 1 (y from 0 to 1), centred on the axis and in height,
+// with a 0.1 % margin so no point lies exactly on the wall.
+struct CylinderFrame {
+    glm::dmat3 rotation{1.0};
+    glm::dvec3 translation{0.0};
+    double scale = 1.0;
+    glm::dvec3 to_cylinder(const glm::dvec3& p) const { return scale * (rotation * p) + translation; }
+    glm::dvec3 to_model(const glm::dvec3& q) const;
+};
+
+// align = false keeps the model's orientation (y stays up) and only centres and scales it.
+CylinderFrame fit_cylinder_frame(const geo::Mesh& mesh, bool align = true);
+// The mesh's positions mapped into the frame in double, then stored as float32.
+CylinderMesh make_cylinder_mesh(const geo::Mesh& mesh, const CylinderFrame& frame);
+
+// --auto image size as the paper chooses it: W = 2H with 2 W H close to the face count.
+std::array<std::uint32_t, 2> auto_cylinder_size(std::size_t faces);
+
 // The directions of the W pixel columns, (cos theta_u, sin theta_u) in double: every method uses
 // this same table, as the paper tabulates it.
 std::vector<std::array<double, 2>> cylinder_directions(std::uint32_t width);
+
+// The mesh with the transform applied in double (what every method intersects).
+geo::Mesh to_cylinder_frame(const CylinderMesh& mesh, const CylinderTransform& transform = kIdentityTransform);
 
 // The CPU reference: a ray per pixel through a BVH, multithreaded.
 CylinderImage cylinder_raycast(const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,

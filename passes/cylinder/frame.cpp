@@ -1,0 +1,70 @@
+// Fitting a model into the unit cylinder (seed 003, 2.5.1): PCA alignment, then one uniform scale
+// and a translation. One scale for all axes keeps the shape, so distances and facing stay true.
+#include "gimg/passes/cylinder.h"
+
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/pca.h"
+
+#include <glm/matrix.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace gimg::passes {
+
+namespace {
+constexpr double kMargin = 0.999;  // no point exactly on the wall, where t = 1 would be a tie
+}
+
+glm::dvec3 CylinderFrame::to_model(const glm::dvec3& q) const {
+    return glm::transpose(rotation) * ((q - translation) / scale);
+}
+
+CylinderFrame fit_cylinder_frame(const geo::Mesh& mesh, bool align) {
+    if (mesh.positions.empty()) throw geo::InputError("cannot fit an empty mesh into the cylinder");
+    CylinderFrame frame;
+    glm::dvec3 centre{0.0};
+    if (align) {
+        const geo::PcaAlignment pca = geo::compute_pca_alignment(mesh);
+        frame.rotation = pca.transform.rotation;
+        centre = pca.centroid;
+    } else {
+        for (const auto& p : mesh.positions) centre += p;
+        centre /= double(mesh.positions.size());
+    }
+    // In the rotated frame, around the centroid: the axis goes through the centroid.
+    double r_max = 0.0, y_min = 1e300, y_max = -1e300;
+    for (const auto& p : mesh.positions) {
+        const glm::dvec3 q = frame.rotation * (p - centre);
+        r_max = std::max(r_max, std::hypot(q.x, q.z));
+        y_min = std::min(y_min, q.y);
+        y_max = std::max(y_max, q.y);
+    }
+    const double extent = std::max(r_max, y_max - y_min);
+    if (!(extent > 0.0) || !std::isfinite(extent)) throw geo::InputError("the mesh has no extent to fit into the cylinder");
+    frame.scale = kMargin / extent;
+    // p_cyl = s R (p - c) + (0, y0, 0) with the model centred in height.
+    const double y0 = 0.5 - frame.scale * 0.5 * (y_min + y_max);
+    frame.translation = glm::dvec3(0.0, y0, 0.0) - frame.scale * (frame.rotation * centre);
+    return frame;
+}
+
+CylinderMesh make_cylinder_mesh(const geo::Mesh& mesh, const CylinderFrame& frame) {
+    CylinderMesh out;
+    out.positions.reserve(3 * mesh.positions.size());
+    for (const auto& p : mesh.positions) {
+        const glm::dvec3 q = frame.to_cylinder(p);
+        out.positions.insert(out.positions.end(), {float(q.x), float(q.y), float(q.z)});
+    }
+    out.triangles.reserve(3 * mesh.triangles.size());
+    for (const auto& t : mesh.triangles) out.triangles.insert(out.triangles.end(), {t.x, t.y, t.z});
+    return out;
+}
+
+std::array<std::uint32_t, 2> auto_cylinder_size(std::size_t faces) {
+    // 2 W H = 2 (2H) H = 4 H^2 = faces.
+    const auto h = std::uint32_t(std::max(1.0, std::round(std::sqrt(double(faces) / 4.0))));
+    return {2 * h, h};
+}
+
+}  // namespace gimg::passes

@@ -1,0 +1,54 @@
+// The CPU reference: one ray per pixel through a BVH. The line of pixel (u, v) is cast from the
+// axis point (0, y_v, 0) in the direction opposite to theta_u over t in [-1, 1], keeping front
+// faces only; its nearest hit t is the largest d = -t of the definition. Written this way the
+// arithmetic is the GPU fragment test's, term for term.
+#include "gimg/passes/cylinder.h"
+
+#include "gimg/geometry/bvh.h"
+#include "gimg/geometry/parallel_for.h"
+
+namespace gimg::passes {
+
+geo::Mesh to_cylinder_frame(const CylinderMesh& mesh, const CylinderTransform& m) {
+    geo::Mesh out;
+    out.positions.reserve(mesh.positions.size() / 3);
+    for (std::size_t i = 0; i + 2 < mesh.positions.size(); i += 3) {
+        const double x = mesh.positions[i], y = mesh.positions[i + 1], z = mesh.positions[i + 2];
+        glm::dvec3 p;
+        for (int r = 0; r < 3; ++r)
+            p[r] = double(m[4 * r]) * x + double(m[4 * r + 1]) * y + double(m[4 * r + 2]) * z + double(m[4 * r + 3]);
+        out.positions.push_back(p);
+    }
+    out.triangles.reserve(mesh.face_count());
+    for (std::size_t f = 0; f < mesh.face_count(); ++f)
+        out.triangles.push_back({mesh.triangles[3 * f], mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]});
+    return out;
+}
+
+CylinderImage cylinder_raycast(const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
+                               const CylinderTransform& transform) {
+    CylinderImage image(width, height);
+    if (mesh.face_count() == 0) return image;
+    const geo::TriangleBvh bvh(to_cylinder_frame(mesh, transform));
+    const auto directions = cylinder_directions(width);
+    geo::parallel_for_chunks(height, 1, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v) {
+            geo::Ray ray;
+            ray.origin = {0.0, 1.0 - (double(v) + 0.5) / double(height), 0.0};
+            ray.t_min = -1.0;
+            ray.t_max = 1.0;
+            ray.front_faces_only = true;
+            for (std::uint32_t u = 0; u < width; ++u) {
+                ray.direction = {-directions[u][0], 0.0, -directions[u][1]};
+                if (auto hit = bvh.intersect_nearest(ray)) {
+                    const std::size_t i = image.index(u, std::uint32_t(v));
+                    image.covered[i] = 1;
+                    image.distance[i] = float(-hit->t);
+                }
+            }
+        }
+    });
+    return image;
+}
+
+}  // namespace gimg::passes
