@@ -6,7 +6,6 @@
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/surface_distance.h"
 
-#include <sys/resource.h>
 
 #include <chrono>
 #include <cstdint>
@@ -28,12 +27,6 @@ struct CompareOptions {
 
 nlohmann::json stats_json(const geo::DistanceStats& s) {
     return {{"mean", s.mean}, {"rms", s.rms}, {"max", s.max}};
-}
-
-double peak_rss_mb() {
-    rusage usage{};
-    getrusage(RUSAGE_SELF, &usage);
-    return double(usage.ru_maxrss) / 1024.0;  // Linux reports kilobytes
 }
 
 void print_row(const char* label, const geo::DistanceStats& abs, const geo::DistanceStats& rel) {

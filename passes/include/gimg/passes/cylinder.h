@@ -10,6 +10,7 @@
 // optional per-image 3x4 transform applied in double), so they can agree to rounding.
 
 #include "gimg/engine/context.h"
+#include "gimg/geometry/image.h"
 #include "gimg/geometry/mesh.h"
 
 #include <glm/mat3x3.hpp>
@@ -17,6 +18,8 @@
 
 #include <array>
 #include <cstdint>
+#include <filesystem>
+#include <string>
 #include <memory>
 #include <span>
 #include <vector>
@@ -63,6 +66,23 @@ CylinderMesh make_cylinder_mesh(const geo::Mesh& mesh, const CylinderFrame& fram
 
 // --auto image size as the paper chooses it: W = 2H with 2 W H close to the face count.
 std::array<std::uint32_t, 2> auto_cylinder_size(std::size_t faces);
+
+// The picture people look at: brightness = |d| (relative to the image's largest |d|), warm for
+// d > 0 (seen directly), cold for d < 0 (seen through the axis), black where empty.
+geo::RgbaImage cylinder_preview(const CylinderImage& image);
+
+// DIR/distance.exr (float32 channels "d" and "mask": 1 covered, 0 empty), DIR/distance.png (the
+// preview) and DIR/frame.json (rotation, translation, scale, image layout), each written
+// atomically; DIR is created if missing.
+struct CylinderFileInfo {
+    std::string source;  // the mesh the image came from
+    std::string method;  // zbuffer, raycast or scanline
+};
+void write_cylinder_files(const std::filesystem::path& dir, const CylinderImage& image, const CylinderFrame& frame,
+                          const CylinderFileInfo& info);
+// Reading them back (reconstruction). Throws geo::InputError for missing or malformed files.
+CylinderImage read_cylinder_exr(const std::filesystem::path& path);
+CylinderFrame read_cylinder_frame(const std::filesystem::path& path);
 
 // The directions of the W pixel columns, (cos theta_u, sin theta_u) in double: every method uses
 // this same table, as the paper tabulates it.
