@@ -2,6 +2,7 @@
 
 #include "gimg/engine/graph.h"
 #include "gimg/geometry/error.h"
+#include "gimg/geometry/normals.h"
 
 #include "render/downsample_comp.h"
 #include "render/mesh_frag.h"
@@ -39,28 +40,14 @@ struct DownsamplePush {
     float background[4];
 };
 
-// Angle-weighted vertex normals, for smooth shading.
-std::vector<float> vertex_normals(const geo::Mesh& mesh) {
-    std::vector<glm::dvec3> n(mesh.vertex_count(), glm::dvec3(0.0));
-    for (const glm::uvec3& t : mesh.triangles) {
-        const unsigned c[3] = {t.x, t.y, t.z};
-        glm::dvec3 face = glm::cross(mesh.positions[c[1]] - mesh.positions[c[0]], mesh.positions[c[2]] - mesh.positions[c[0]]);
-        const double len = glm::length(face);
-        if (len == 0.0) continue;
-        face /= len;
-        for (int k = 0; k < 3; ++k) {
-            const glm::dvec3 e1 = mesh.positions[c[(k + 1) % 3]] - mesh.positions[c[k]];
-            const glm::dvec3 e2 = mesh.positions[c[(k + 2) % 3]] - mesh.positions[c[k]];
-            const double l1 = glm::length(e1), l2 = glm::length(e2);
-            if (l1 == 0.0 || l2 == 0.0) continue;
-            n[c[k]] += face * std::acos(std::clamp(glm::dot(e1, e2) / (l1 * l2), -1.0, 1.0));
-        }
-    }
+// Angle-weighted vertex normals as float xyz, for smooth shading.
+std::vector<float> float_vertex_normals(const geo::Mesh& mesh) {
+    const std::vector<glm::dvec3> n = geo::vertex_normals(mesh);
     std::vector<float> out(3 * n.size());
     for (std::size_t i = 0; i < n.size(); ++i) {
-        const double len = glm::length(n[i]);
-        const glm::dvec3 u = len > 0.0 ? n[i] / len : glm::dvec3(0.0, 0.0, 1.0);
-        out[3 * i] = float(u.x), out[3 * i + 1] = float(u.y), out[3 * i + 2] = float(u.z);
+        // Vertices without a normal (isolated, cancelling fans) still need something to shade with.
+        const glm::dvec3 v = glm::dot(n[i], n[i]) > 0.0 ? n[i] : glm::dvec3(0.0, 0.0, 1.0);
+        out[3 * i] = float(v.x), out[3 * i + 1] = float(v.y), out[3 * i + 2] = float(v.z);
     }
     return out;
 }
@@ -103,7 +90,7 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
     std::vector<float> positions(3 * mesh.vertex_count());
     for (std::size_t i = 0; i < mesh.vertex_count(); ++i)
         for (int k = 0; k < 3; ++k) positions[3 * i + k] = float(mesh.positions[i][k]);
-    std::vector<float> normals = o.smooth ? vertex_normals(mesh) : std::vector<float>{};
+    std::vector<float> normals = o.smooth ? float_vertex_normals(mesh) : std::vector<float>{};
     std::vector<float> texcoords;
     if (mesh.has_texcoords())
         for (const auto& t : mesh.texcoords) texcoords.push_back(float(t.x)), texcoords.push_back(float(t.y));

@@ -15,5 +15,6 @@ void add_demo_command(CLI::App& app, const GlobalOptions& global);
 // gimg compare A B [--json FILE] [--samples N] [--seed S]  (cmd_compare.cpp)
 void add_compare_command(CLI::App& app, const GlobalOptions& global);
 void add_cylinder_command(CLI::App& app, const GlobalOptions& global);
+void add_render_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace gimg::cli

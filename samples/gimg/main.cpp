@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
     app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
     add_compare_command(app, global);
     add_cylinder_command(app, global);
+    add_render_command(app, global);
 
     add_devices_command(app, global);
     add_demo_command(app, global);
