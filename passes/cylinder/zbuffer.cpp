@@ -175,6 +175,11 @@ CylinderZBuffer::~CylinderZBuffer() = default;
 
 bool CylinderZBuffer::double_precision() const { return state_->use_double; }
 
+std::vector<PassTiming> CylinderZBuffer::last_pass_timings() const {
+    if (!state_->plan || state_->ctx.device_info().timestamp_period_ns == 0.0) return {};
+    return state_->plan->timings();
+}
+
 std::uint32_t CylinderZBuffer::add_mesh(const CylinderMesh& mesh) {
     State& s = *state_;
     if (mesh.triangles.size() % 3 != 0 || mesh.positions.size() % 3 != 0)

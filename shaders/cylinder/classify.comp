@@ -37,7 +37,7 @@ void append(uint face, uint job, float theta_lo, float theta_hi, float y_lo, flo
     const int u0 = max(int(ceil(a - 0.5 - 1e-3)), 0), u1 = min(int(floor(b - 0.5 + 1e-3)), int(width) - 1);
     const int v0 = max(int(ceil(c - 0.5 - 1e-3)), 0), v1 = min(int(floor(d - 0.5 + 1e-3)), int(height) - 1);
     if (u0 > u1 || v0 > v1) return;
-    const uint slot = atomicAdd(args.vertex_count, 6u) / 6u;
+    const uint slot = atomicAdd(args.vertex_count, 3u) / 3u;  // one triangle per rectangle
     if (slot >= max_rects) return;  // cannot happen: at most GIMG_CYL_RECTS_PER_FACE per face
     rects[slot] = uvec4(face, job, uint(u0) | (uint(u1) << 16), uint(v0) | (uint(v1) << 16));
 }

@@ -16,6 +16,8 @@ layout(push_constant) uniform Push { vec2 atlas_size; uvec2 image_size; };
 
 layout(location = 0) flat in uint face;
 layout(location = 1) flat in uint job;
+layout(location = 2) flat in uvec2 rect_lo;
+layout(location = 3) flat in uvec2 rect_hi;
 layout(location = 0) out float distance;
 
 REAL3 vertex(const CylinderJob jb, uint k) {
@@ -25,8 +27,10 @@ REAL3 vertex(const CylinderJob jb, uint k) {
 }
 
 void main() {
+    const uvec2 atlas_pixel = uvec2(gl_FragCoord.xy);
+    if (any(lessThan(atlas_pixel, rect_lo)) || any(greaterThanEqual(atlas_pixel, rect_hi))) discard;
     const CylinderJob jb = jobs[job];
-    const uvec2 pixel = uvec2(gl_FragCoord.xy) - uvec2(jb.tile_x, jb.tile_y);
+    const uvec2 pixel = atlas_pixel - uvec2(jb.tile_x, jb.tile_y);
     const REAL y = REAL(1.0) - (REAL(pixel.y) + REAL(0.5)) / REAL(image_size.y);
     const REAL2 cs = directions[pixel.x];
     const REAL3 dir = REAL3(cs.x, 0.0, cs.y);

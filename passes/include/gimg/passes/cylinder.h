@@ -10,6 +10,7 @@
 // optional per-image 3x4 transform applied in double), so they can agree to rounding.
 
 #include "gimg/engine/context.h"
+#include "gimg/engine/plan.h"
 #include "gimg/geometry/image.h"
 #include "gimg/geometry/mesh.h"
 
@@ -116,6 +117,8 @@ public:
 
     // GPU time of the last project() (sum of its passes), and the plan behind it.
     double last_gpu_ms() const { return last_gpu_ms_; }
+    // Per-pass GPU times of the last project() (reset, classify and split, z-buffer).
+    std::vector<PassTiming> last_pass_timings() const;
     bool double_precision() const;
 
 private:
