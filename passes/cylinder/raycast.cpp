@@ -25,11 +25,21 @@ geo::Mesh to_cylinder_frame(const CylinderMesh& mesh, const CylinderTransform& m
     return out;
 }
 
-CylinderImage cylinder_raycast(const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
-                               const CylinderTransform& transform) {
+struct CylinderRaycaster::Bvh {
+    geo::TriangleBvh tree;
+};
+
+CylinderRaycaster::CylinderRaycaster(const CylinderMesh& mesh, const CylinderTransform& transform)
+    : bvh_(std::make_unique<Bvh>()) {
+    if (mesh.face_count() > 0) bvh_->tree = geo::TriangleBvh(to_cylinder_frame(mesh, transform));
+}
+
+CylinderRaycaster::~CylinderRaycaster() = default;
+
+CylinderImage CylinderRaycaster::project(std::uint32_t width, std::uint32_t height) const {
     CylinderImage image(width, height);
-    if (mesh.face_count() == 0) return image;
-    const geo::TriangleBvh bvh(to_cylinder_frame(mesh, transform));
+    const geo::TriangleBvh& bvh = bvh_->tree;
+    if (bvh.empty()) return image;
     const auto directions = cylinder_directions(width);
     geo::parallel_for_chunks(height, 1, [&](std::size_t, std::size_t begin, std::size_t end) {
         for (std::size_t v = begin; v < end; ++v) {
@@ -49,6 +59,11 @@ CylinderImage cylinder_raycast(const CylinderMesh& mesh, std::uint32_t width, st
         }
     });
     return image;
+}
+
+CylinderImage cylinder_raycast(const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
+                               const CylinderTransform& transform) {
+    return CylinderRaycaster(mesh, transform).project(width, height);
 }
 
 }  // namespace gimg::passes
