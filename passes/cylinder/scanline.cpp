@@ -124,7 +124,8 @@ struct Edge {
 
 Edge make_edge(const Point& lo, const Point& hi) {
     const double dy = hi.y - lo.y;  // 0 for a horizontal edge, whose ends are all a row needs
-    return {lo, hi, dy > 0.0 ? (hi.x - lo.x) / dy : 0.0, dy > 0.0 ? (hi.z - lo.z) / dy : 0.0};
+    const double per_y = dy > 0.0 ? 1.0 / dy : 0.0;
+    return {lo, hi, (hi.x - lo.x) * per_y, (hi.z - lo.z) * per_y};
 }
 
 // The edge's cut by the scan plane at height y (lo.y <= y <= hi.y): its end points exactly when
@@ -193,6 +194,16 @@ void scan_row(const Raster& r, std::uint32_t v, bool back, double xl, double zl,
 // (z1, z2) One triangle, over the rows [row_begin, row_end).
 void scan_triangle(const Raster& r, const Point& a, const Point& b, const Point& c, long row_begin, long row_end) {
     if (!std::isfinite(a.x + a.y + a.z + b.x + b.y + b.z + c.x + c.y + c.z)) return;  // NaN or Inf corners
+    // (z2.a) Sort by height: the long edge spans all rows, the two short ones meet at `mid`. Most
+    // small triangles fall between two rows: they leave here.
+    const Point* p[3] = {&a, &b, &c};
+    if (p[1]->y < p[0]->y) std::swap(p[0], p[1]);
+    if (p[2]->y < p[1]->y) std::swap(p[1], p[2]);
+    if (p[1]->y < p[0]->y) std::swap(p[0], p[1]);
+    const Point &lo = *p[0], &mid = *p[1], &hi = *p[2];
+    const auto [first, last] = rows_between(r, lo.y, hi.y, row_begin, row_end);
+    if (first > last) return;
+
     // (z1) N_xz of the triangle's normal (b - a) x (c - a), the normal the facing rule uses.
     const double e1x = b.x - a.x, e1y = b.y - a.y, e1z = b.z - a.z;
     const double e2x = c.x - a.x, e2y = c.y - a.y, e2z = c.z - a.z;
@@ -204,14 +215,6 @@ void scan_triangle(const Raster& r, const Point& a, const Point& b, const Point&
     const bool exception = any_front && any_back;  // (z1.c)
     const bool back = any_back && !any_front;       // (z1.b); all >= 0 is (z1.a)
 
-    // (z2.a) Sort by height: the long edge spans all rows, the two short ones meet at `mid`.
-    const Point* p[3] = {&a, &b, &c};
-    if (p[1]->y < p[0]->y) std::swap(p[0], p[1]);
-    if (p[2]->y < p[1]->y) std::swap(p[1], p[2]);
-    if (p[1]->y < p[0]->y) std::swap(p[0], p[1]);
-    const Point &lo = *p[0], &mid = *p[1], &hi = *p[2];
-    const auto [first, last] = rows_between(r, lo.y, hi.y, row_begin, row_end);
-    if (first > last) return;
     const Edge long_edge = make_edge(lo, hi), lower = make_edge(lo, mid), upper = make_edge(mid, hi);
 
     // (z2.a3) Left / right labels. Every cut of a front piece lies on a line N_xz . V = k with
