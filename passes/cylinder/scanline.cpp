@@ -271,41 +271,52 @@ Geometry to_cylinder_frame(const CylinderMesh& mesh, const CylinderTransform& m)
     return g;
 }
 
+// Runs work(k) for k = 0, 1, ... count - 1 on `threads` threads, each taking the next k.
+template <class Work>
+void parallel_for(unsigned threads, std::size_t count, const Work& work) {
+    std::atomic<std::size_t> next{0};
+    const auto worker = [&] {
+        for (std::size_t k; (k = next.fetch_add(1)) < count;) work(k);
+    };
+    std::vector<std::thread> pool;
+    for (unsigned t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+}
+
 // Threads split the image into bands of rows, each band holding the faces that reach into it;
 // a pixel is written by one band only, so the result is the single-threaded one bit for bit.
 void scan_in_bands(const Raster& r, const Geometry& g, std::size_t faces, unsigned threads) {
     const long height = long(r.height);
-    const long band_count = std::min<long>(height, 4L * threads);
-    const auto band_of_row = [&](long v) { return v * band_count / height; };
-    const auto band_start = [&](long b) { return (b * height + band_count - 1) / band_count; };
-    std::vector<std::pair<long, long>> reach(faces, {1, 0});  // bands each face reaches
+    const long band_count = std::min<long>(height, 4L * threads);  // a few per thread, for balance
+    const auto band_of_row = [&](long v) { return std::uint32_t(v * band_count / height); };
+    const auto band_start = [&](std::size_t b) { return (long(b) * height + band_count - 1) / band_count; };
+
+    // Which bands each face reaches ({1, 0}: none), in chunks of faces over the threads.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> reach(faces, {1, 0});
+    constexpr std::size_t kChunk = 8192;
+    parallel_for(threads, (faces + kChunk - 1) / kChunk, [&](std::size_t chunk) {
+        for (std::size_t f = chunk * kChunk; f < std::min(faces, (chunk + 1) * kChunk); ++f) {
+            const std::uint32_t* t = g.triangles->data() + 3 * f;
+            const double y0 = g.points[t[0]].y, y1 = g.points[t[1]].y, y2 = g.points[t[2]].y;
+            const auto [first, last] = rows_between(r, std::min({y0, y1, y2}), std::max({y0, y1, y2}), 0, height);
+            if (first <= last) reach[f] = {band_of_row(first), band_of_row(last)};
+        }
+    });
+    // Counting sort of the faces into their bands.
     std::vector<std::size_t> offsets(std::size_t(band_count) + 1, 0);
-    for (std::size_t f = 0; f < faces; ++f) {
-        const std::uint32_t* t = g.triangles->data() + 3 * f;
-        const double y0 = g.points[t[0]].y, y1 = g.points[t[1]].y, y2 = g.points[t[2]].y;
-        const auto [first, last] = rows_between(r, std::min({y0, y1, y2}), std::max({y0, y1, y2}), 0, height);
-        if (first > last) continue;
-        reach[f] = {band_of_row(first), band_of_row(last)};
-        for (long b = reach[f].first; b <= reach[f].second; ++b) ++offsets[std::size_t(b) + 1];
-    }
+    for (const auto& [first, last] : reach)
+        for (std::uint32_t b = first; b <= last; ++b) ++offsets[b + 1];
     for (std::size_t b = 0; b < std::size_t(band_count); ++b) offsets[b + 1] += offsets[b];
     std::vector<std::uint32_t> band_faces(offsets.back());
     std::vector<std::size_t> fill(offsets.begin(), offsets.end() - 1);
     for (std::size_t f = 0; f < faces; ++f)
-        for (long b = reach[f].first; b <= reach[f].second; ++b) band_faces[fill[std::size_t(b)]++] = std::uint32_t(f);
+        for (std::uint32_t b = reach[f].first; b <= reach[f].second; ++b) band_faces[fill[b]++] = std::uint32_t(f);
 
-    std::atomic<long> next_band{0};
-    const auto worker = [&] {
-        for (long b; (b = next_band.fetch_add(1)) < band_count;) {
-            const long row_begin = band_start(b), row_end = band_start(b + 1);
-            for (std::size_t k = offsets[std::size_t(b)]; k < offsets[std::size_t(b) + 1]; ++k)
-                g.scan(r, band_faces[k], row_begin, row_end);
-        }
-    };
-    std::vector<std::thread> pool;
-    for (unsigned k = 1; k < threads; ++k) pool.emplace_back(worker);
-    worker();
-    for (std::thread& t : pool) t.join();
+    parallel_for(threads, std::size_t(band_count), [&](std::size_t b) {
+        for (std::size_t k = offsets[b]; k < offsets[b + 1]; ++k)
+            g.scan(r, band_faces[k], band_start(b), band_start(b + 1));
+    });
 }
 
 }  // namespace
