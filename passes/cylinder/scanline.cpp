@@ -292,15 +292,21 @@ void scan_in_bands(const Raster& r, const Geometry& g, std::size_t faces, unsign
     const auto band_of_row = [&](long v) { return std::uint32_t(v * band_count / height); };
     const auto band_start = [&](std::size_t b) { return (long(b) * height + band_count - 1) / band_count; };
 
-    // Which bands each face reaches ({1, 0}: none), in chunks of faces over the threads.
+    // Which bands each face may reach ({1, 0}: none), in chunks of faces over the threads. A row
+    // too many only costs a face a visit to a band where scan_triangle finds no row of it.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> reach(faces, {1, 0});
     constexpr std::size_t kChunk = 8192;
+    const double h = double(r.height);
     parallel_for(threads, (faces + kChunk - 1) / kChunk, [&](std::size_t chunk) {
         for (std::size_t f = chunk * kChunk; f < std::min(faces, (chunk + 1) * kChunk); ++f) {
             const std::uint32_t* t = g.triangles->data() + 3 * f;
             const double y0 = g.points[t[0]].y, y1 = g.points[t[1]].y, y2 = g.points[t[2]].y;
-            const auto [first, last] = rows_between(r, std::min({y0, y1, y2}), std::max({y0, y1, y2}), 0, height);
-            if (first <= last) reach[f] = {band_of_row(first), band_of_row(last)};
+            // Rows h (1 - y) - 1/2 of the face's ends, one row wider on either side for rounding.
+            const double top = h * (1.0 - std::max({y0, y1, y2})) - 1.5;
+            const double bottom = h * (1.0 - std::min({y0, y1, y2})) + 0.5;
+            if (!(top < h) || !(bottom > 0.0)) continue;  // off the image, or not finite
+            reach[f] = {band_of_row(top > 0.0 ? long(top) : 0),
+                        band_of_row(bottom < h - 1.0 ? long(bottom) : height - 1)};
         }
     });
     // Counting sort of the faces into their bands.

@@ -252,13 +252,15 @@ TEST(CylinderScanline, BadInputIsRejectedOrSkipped) {
     passes::CylinderMesh missing = mesh;
     missing.triangles[1] = 7;
     EXPECT_THROW(passes::cylinder_scanline(missing, 10, 10), Error);
-    // A triangle with a non-finite corner is skipped; the others are drawn.
+    // A triangle with a non-finite corner is skipped, on one thread or several; the others are drawn.
     passes::CylinderMesh with_nan = soup({{0.5, 0.2, 0.0}, {0.5, 0.8, 0.2}, {0.5, 0.2, 0.4}, {0.1, 0.1, 0.1},
                                           {std::nan(""), 0.5, 0.1}, {0.2, 0.9, 0.1}});
-    const auto img = passes::cylinder_scanline(with_nan, 64, 32);
     const auto clean = passes::cylinder_scanline(mesh, 64, 32);
-    EXPECT_EQ(img.covered, clean.covered);
-    EXPECT_EQ(img.distance, clean.distance);
+    for (unsigned threads : {1u, 2u}) {
+        const auto img = passes::cylinder_scanline(with_nan, 64, 32, passes::kIdentityTransform, threads);
+        EXPECT_EQ(img.covered, clean.covered);
+        EXPECT_EQ(img.distance, clean.distance);
+    }
     const auto empty = passes::cylinder_scanline(passes::CylinderMesh{}, 8, 4);
     EXPECT_EQ(std::count(empty.covered.begin(), empty.covered.end(), 1), 0);
 }
