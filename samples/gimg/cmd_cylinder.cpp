@@ -1,4 +1,4 @@
-// gimg cylinder MESH --out DIR [--size WxH | --auto] [--method zbuffer|raycast] [--no-align] [--json FILE]
+// gimg cylinder MESH --out DIR [--size WxH | --auto] [--method zbuffer|raycast|scanline] [--no-align] [--json FILE]
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
@@ -33,6 +33,8 @@ void run_cylinder(const CylinderOptions& o, const GlobalOptions& global) {
         passes::CylinderZBuffer zbuffer(*ctx, size[0], size[1]);
         image = zbuffer.project(zbuffer.add_mesh(cyl));
         gpu_ms = zbuffer.last_gpu_ms();
+    } else if (o.method == "scanline") {
+        image = passes::cylinder_scanline(cyl, size[0], size[1]);
     } else {
         image = passes::cylinder_raycast(cyl, size[0], size[1]);
     }
@@ -64,8 +66,9 @@ void add_cylinder_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--out", opts->out, "Output folder for distance.exr, distance.png and frame.json")->required();
     auto* size = cmd->add_option("--size", opts->size, "Image size WxH");
     cmd->add_flag("--auto", opts->auto_size, "W = 2H with 2WH close to the face count (the default)")->excludes(size);
-    cmd->add_option("--method", opts->method, "zbuffer (GPU, default) or raycast (CPU reference)")
-        ->check(CLI::IsMember({"zbuffer", "raycast"}));
+    cmd->add_option("--method", opts->method,
+                    "zbuffer (GPU, default), raycast (CPU reference) or scanline (the paper's CPU algorithm)")
+        ->check(CLI::IsMember({"zbuffer", "raycast", "scanline"}));
     cmd->add_flag("--no-align", opts->no_align, "Keep the model's orientation (no PCA), only centre and scale");
     cmd->add_option("--json", opts->json, "Write the figures as JSON");
     cmd->callback([opts, &global] { run_cylinder(*opts, global); });

@@ -1,222 +1,49 @@
-// Cylindrical projection of shapes with exact answers: every covered pixel's d against the closed
-// form, and coverage row by row.
-#include "cylinder_cases.h"
+// Cylindrical projection of shapes with exact answers (cylinder_analytic_cases.h), by the GPU
+// Z-buffer and by the CPU ray caster (the scanline method has its own file).
+#include "cylinder_analytic_cases.h"
 #include "gpu_test.h"
 
-#include "gimg/passes/cylinder.h"
-
-#include <string>
-
-#include <glm/ext/matrix_transform.hpp>
-
-#include <cstdio>
-
 using namespace gimg;
-using gimg::test::theta_of;
-using gimg::test::y_of;
 
 namespace {
 
-enum class Method { ZBuffer, Raycast };
-
-// Every case runs for every method: they share one definition, so one set of exact answers.
-class CylinderAnalytic : public gimg::test::GpuTest, public ::testing::WithParamInterface<Method> {
+class CylinderAnalytic : public gimg::test::GpuTest {
 protected:
-    passes::CylinderImage zbuffer(const geo::Mesh& m, std::uint32_t w, std::uint32_t h) {
-        const passes::CylinderMesh mesh = gimg::test::to_cylinder_mesh(m);
-        if (GetParam() == Method::Raycast) return passes::cylinder_raycast(mesh, w, h);
-        passes::CylinderZBuffer z(ctx(), w, h);
-        return z.project(z.add_mesh(mesh));
+    test::Projector zbuffer() {
+        return [this](const geo::Mesh& m, std::uint32_t w, std::uint32_t h) {
+            passes::CylinderZBuffer z(ctx(), w, h);
+            return z.project(z.add_mesh(test::to_cylinder_mesh(m)));
+        };
     }
 };
 
-geo::Mesh transformed(geo::Mesh m, const glm::dmat4& t) {
-    for (auto& p : m.positions) p = glm::dvec3(t * glm::dvec4(p, 1.0));
-    return m;
-}
-
 }  // namespace
 
-TEST_P(CylinderAnalytic, SphereCentredOnTheAxis) {
-    const double r = 0.4, y0 = 0.5;
-    const geo::Mesh sphere = geo::make_icosphere(r, 5, {0.0, y0, 0.0});
-    // The inscribed polyhedron lies between the sphere and its faces' smallest distance to the centre.
-    double r_in = r;
-    for (const auto& t : sphere.triangles) {
-        const glm::dvec3 n = glm::normalize(glm::cross(sphere.positions[t.y] - sphere.positions[t.x],
-                                                       sphere.positions[t.z] - sphere.positions[t.x]));
-        r_in = std::min(r_in, std::abs(glm::dot(n, sphere.positions[t.x] - glm::dvec3(0, y0, 0))));
-    }
-    const std::uint32_t W = 256, H = 128;
-    const auto img = zbuffer(sphere, W, H);
-    std::size_t checked = 0;
-    for (std::uint32_t v = 0; v < H; ++v) {
-        const double dy = y_of(v, H) - y0;
-        for (std::uint32_t u = 0; u < W; ++u) {
-            const std::size_t i = img.index(u, v);
-            if (std::abs(dy) < r_in) {
-                ASSERT_TRUE(img.covered[i]) << u << "," << v;
-                const double d = img.distance[i];
-                EXPECT_LE(d, std::sqrt(r * r - dy * dy) + 1e-6);
-                EXPECT_GE(d, std::sqrt(r_in * r_in - dy * dy) - 1e-6);
-                ++checked;
-            } else if (std::abs(dy) > r) {
-                ASSERT_FALSE(img.covered[i]) << u << "," << v;
-            }
-        }
-    }
-    EXPECT_GT(checked, W * 80u);
+TEST_F(CylinderAnalytic, SphereCentredOnTheAxis) { test::check_sphere_centred_on_the_axis(zbuffer()); }
+
+TEST_F(CylinderAnalytic, CubeAroundTheAxis) { test::check_cube_around_the_axis(zbuffer()); }
+
+TEST_F(CylinderAnalytic, SphereOffTheAxisIsSeenThroughTheAxisToo) { test::check_sphere_off_the_axis(zbuffer()); }
+
+TEST_F(CylinderAnalytic, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrossesTheSeam) {
+    test::check_tilted_plate_through_the_axis(zbuffer());
 }
 
-TEST_P(CylinderAnalytic, CubeAroundTheAxis) {
-    const double a = 0.3;
-    // y from 0.3 to 0.7: no row of the image lies exactly on the top or bottom face.
-    const geo::Mesh cube = transformed(geo::make_box({2 * a, 0.4, 2 * a}, 4), glm::translate(glm::dmat4(1.0), {0, 0.5, 0}));
-    const std::uint32_t W = 360, H = 90;
-    const auto img = zbuffer(cube, W, H);
-    for (std::uint32_t v = 0; v < H; ++v) {
-        const double y = y_of(v, H);
-        const bool inside = y > 0.3 && y < 0.7;
-        for (std::uint32_t u = 0; u < W; ++u) {
-            const std::size_t i = img.index(u, v);
-            ASSERT_EQ(bool(img.covered[i]), inside) << u << "," << v;
-            if (!inside) continue;
-            const double th = theta_of(u, W);
-            const double expected = a / std::max(std::abs(std::cos(th)), std::abs(std::sin(th)));
-            ASSERT_NEAR(img.distance[i], expected, 2e-6) << u << "," << v;
-        }
-    }
-}
+TEST_F(CylinderAnalytic, ConeDistanceIsLinearInHeight) { test::check_cone_distance_linear_in_height(zbuffer()); }
 
-TEST_P(CylinderAnalytic, SphereOffTheAxisIsSeenThroughTheAxisToo) {
-    const double r = 0.25, cx = 0.5, y0 = 0.5;
-    const geo::Mesh sphere = geo::make_icosphere(r, 6, {cx, y0, 0.0});
-    const std::uint32_t W = 512, H = 128;
-    const auto img = zbuffer(sphere, W, H);
-    std::size_t front = 0, back = 0;
-    for (std::uint32_t v = 0; v < H; ++v) {
-        const double dy = y_of(v, H) - y0;
-        if (std::abs(dy) > 0.9 * r) continue;  // away from the poles, where tessellation dominates
-        const double rho = std::sqrt(r * r - dy * dy);
-        for (std::uint32_t u = 0; u < W; ++u) {
-            const double th = theta_of(u, W);
-            const double disc = rho * rho - cx * cx * std::sin(th) * std::sin(th);
-            const std::size_t i = img.index(u, v);
-            if (disc < 0.02 * rho * rho) continue;  // near the silhouette
-            ASSERT_TRUE(img.covered[i]) << u << "," << v;
-            const double expected = cx * std::cos(th) + std::sqrt(disc);
-            // Inscribed polyhedron (level 6): within 2e-4 r of the sphere along the line.
-            EXPECT_NEAR(img.distance[i], expected, 2e-3 * r) << u << "," << v;
-            (expected > 0 ? front : back)++;
-        }
-    }
-    EXPECT_GT(front, 1000u);
-    EXPECT_GT(back, 1000u);  // back projection (d < 0) really happened
-}
+TEST_F(CylinderAnalytic, CylindricalShellAcrossTheSeam) { test::check_cylindrical_shell_across_the_seam(zbuffer()); }
 
-TEST_P(CylinderAnalytic, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrossesTheSeam) {
-    // A thin box tilted 35 degrees about z and 20 about y, pierced by the axis.
-    const glm::dmat4 rot = glm::rotate(glm::rotate(glm::dmat4(1.0), glm::radians(20.0), {0, 1, 0}), glm::radians(35.0), {0, 0, 1});
-    const glm::dmat4 model = glm::translate(glm::dmat4(1.0), {0.0, 0.5, 0.0}) * rot;
-    const glm::dvec3 half{0.45, 0.02, 0.3};
-    const geo::Mesh plate = transformed(geo::make_box(2.0 * half, 6), model);
-    const glm::dvec3 axes[3] = {glm::dvec3(rot[0]), glm::dvec3(rot[1]), glm::dvec3(rot[2])};
-    const std::uint32_t W = 400, H = 200;
-    const auto img = zbuffer(plate, W, H);
-    std::size_t covered = 0, mismatched = 0;
-    for (std::uint32_t v = 0; v < H; ++v)
-        for (std::uint32_t u = 0; u < W; ++u) {
-            const auto expected = gimg::test::box_entry({0.0, 0.5, 0.0}, axes, half, theta_of(u, W), y_of(v, H));
-            const std::size_t i = img.index(u, v);
-            if (bool(img.covered[i]) != expected.has_value()) {
-                ++mismatched;  // only where the line grazes an edge of the box
-                if (mismatched < 6)
-                    std::printf("mismatch at %u,%u: gpu %s %g, exact %s %g\n", u, v, img.covered[i] ? "hit" : "miss",
-                                img.distance[i], expected ? "hit" : "miss", expected ? *expected : 0.0);
-                continue;
-            }
-            if (!expected) continue;
-            ++covered;
-            ASSERT_NEAR(img.distance[i], *expected, 2e-6) << u << "," << v;
-        }
-    EXPECT_GT(covered, 5000u);
-    std::printf("plate: %zu covered pixels, %zu differ in coverage from the exact box\n", covered, mismatched);
-    EXPECT_LE(mismatched, covered / 10000) << "coverage differs from the exact box at " << mismatched << " pixels";
-}
+namespace {
+const test::Projector kRaycast = [](const geo::Mesh& m, std::uint32_t w, std::uint32_t h) {
+    return passes::cylinder_raycast(test::to_cylinder_mesh(m), w, h);
+};
+}  // namespace
 
-TEST_P(CylinderAnalytic, ConeDistanceIsLinearInHeight) {
-    // A cone (n facets) with its apex on the axis at y = 0.9 and its base (radius 0.5) at y = 0.1.
-    const int n = 48;
-    geo::Mesh cone;
-    cone.positions.push_back({0.0, 0.9, 0.0});
-    cone.positions.push_back({0.0, 0.1, 0.0});
-    for (int k = 0; k < n; ++k) {
-        const double a = 2.0 * std::numbers::pi * (k + 0.5) / n;  // a facet edge off theta = 0
-        cone.positions.push_back({0.5 * std::cos(a), 0.1, 0.5 * std::sin(a)});
-    }
-    for (unsigned k = 0; k < unsigned(n); ++k) {
-        const unsigned a = 2 + k, b = 2 + (k + 1) % n;
-        cone.triangles.push_back({0, b, a});  // sides face outwards
-        cone.triangles.push_back({1, a, b});  // base faces down
-    }
-    const std::uint32_t W = 240, H = 100;
-    const auto img = zbuffer(cone, W, H);
-    for (std::uint32_t u = 0; u < W; ++u) {
-        // Along a column the facet seen is fixed, so d(y) = d_base (0.9 - y) / 0.8 exactly.
-        const std::uint32_t v_base = H - 12;  // y = 0.115
-        ASSERT_TRUE(img.covered[img.index(u, v_base)]);
-        const double d_base = img.distance[img.index(u, v_base)] / ((0.9 - y_of(v_base, H)) / 0.8);
-        EXPECT_NEAR(d_base, 0.5 * std::cos(std::numbers::pi / n) / std::cos(theta_of(u, W) - 2.0 * std::numbers::pi *
-                                                                          std::round(theta_of(u, W) / (2.0 * std::numbers::pi / n)) / n),
-                    1e-5);
-        for (std::uint32_t v = 12; v < v_base; ++v) {
-            const double y = y_of(v, H);
-            ASSERT_TRUE(img.covered[img.index(u, v)]) << u << "," << v;
-            ASSERT_NEAR(img.distance[img.index(u, v)], d_base * (0.9 - y) / 0.8, 2e-6) << u << "," << v;
-        }
-    }
+TEST(CylinderAnalyticRaycast, SphereCentredOnTheAxis) { test::check_sphere_centred_on_the_axis(kRaycast); }
+TEST(CylinderAnalyticRaycast, CubeAroundTheAxis) { test::check_cube_around_the_axis(kRaycast); }
+TEST(CylinderAnalyticRaycast, SphereOffTheAxisIsSeenThroughTheAxisToo) { test::check_sphere_off_the_axis(kRaycast); }
+TEST(CylinderAnalyticRaycast, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrossesTheSeam) {
+    test::check_tilted_plate_through_the_axis(kRaycast);
 }
-
-TEST_P(CylinderAnalytic, CylindricalShellAcrossTheSeam) {
-    // A thick tube, inner radius 0.5, outer 0.7, 36 facets with one facet centred on theta = 0.
-    const int n = 36;
-    const double r_in = 0.5, r_out = 0.7, y0 = 0.2, y1 = 0.8;
-    geo::Mesh shell;
-    auto ring = [&](double r, double y) {
-        for (int k = 0; k < n; ++k) {
-            const double a = 2.0 * std::numbers::pi * (k + 0.5) / n;
-            shell.positions.push_back({r * std::cos(a), y, r * std::sin(a)});
-        }
-    };
-    ring(r_out, y0), ring(r_out, y1), ring(r_in, y0), ring(r_in, y1);
-    auto id = [&](int ring_index, int k) { return unsigned(ring_index * n + (k % n)); };
-    for (int k = 0; k < n; ++k) {
-        auto quad = [&](unsigned a, unsigned b, unsigned c, unsigned d) {
-            shell.triangles.push_back({a, b, c});
-            shell.triangles.push_back({a, c, d});
-        };
-        quad(id(0, k), id(1, k), id(1, k + 1), id(0, k + 1));  // outer wall, normal outwards
-        quad(id(2, k), id(2, k + 1), id(3, k + 1), id(3, k));  // inner wall, normal towards the axis
-        quad(id(1, k), id(3, k), id(3, k + 1), id(1, k + 1));  // top cap
-        quad(id(0, k), id(0, k + 1), id(2, k + 1), id(2, k));  // bottom cap
-    }
-    const std::uint32_t W = 720, H = 60;
-    const auto img = zbuffer(shell, W, H);
-    for (std::uint32_t v = 0; v < H; ++v) {
-        const double y = y_of(v, H);
-        const bool inside = y > y0 && y < y1;
-        for (std::uint32_t u = 0; u < W; ++u) {
-            const std::size_t i = img.index(u, v);
-            ASSERT_EQ(bool(img.covered[i]), inside) << u << "," << v;
-            if (!inside) continue;
-            const double th = theta_of(u, W), step = 2.0 * std::numbers::pi / n;
-            const double facet = std::round(th / step) * step;  // facet centres at multiples of 10 degrees
-            ASSERT_NEAR(img.distance[i], r_out * std::cos(step / 2) / std::cos(th - facet), 2e-6) << u << "," << v;
-        }
-    }
-}
-
-INSTANTIATE_TEST_SUITE_P(Methods, CylinderAnalytic, ::testing::Values(Method::ZBuffer, Method::Raycast),
-                         [](const ::testing::TestParamInfo<Method>& param) {
-                             return param.param == Method::ZBuffer ? std::string("zbuffer") : std::string("raycast");
-                         });
+TEST(CylinderAnalyticRaycast, ConeDistanceIsLinearInHeight) { test::check_cone_distance_linear_in_height(kRaycast); }
+TEST(CylinderAnalyticRaycast, CylindricalShellAcrossTheSeam) { test::check_cylindrical_shell_across_the_seam(kRaycast); }

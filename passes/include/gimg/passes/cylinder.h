@@ -108,6 +108,17 @@ private:
     std::unique_ptr<Bvh> bvh_;
 };
 
+// The paper's own CPU algorithm (seed 003, ch. 4, the cylindrical Z-buffer): triangles are
+// classified front / back / exception, scan-converted row by row along their curved edges, and
+// each covered pixel's d comes from a 2D line intersection in the scan plane. The same image as
+// cylinder_raycast to rounding. Large meshes are split over threads by bands of rows; the image
+// does not depend on the thread count.
+CylinderImage cylinder_scanline(const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
+                                const CylinderTransform& transform = kIdentityTransform);
+// The same with a given number of threads (1: the paper's single-threaded algorithm; 0: choose).
+CylinderImage cylinder_scanline(const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
+                                const CylinderTransform& transform, unsigned threads);
+
 // The GPU cylindrical Z-buffer. Meshes are uploaded once; project() renders any number of images
 // (mesh, transform) in one graph execution, tiled into one atlas.
 class CylinderZBuffer {
