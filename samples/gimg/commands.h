@@ -10,7 +10,7 @@ struct GlobalOptions {
     bool quiet = false;
 };
 
-
-
+// gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
+void add_info_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace gimg::cli

@@ -17,7 +17,7 @@ int main(int argc, char** argv) {
     GlobalOptions global;
     app.add_flag("-v,--verbose", global.verbose, "Print the chosen Vulkan device and progress");
     app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
-
+    add_info_command(app, global);
 
     try {
         app.parse(argc, argv);
