@@ -124,9 +124,12 @@ private:
         if (out_.texcoords.empty() || !valid(v)) return;
         const auto i = static_cast<std::size_t>(v.idx());
         const glm::vec2 value(s, t);
-        if (out_.texcoord_set[i] && out_.texcoords[i] != value) ++out_.texcoord_conflicts;
+        if (out_.texcoord_set[i] == 1 && out_.texcoords[i] != value) {
+            ++out_.texcoord_conflicts;
+            out_.texcoord_set[i] = 2;  // counted once however many it gets
+        }
         out_.texcoords[i] = value;
-        out_.texcoord_set[i] = 1;
+        if (out_.texcoord_set[i] == 0) out_.texcoord_set[i] = 1;
     }
 
     RawMesh& out_;
