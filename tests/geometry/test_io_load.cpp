@@ -175,7 +175,9 @@ TEST(LoadPly, ExtraPropertiesAndElementsAreSkipped) {
     }
     put(out, std::int32_t{0});
     put(out, std::int32_t{1});
-    expect_tetra(load_mesh(write_file("io_load", "extras.ply", out)));
+    LoadReport report;
+    expect_tetra(load_mesh(write_file("io_load", "extras.ply", out), {}, &report));
+    EXPECT_EQ(report.notes.size(), 2u);  // the two elements skipped
 }
 
 TEST(LoadPly, AsciiWithFacesBeforeVerticesAndOtherCountTypes) {
