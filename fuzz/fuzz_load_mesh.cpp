@@ -29,10 +29,18 @@ namespace {
     std::abort();
 }
 
+const char* const kExtensions[] = {".off", ".ply", ".obj", ".stl"};
+
 std::filesystem::path scratch(const char* extension) {
     static const std::filesystem::path dir = std::filesystem::exists("/dev/shm") ? std::filesystem::path("/dev/shm")
                                                                                  : std::filesystem::temp_directory_path();
     return dir / ("gimg-fuzz-" + std::to_string(::getpid()) + extension);
+}
+
+// libFuzzer ends with exit() when its time is up: remove this process's scratch files then.
+void remove_scratch_files() {
+    std::error_code ec;
+    for (const char* extension : kExtensions) std::filesystem::remove(scratch(extension), ec);
 }
 
 void check_mesh(const gimg::geo::Mesh& mesh) {
@@ -50,9 +58,14 @@ void check_mesh(const gimg::geo::Mesh& mesh) {
 
 }  // namespace
 
+extern "C" int LLVMFuzzerInitialize(int*, char***) {
+    (void)scratch("");  // create its static folder first, so that it is destroyed after the handler runs
+    std::atexit(remove_scratch_files);
+    return 0;
+}
+
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
     if (size == 0) return 0;
-    static const char* const kExtensions[] = {".off", ".ply", ".obj", ".stl"};
     const std::filesystem::path input = scratch(kExtensions[data[0] % 4]);
     {
         std::ofstream out(input, std::ios::binary | std::ios::trunc);
