@@ -28,13 +28,18 @@ nlohmann::json vec3(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
 nlohmann::json to_json(const std::string& file, const geo::LoadReport& load, const geo::MeshInfo& info, double seconds) {
     nlohmann::json genus = nlohmann::json::array(), chi = nlohmann::json::array(), faces = nlohmann::json::array(),
-                   vertices = nlohmann::json::array(), loops = nlohmann::json::array();
+                   vertices = nlohmann::json::array(), loops = nlohmann::json::array(),
+                   manifold = nlohmann::json::array(), orientable = nlohmann::json::array(),
+                   oriented = nlohmann::json::array();
     for (const geo::ComponentInfo& c : info.component_info) {
         genus.push_back(c.genus ? nlohmann::json(*c.genus) : nlohmann::json(nullptr));
         chi.push_back(c.euler_characteristic);
         faces.push_back(c.faces);
         vertices.push_back(c.vertices);
         loops.push_back(c.boundary_loops);
+        manifold.push_back(c.manifold);
+        orientable.push_back(c.orientable);
+        oriented.push_back(c.oriented);
     }
     return {
         // The keys DESIGN.md fixes.
@@ -74,6 +79,9 @@ nlohmann::json to_json(const std::string& file, const geo::LoadReport& load, con
         {"component_faces", faces},
         {"component_vertices", vertices},
         {"component_boundary_loops", loops},
+        {"component_manifold", manifold},
+        {"component_orientable", orientable},
+        {"component_oriented", oriented},
         {"bbox_diagonal", info.bbox.diagonal()},
         {"notes", load.notes},
         {"seconds", seconds},
