@@ -12,11 +12,8 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
-#include <cfloat>
-#include <cmath>
 #include <cstring>
 #include <fstream>
-#include <map>
 
 namespace gimg::geo {
 
@@ -56,28 +53,13 @@ io::ScanResult scan(const std::string& format, std::string_view bytes) {
     return io::scan_stl(bytes);
 }
 
-// The reader's corner comparison for STL (see io_scan_stl.cpp), as a strict order for std::map.
-struct CornerLess {
-    bool operator()(const glm::vec3& a, const glm::vec3& b) const {
-        if (std::fabs(a.x - b.x) > FLT_MIN) return a.x < b.x;
-        if (std::fabs(a.y - b.y) > FLT_MIN) return a.y < b.y;
-        return a.z < b.z - FLT_MIN;
-    }
-};
-
 // Polygons in file order: the reader's, with the faces it altered or dropped as the file has them.
 void collect_faces(const io::ScanResult& scan, const io::RawMesh& raw, std::vector<std::uint32_t>& offsets,
                    std::vector<std::uint32_t>& indices) {
-    std::map<glm::vec3, std::uint32_t, CornerLess> corner_vertex;
-    if (!scan.degenerate_facets.empty()) {
-        for (std::size_t i = 0; i < raw.positions.size(); ++i) {
-            corner_vertex.emplace(raw.positions[i], static_cast<std::uint32_t>(i));
-        }
-    }
     offsets.assign(1, 0);
     indices.clear();
-    indices.reserve(raw.face_indices.size() + 3 * (scan.degenerate_facets.size() + scan.kept_faces.size()));
-    std::size_t next_raw = 0, next_kept = 0, next_degenerate = 0;
+    indices.reserve(raw.face_indices.size() + 3 * scan.kept_faces.size());
+    std::size_t next_raw = 0, next_kept = 0;
     auto take_raw = [&](bool keep) {
         if (next_raw >= raw.face_count()) throw io::ReaderMismatch("OpenMesh's reader handed over too few faces");
         if (keep) {
@@ -91,14 +73,6 @@ void collect_faces(const io::ScanResult& scan, const io::RawMesh& raw, std::vect
             const io::KeptFace& kept = scan.kept_faces[next_kept++];
             if (kept.reader_delivers) take_raw(false);
             indices.insert(indices.end(), kept.indices.begin(), kept.indices.end());
-        } else if (next_degenerate < scan.degenerate_facets.size() &&
-                   scan.degenerate_facets[next_degenerate].file_index == f) {
-            for (const glm::vec3& corner : scan.degenerate_facets[next_degenerate].corners) {
-                const auto it = corner_vertex.find(corner);
-                if (it == corner_vertex.end()) throw io::ReaderMismatch("an STL corner the reader did not add");
-                indices.push_back(it->second);
-            }
-            ++next_degenerate;
         } else {
             take_raw(true);
         }

@@ -124,9 +124,12 @@ private:
         if (out_.texcoords.empty() || !valid(v)) return;
         const auto i = static_cast<std::size_t>(v.idx());
         const glm::vec2 value(s, t);
-        if (out_.texcoord_set[i] && out_.texcoords[i] != value) ++out_.texcoord_conflicts;
+        if (out_.texcoord_set[i] == 1 && out_.texcoords[i] != value) {
+            ++out_.texcoord_conflicts;
+            out_.texcoord_set[i] = 2;  // counted once however many it gets
+        }
         out_.texcoords[i] = value;
-        out_.texcoord_set[i] = 1;
+        if (out_.texcoord_set[i] == 0) out_.texcoord_set[i] = 1;
     }
 
     RawMesh& out_;
@@ -216,7 +219,7 @@ private:
 };
 
 void check_against_scan(const RawMesh& raw, const ScanResult& scan) {
-    if (raw.positions.size() != scan.vertices && scan.format != "stl") {
+    if (raw.positions.size() != scan.vertices) {
         mismatch(std::to_string(raw.positions.size()) + " vertices read, " + std::to_string(scan.vertices) +
                  " counted");
     }
@@ -226,7 +229,6 @@ void check_against_scan(const RawMesh& raw, const ScanResult& scan) {
     for (const glm::vec3& p : raw.positions) {
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) mismatch("a NaN coordinate read");
     }
-    if (!scan.has_fingerprints) return;
     Fingerprint vertices, faces;
     for (const glm::vec3& p : raw.positions) vertices.add_position(p.x, p.y, p.z);
     for (std::size_t f = 0; f < raw.face_count(); ++f) {

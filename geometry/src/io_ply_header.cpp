@@ -69,6 +69,8 @@ void assign_vertex_roles(PlyHeader& h) {
         // for other types, which would shift every value after them.
         if (binary && p.role != PlyRole::skip && !is_float(p.type)) {
             if (p.role == PlyRole::u || p.role == PlyRole::v) {
+                h.notes.push_back("texture coordinate " + quoted(p.name) + " of type " + p.type_name +
+                                  " is not read (OpenMesh reads float or double only)");
                 p.role = PlyRole::skip;
                 continue;
             }
@@ -227,6 +229,11 @@ PlyHeader parse_ply_header(std::string_view bytes) {
     h.data_line = lines.line_number() + 1;
     assign_vertex_roles(h);
     assign_face_roles(h);
+    for (const PlyElement& e : h.elements) {
+        if (e.name != "vertex" && e.name != "face") {
+            h.notes.push_back("PLY element " + quoted(e.name) + " (" + std::to_string(e.count) + " items) skipped");
+        }
+    }
     if (h.elements[h.vertex_element].count == 0) throw InputError("the PLY header declares no vertices");
     if (h.elements[h.face_element].count == 0) throw InputError("the PLY header declares no faces");
     return h;

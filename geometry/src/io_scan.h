@@ -11,8 +11,6 @@
 // OpenMesh: the file itself, or the file normalised where the reader would misread a valid file
 // (a PLY comment just before end_header, OFF counts on the OFF line, OBJ material libraries).
 
-#include <glm/vec3.hpp>
-
 #include <array>
 #include <bit>
 #include <cstddef>
@@ -46,18 +44,13 @@ private:
     std::uint64_t hash_ = 0xCBF29CE484222325ull;
 };
 
-// A face OpenMesh's OBJ reader alters (it removes repeated vertices of a face and drops the face
-// when fewer than three are left), as the file states it.
+// A face OpenMesh's reader alters or drops, as the file states it: the OBJ reader removes
+// repeated vertices of a face and drops the face when fewer than three are left; the STL reader
+// drops facets two of whose corners merge into one vertex.
 struct KeptFace {
     std::size_t file_index = 0;
     bool reader_delivers = false;  // the reader hands over a reduced version of it
     std::vector<std::uint32_t> indices;
-};
-
-// An STL facet OpenMesh's STL reader drops because two corners coincide.
-struct DegenerateFacet {
-    std::size_t file_index = 0;
-    std::array<glm::vec3, 3> corners{};
 };
 
 struct ScanResult {
@@ -67,12 +60,10 @@ struct ScanResult {
     std::size_t vertices = 0;          // vertices the reader adds
     std::size_t faces = 0;             // faces (polygons, facets) in the file
     std::size_t reader_faces = 0;      // faces the reader hands over
-    bool has_fingerprints = true;      // false for STL (its reader merges corners)
     Fingerprint vertex_fingerprint;    // of the positions the reader hands over, in order
     Fingerprint face_fingerprint;      // of the faces the reader hands over (corner count, indices)
     bool has_texcoords = false;        // per-vertex texture coordinates to ask the reader for
-    std::vector<KeptFace> kept_faces;                // OBJ, in file order
-    std::vector<DegenerateFacet> degenerate_facets;  // STL, in file order
+    std::vector<KeptFace> kept_faces;  // in file order
     std::vector<std::string> notes;    // normalisations worth telling the user about
 };
 

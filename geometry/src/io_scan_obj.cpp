@@ -1,5 +1,6 @@
 // OBJ validation (see io_scan.h). OpenMesh's OBJ reader reads the file twice: first every
-// "v x y z" (silently skipping one it cannot parse, which shifts every later index) and "vt u v",
+// "v x y z" as floats (silently skipping one it cannot parse, which shifts every later index) and
+// "vt u v" (failing the whole read on one it cannot parse),
 // then the faces. Per face corner "v[/vt[/vn]]" it parses each part with operator>> without
 // checking the stream, removes repeated vertices of a face and drops faces left with fewer than
 // three. It also opens any "mtllib" file, whatever that path names. So here every vertex must
@@ -86,25 +87,20 @@ ScanResult scan_obj(std::string_view bytes) {
         if (keyword == "v") {
             float xyz[3] = {};
             for (float& c : xyz) {
-                double value = 0;
                 if (!tokens.next(token)) throw InputError(where + ": a vertex needs three coordinates");
-                if (const Number status = parse_double(token, value); status != Number::ok) {
+                if (const Number status = parse_float(token, c); status != Number::ok) {
                     throw InputError(where + ": vertex " + std::to_string(vertex_total + 1) + ": " +
                                      number_problem(status, token));
-                }
-                c = static_cast<float>(value);  // as the reader stores it
-                if (std::isinf(c)) {
-                    throw InputError(where + ": vertex " + std::to_string(vertex_total + 1) + ": " +
-                                     number_problem(Number::out_of_range, token));
                 }
             }
             scan.vertex_fingerprint.add_position(xyz[0], xyz[1], xyz[2]);
             ++vertex_total;
         } else if (keyword == "vt") {
             for (int i = 0; i < 2; ++i) {
-                double value = 0;
-                if (!tokens.next(token) || parse_double(token, value) != Number::ok) {
-                    throw InputError(where + ": a texture coordinate needs two numbers");
+                float value = 0;
+                if (!tokens.next(token)) throw InputError(where + ": a texture coordinate needs two numbers");
+                if (const Number status = parse_float(token, value); status != Number::ok) {
+                    throw InputError(where + ": texture coordinate: " + number_problem(status, token));
                 }
             }
             ++texcoord_total;

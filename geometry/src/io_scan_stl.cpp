@@ -2,17 +2,23 @@
 // exactly 84 + 50 * (the triangle count in bytes 80..83), and for ascii otherwise. Ascii: any line
 // containing "outer" (or "OUTER") starts a facet and the next three lines are read as
 // "<word> x y z" without checking the stream (a short or garbled line repeats the last vertex).
-// Both merge corners at the same position into one vertex and drop facets with two corners at
-// the same position; those are recorded here so that load_mesh can put them back.
+// Both merge corners at the same position into one vertex (through a std::map with a tolerant
+// comparison) and drop facets two of whose corners merged. The merging is replayed here exactly,
+// so the scan knows every vertex and face the reader hands over, and records the dropped facets
+// for load_mesh to put back.
 
 #include "io_scan.h"
 #include "io_text.h"
 
 #include "gimg/geometry/error.h"
 
+#include <glm/vec3.hpp>
+
+#include <array>
 #include <cfloat>
 #include <cmath>
 #include <cstring>
+#include <map>
 
 namespace gimg::geo::io {
 
@@ -21,20 +27,49 @@ namespace {
 constexpr std::size_t kBinaryHeader = 84;
 constexpr std::size_t kBinaryFacet = 50;
 
-// The reader's corner comparison (CmpVec with eps = FLT_MIN): equal when no coordinate differs
-// by more than FLT_MIN.
-bool same_corner(const glm::vec3& a, const glm::vec3& b) {
-    return std::fabs(a.x - b.x) <= FLT_MIN && std::fabs(a.y - b.y) <= FLT_MIN && std::fabs(a.z - b.z) <= FLT_MIN;
-}
-
-void add_facet(ScanResult& scan, const std::array<glm::vec3, 3>& c) {
-    if (same_corner(c[0], c[1]) || same_corner(c[0], c[2]) || same_corner(c[1], c[2])) {
-        scan.degenerate_facets.push_back({scan.faces, c});
-    } else {
-        ++scan.reader_faces;
+// The reader's corner order (OpenMesh's CmpVec with eps = FLT_MIN), in the same float arithmetic:
+// corners no coordinate of which differs by more than FLT_MIN are the same vertex.
+struct CornerLess {
+    bool operator()(const glm::vec3& a, const glm::vec3& b) const {
+        if (std::fabs(a[0] - b[0]) <= FLT_MIN) {
+            if (std::fabs(a[1] - b[1]) <= FLT_MIN) return a[2] < b[2] - FLT_MIN;
+            return a[1] < b[1] - FLT_MIN;
+        }
+        return a[0] < b[0] - FLT_MIN;
     }
-    ++scan.faces;
-}
+};
+
+// Replays the reader: each corner is looked up in a map of the corners seen so far and becomes a
+// new vertex when not found; a facet with two corners on one vertex is dropped by the reader.
+class FacetCollector {
+public:
+    explicit FacetCollector(ScanResult& scan) : scan_(scan) {}
+
+    void add(const std::array<glm::vec3, 3>& corners) {
+        std::uint32_t v[3];
+        for (int k = 0; k < 3; ++k) {
+            const glm::vec3& c = corners[static_cast<std::size_t>(k)];
+            auto it = vertices_.find(c);
+            if (it == vertices_.end()) {
+                it = vertices_.emplace(c, static_cast<std::uint32_t>(scan_.vertices++)).first;
+                scan_.vertex_fingerprint.add_position(c.x, c.y, c.z);
+            }
+            v[k] = it->second;
+        }
+        if (v[0] == v[1] || v[0] == v[2] || v[1] == v[2]) {
+            scan_.kept_faces.push_back({scan_.faces, false, {v[0], v[1], v[2]}});
+        } else {
+            scan_.face_fingerprint.add(3);
+            for (std::uint32_t i : v) scan_.face_fingerprint.add(i);
+            ++scan_.reader_faces;
+        }
+        ++scan_.faces;
+    }
+
+private:
+    ScanResult& scan_;
+    std::map<glm::vec3, std::uint32_t, CornerLess> vertices_;
+};
 
 bool looks_binary(std::string_view bytes) {
     for (char c : bytes.substr(0, 512)) {
@@ -46,6 +81,7 @@ bool looks_binary(std::string_view bytes) {
 
 void scan_binary(std::string_view bytes, ScanResult& scan) {
     scan.encoding = "binary";
+    FacetCollector facets(scan);
     std::uint32_t count = 0;
     std::memcpy(&count, bytes.data() + 80, 4);  // little endian, like the reader on this machine
     for (std::uint32_t f = 0; f < count; ++f) {
@@ -62,13 +98,14 @@ void scan_binary(std::string_view bytes, ScanResult& scan) {
                 corners[static_cast<std::size_t>(k)][a] = x;
             }
         }
-        add_facet(scan, corners);
+        facets.add(corners);
     }
 }
 
 void scan_ascii(std::string_view bytes, ScanResult& scan) {
     scan.encoding = "ascii";
     require_text(bytes, "STL");
+    FacetCollector facets(scan);
     LineReader lines(bytes);
     std::string_view line, token;
     while (lines.next(line)) {
@@ -95,7 +132,7 @@ void scan_ascii(std::string_view bytes, ScanResult& scan) {
                 corners[static_cast<std::size_t>(k)][a] = x;
             }
         }
-        add_facet(scan, corners);
+        facets.add(corners);
     }
 }
 
@@ -104,7 +141,6 @@ void scan_ascii(std::string_view bytes, ScanResult& scan) {
 ScanResult scan_stl(std::string_view bytes) {
     ScanResult scan;
     scan.format = "stl";
-    scan.has_fingerprints = false;
     if (bytes.size() >= kBinaryHeader) {
         std::uint32_t count = 0;
         std::memcpy(&count, bytes.data() + 80, 4);
@@ -126,9 +162,8 @@ ScanResult scan_stl(std::string_view bytes) {
         scan_ascii(bytes, scan);
     }
     if (scan.faces == 0) throw InputError("the STL file has no facets");
-    scan.vertices = 3 * scan.faces;  // at most: the reader merges corners at the same position
-    if (!scan.degenerate_facets.empty()) {
-        scan.notes.push_back(std::to_string(scan.degenerate_facets.size()) +
+    if (!scan.kept_faces.empty()) {
+        scan.notes.push_back(std::to_string(scan.kept_faces.size()) +
                              " facets have two corners at the same position; kept (degenerate)");
     }
     scan.reader_bytes = std::string(bytes);

@@ -63,7 +63,7 @@ std::string_view trim(std::string_view line);
 
 enum class Number { ok, not_a_number, nan_or_inf, out_of_range };
 
-// As `stream >> float` (OFF, PLY and STL readers) and `stream >> double` (OBJ reader) read it:
+// As `stream >> float` and `stream >> double` read it (OpenMesh 9's readers all read float):
 // optional sign, digits with an optional point, optional exponent. Overflow is out_of_range (the
 // stream would fail); underflow gives what strtof/strtod give, as the stream does.
 Number parse_float(std::string_view token, float& value);

@@ -17,13 +17,12 @@ int main(int argc, char** argv) {
     GlobalOptions global;
     app.add_flag("-v,--verbose", global.verbose, "Print the chosen Vulkan device and progress");
     app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
-    add_compare_command(app, global);
-    add_cylinder_command(app, global);
-    add_render_command(app, global);
-
-    add_devices_command(app, global);
     add_demo_command(app, global);
-
+    add_info_command(app, global);
+    add_compare_command(app, global);
+    add_render_command(app, global);
+    add_cylinder_command(app, global);
+    add_devices_command(app, global);
 
     try {
         app.parse(argc, argv);

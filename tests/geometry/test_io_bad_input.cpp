@@ -139,8 +139,13 @@ std::vector<BadFile> bad_files() {
         {"no_vertices.obj", "# nothing\n", "no vertices"},
         {"two_vertex_face.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "at least 3"},
         {"bad_corner.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/a 2 3\n", "cannot read corner"},
+        // OpenMesh's OBJ reader aborts on an assertion for corners without a vertex index.
+        {"no_vertex_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf /1 /1 /1\n", "cannot read corner"},
         {"missing_texcoord.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n", "texture coordinate 2"},
         {"short_texcoord.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0\nf 1 2 3\n", "two numbers"},
+        // Fits a double, not the float OpenMesh reads (a fuzzer finding).
+        {"huge_texcoord.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 1888888888888888888888888888888888888888\nf 1 2 3\n",
+         "out of range for float"},
         // STL
         {"lying_binary.stl", binary_stl(2000000000, 2), "header that lies"},
         {"truncated_binary.stl", binary_stl(3, 2), "truncated"},

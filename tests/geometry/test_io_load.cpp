@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -173,7 +175,9 @@ TEST(LoadPly, ExtraPropertiesAndElementsAreSkipped) {
     }
     put(out, std::int32_t{0});
     put(out, std::int32_t{1});
-    expect_tetra(load_mesh(write_file("io_load", "extras.ply", out)));
+    LoadReport report;
+    expect_tetra(load_mesh(write_file("io_load", "extras.ply", out), {}, &report));
+    EXPECT_EQ(report.notes.size(), 2u);  // the two elements skipped
 }
 
 TEST(LoadPly, AsciiWithFacesBeforeVerticesAndOtherCountTypes) {
@@ -192,8 +196,9 @@ TEST(LoadObj, QuadsTexcoordsAndMaterialsIgnored) {
     EXPECT_EQ(report.file_faces, 6u);
     EXPECT_EQ(report.polygons_triangulated, 6u);
     ASSERT_TRUE(m.has_texcoords());
-    // Every vertex is a corner of three quads with different texture coordinates (seams).
-    EXPECT_GT(report.texcoord_conflicts, 0u);
+    // Each vertex is a corner of three quads; all but two get different texture coordinates
+    // from them (seams): vertex 1 is corner 1 (vt 1) and vertex 8 corner 3 (vt 3) of all three.
+    EXPECT_EQ(report.texcoord_conflicts, 6u);
     for (const glm::dvec2& t : m.texcoords) {
         EXPECT_TRUE((t.x == 0.0 || t.x == 1.0) && (t.y == 0.0 || t.y == 1.0));
     }
@@ -214,6 +219,14 @@ TEST(LoadObj, FacesRepeatingAVertexAreKept) {
     EXPECT_EQ(m.triangles, (std::vector<glm::uvec3>{{0, 1, 1}, {0, 1, 2}, {0, 1, 0}, {0, 0, 3}, {0, 2, 3}}));
     EXPECT_EQ(report.file_faces, 4u);
     ASSERT_FALSE(report.notes.empty());
+}
+
+// OpenMesh 9 reads OBJ coordinates as float, not as double then float: the two differ just above
+// a halfway point between two floats (1 + 2^-24 here).
+TEST(LoadObj, CoordinatesAreReadAsFloats) {
+    const std::string text = "v 1.0000000596046448 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\n";
+    const Mesh m = load_mesh(write_file("io_load", "halfway.obj", text));
+    EXPECT_EQ(m.positions[0].x, 1.0 + std::ldexp(1.0, -23));
 }
 
 TEST(LoadStl, AsciiAndBinaryMergeCorners) {
@@ -248,6 +261,26 @@ TEST(LoadStl, DegenerateFacetsAreKept) {
     EXPECT_EQ(m.triangles[1][0], m.triangles[1][1]);  // the middle facet, corners 0 and 1 equal
     EXPECT_EQ(m.positions[m.triangles[1][2]], glm::dvec3(0, 0, 1));
     EXPECT_EQ(m.vertex_count(), 4u);
+}
+
+// OpenMesh merges STL corners no coordinate of which differs by more than FLT_MIN; with values
+// around FLT_MIN that is not transitive (a fuzzer finding): 1.1e-38 joins 0, 1.7e-38 joins 1.1e-38,
+// but 1.7e-38 and 0 are apart. The loader follows the reader's choice.
+TEST(LoadStl, CornersMergeWithinFltMin) {
+    std::string out(80, ' ');
+    put(out, std::uint32_t{2});
+    const float a = 1.1130076e-38f, b = 1.7586497e-38f;
+    const float facets[2][9] = {{a, 0, 0, b, 0, 0, 0, 0, 1}, {0, 0, 0, 0, 1, 0, 0, 0, 1}};
+    for (const auto& facet : facets) {
+        for (int k = 0; k < 3; ++k) put(out, 0.0f);
+        for (float c : facet) put(out, c);
+        out.append(2, '\0');
+    }
+    const Mesh m = load_mesh(write_file("io_load", "flt_min.stl", out));
+    ASSERT_EQ(m.face_count(), 2u);
+    EXPECT_EQ(m.vertex_count(), 3u);                   // a, (0,0,1), (0,1,0): b and 0 joined a
+    EXPECT_EQ(m.triangles[0][0], m.triangles[0][1]);  // so the first facet is degenerate, and kept
+    EXPECT_EQ(m.triangles[1][0], m.triangles[0][0]);
 }
 
 TEST(LoadOptions, WeldMergesIdenticalPositions) {
