@@ -199,13 +199,40 @@ std::vector<CylinderImage> CylinderZBuffer::project(std::span<const Job> jobs) {
     State& s = *state_;
     if (jobs.empty()) return {};
     if (s.geometry_dirty) s.upload_geometry();
-    std::uint64_t total = 0;
-    for (const Job& j : jobs) {
+    for (const Job& j : jobs)
         if (j.mesh >= s.meshes.size()) throw Error(ErrorKind::InvalidArgument, "project(): unknown mesh id");
-        total += s.meshes[j.mesh].face_count;
+    // As many images per execution as the rectangle buffer (bound whole, so within
+    // maxStorageBufferRange) and one atlas can hold; larger batches run as several executions.
+    const std::uint64_t max_faces = s.ctx.device_info().max_storage_buffer_range / (16ull * GIMG_CYL_RECTS_PER_FACE);
+    const std::uint32_t max_dim = s.ctx.device_info().max_image_dimension_2d;
+    const std::uint64_t max_images = std::uint64_t(std::max(1u, max_dim / s.width)) * std::max(1u, max_dim / s.height);
+    std::vector<CylinderImage> out;
+    out.reserve(jobs.size());
+    double gpu_ms = 0.0;
+    std::uint64_t rects = 0;
+    for (std::size_t begin = 0; begin < jobs.size();) {
+        std::size_t end = begin;
+        std::uint64_t faces = 0;
+        while (end < jobs.size() && end - begin < max_images &&
+               (end == begin || faces + s.meshes[jobs[end].mesh].face_count <= max_faces))
+            faces += s.meshes[jobs[end++].mesh].face_count;
+        if (faces > max_faces)
+            throw Error(ErrorKind::InvalidArgument, "a mesh of " + std::to_string(faces) +
+                                                        " faces is more than this device can project at once (" +
+                                                        std::to_string(max_faces) + ")");
+        auto images = project_batch(jobs.subspan(begin, end - begin), faces);
+        for (auto& img : images) out.push_back(std::move(img));
+        gpu_ms += last_gpu_ms_;
+        rects += last_rects_;
+        begin = end;
     }
-    if (total > UINT32_MAX / GIMG_CYL_RECTS_PER_FACE)
-        throw Error(ErrorKind::InvalidArgument, "too many faces in one batch");
+    last_gpu_ms_ = gpu_ms;
+    last_rects_ = rects;
+    return out;
+}
+
+std::vector<CylinderImage> CylinderZBuffer::project_batch(std::span<const Job> jobs, std::uint64_t total) {
+    State& s = *state_;
     s.reserve(std::uint32_t(jobs.size()), total);
 
     std::vector<JobGpu> gpu(jobs.size());
@@ -229,6 +256,9 @@ std::vector<CylinderImage> CylinderZBuffer::project(std::span<const Job> jobs) {
     s.plan->execute({.wait = true, .timestamps = s.ctx.device_info().timestamp_period_ns > 0.0});
     last_gpu_ms_ = s.ctx.device_info().timestamp_period_ns > 0.0 ? s.plan->total_gpu_ms() : 0.0;
 
+    std::uint32_t args[4] = {0, 0, 0, 0};
+    s.ctx.download(s.args_buf, args, sizeof args);
+    last_rects_ = args[0] / 3;
     std::vector<std::byte> bytes = s.ctx.download(s.atlas);
     const float* atlas = reinterpret_cast<const float*>(bytes.data());
     std::vector<CylinderImage> out;

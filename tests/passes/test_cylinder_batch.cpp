@@ -49,3 +49,25 @@ TEST_F(CylinderBatch, RotationsAndMeshesInOneExecutionEqualSingleProjections) {
     // Different rotations give different pictures.
     EXPECT_NE(batch[0].covered, batch[1].covered);
 }
+
+TEST_F(CylinderBatch, BatchesLargerThanOneExecutionAreSplitAndStayEqual) {
+    // 28 x 81,920 faces need more rectangle storage than lavapipe binds at once (128 MiB), so the
+    // batch runs as two executions; every image must still equal its single projection.
+    const std::uint32_t W = 64, H = 32;
+    passes::CylinderZBuffer z(ctx(), W, H);
+    const auto sphere = z.add_mesh(gimg::test::to_cylinder_mesh(geo::make_icosphere(0.3, 6, {0.0, 0.0, 0.0})));
+    std::vector<passes::CylinderZBuffer::Job> jobs;
+    for (int k = 0; k < 28; ++k) {
+        passes::CylinderTransform t = passes::kIdentityTransform;
+        t[3] = 0.02f * float(k % 5);  // shift in x: different pictures
+        t[7] = 0.5f;
+        jobs.push_back({sphere, t});
+    }
+    const auto batch = z.project(jobs);
+    ASSERT_EQ(batch.size(), jobs.size());
+    for (std::size_t k : {std::size_t(0), std::size_t(13), std::size_t(27)}) {
+        const auto single = z.project(jobs[k].mesh, jobs[k].transform);
+        EXPECT_EQ(batch[k].covered, single.covered) << "image " << k;
+        EXPECT_EQ(batch[k].distance, single.distance) << "image " << k;
+    }
+}

@@ -128,7 +128,8 @@ public:
     CylinderZBuffer(const CylinderZBuffer&) = delete;
     CylinderZBuffer& operator=(const CylinderZBuffer&) = delete;
 
-    // Uploads a mesh; returns its id for project().
+    // Uploads a mesh; returns its id for project(). Batches larger than one execution can hold
+    // (the device's storage-buffer range, one atlas) are split into several.
     std::uint32_t add_mesh(const CylinderMesh& mesh);
 
     struct Job {
@@ -142,12 +143,16 @@ public:
     double last_gpu_ms() const { return last_gpu_ms_; }
     // Per-pass GPU times of the last project() (reset, classify and split, z-buffer).
     std::vector<PassTiming> last_pass_timings() const;
+    // Rectangles the last project() rasterised (pieces holding at least one pixel centre).
+    std::uint64_t last_rect_count() const { return last_rects_; }
     bool double_precision() const;
 
 private:
+    std::vector<CylinderImage> project_batch(std::span<const Job> jobs, std::uint64_t faces);
     struct State;
     std::unique_ptr<State> state_;
     double last_gpu_ms_ = 0.0;
+    std::uint64_t last_rects_ = 0;
 };
 
 }  // namespace gimg::passes

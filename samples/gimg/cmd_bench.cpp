@@ -1,0 +1,207 @@
+// gimg bench cylinder [--mesh PATH]... [--size WxH|auto]... [--runs N] [--batch-images N] [--json FILE]
+//
+// The three cylindrical methods (and Embree, when built with it) on the same meshes in one
+// process: medians of N runs of GPU time (timestamps) and wall time per projection, the time for a
+// new mesh (upload or BVH build plus one image), ratios, and batch throughput.
+#include "commands.h"
+#include "embree_peer.h"
+#include "gpu_context.h"
+#include "json_output.h"
+#include "size_option.h"
+#include "timing.h"
+
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/io.h"
+#include "gimg/passes/cylinder.h"
+
+#include <glm/ext/matrix_transform.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+namespace gimg::cli {
+
+namespace {
+
+struct BenchOptions {
+    std::vector<std::string> meshes, sizes{"auto", "540x270"}, batch_meshes;
+    int runs = 5;
+    std::uint32_t batch_images = 256;
+    std::string json;
+};
+
+std::filesystem::path env_or(const char* name, const std::filesystem::path& fallback) {
+    const char* v = std::getenv(name);
+    return v && *v ? std::filesystem::path(v) : fallback;
+}
+
+// The default set: armadillo and bunny from ../shared/meshes, the fetched large ones.
+std::vector<std::string> default_meshes() {
+    const auto shared = env_or("GIMG_MESH_DIR", "../shared/meshes");
+    const char* home = std::getenv("HOME");
+    const auto large = env_or("GIMG_LARGE_MESH_DIR", std::filesystem::path(home ? home : ".") / ".cache/gimg-large-meshes");
+    std::vector<std::string> out;
+    for (const auto& p : {shared / "armadillo.off", shared / "bunny.off", large / "derived/bunny_loop1.off", large / "dragon.ply"}) {
+        if (std::filesystem::exists(p)) out.push_back(p.string());
+        else std::fprintf(stderr, "gimg bench: skipping %s (not found; ../shared/meshes/fetch_large.sh fetches the large ones)\n", p.c_str());
+    }
+    return out;
+}
+
+std::vector<std::string> default_batch_meshes() {
+    const auto shared = env_or("GIMG_MESH_DIR", "../shared/meshes");
+    std::vector<std::string> out;
+    for (const char* name : {"homer.off", "dragon_res4.ply", "mech_holes_shark.off"})
+        if (std::filesystem::exists(shared / name)) out.push_back((shared / name).string());
+    return out;
+}
+
+passes::CylinderTransform rotation(double degrees_y, double degrees_z) {
+    // Spin about the axis and tilt about z through the cylinder's centre.
+    const glm::dmat4 m = glm::translate(glm::dmat4(1.0), {0, 0.5, 0}) *
+                         glm::rotate(glm::dmat4(1.0), glm::radians(degrees_z), {0, 0, 1}) *
+                         glm::rotate(glm::dmat4(1.0), glm::radians(degrees_y), {0, 1, 0}) *
+                         glm::translate(glm::dmat4(1.0), {0, -0.5, 0});
+    passes::CylinderTransform t{};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) t[4 * r + c] = float(m[c][r]);
+    return t;
+}
+
+struct Row {
+    std::string mesh;
+    std::size_t faces;
+    std::uint32_t width, height;
+    double zbuffer_gpu_ms, zbuffer_ms, zbuffer_new_mesh_ms;
+    double raycast_bvh_ms, raycast_ms, scanline_ms, scanline_1t_ms;
+    double embree_bvh_ms = 0.0, embree_ms = 0.0;
+};
+
+Row bench_one(Context& ctx, const std::string& path, const geo::Mesh& mesh, const passes::CylinderMesh& cyl,
+              std::uint32_t w, std::uint32_t h, int runs) {
+    Row r{std::filesystem::path(path).filename().string(), mesh.face_count(), w, h, 0, 0, 0, 0, 0, 0, 0};
+    std::vector<double> gpu, wall, fresh, bvh, ray, scan, scan1, ebvh, eray;
+    {
+        passes::CylinderZBuffer warm(ctx, w, h);  // pipelines compile once per process
+        warm.project(warm.add_mesh(cyl));
+    }
+    for (int k = 0; k < runs; ++k) {
+        std::unique_ptr<passes::CylinderZBuffer> z;
+        fresh.push_back(time_ms([&] {
+            z = std::make_unique<passes::CylinderZBuffer>(ctx, w, h);
+            z->project(z->add_mesh(cyl));
+        }));
+        wall.push_back(time_ms([&] { z->project(0); }));
+        gpu.push_back(z->last_gpu_ms());
+        std::unique_ptr<passes::CylinderRaycaster> caster;
+        bvh.push_back(time_ms([&] { caster = std::make_unique<passes::CylinderRaycaster>(cyl); }));
+        ray.push_back(time_ms([&] { caster->project(w, h); }));
+        scan.push_back(time_ms([&] { passes::cylinder_scanline(cyl, w, h); }));
+        scan1.push_back(time_ms([&] { passes::cylinder_scanline(cyl, w, h, passes::kIdentityTransform, 1); }));
+        if (embree_available()) {
+            std::unique_ptr<EmbreeCylinderCaster> e;
+            ebvh.push_back(time_ms([&] { e = std::make_unique<EmbreeCylinderCaster>(cyl); }));
+            eray.push_back(time_ms([&] { e->project(w, h); }));
+        }
+    }
+    r.zbuffer_gpu_ms = median(gpu);
+    r.zbuffer_ms = median(wall);
+    r.zbuffer_new_mesh_ms = median(fresh);
+    r.raycast_bvh_ms = median(bvh);
+    r.raycast_ms = median(ray);
+    r.scanline_ms = median(scan);
+    r.scanline_1t_ms = median(scan1);
+    r.embree_bvh_ms = median(ebvh);
+    r.embree_ms = median(eray);
+    return r;
+}
+
+void run_bench(const BenchOptions& o, const GlobalOptions& global) {
+    auto ctx = open_context(global);
+    const int runs = std::max(o.runs, 1);
+    nlohmann::json j;
+    j["device"] = ctx->device_info().name;
+    j["runs"] = runs;
+    j["embree"] = embree_available();
+    std::printf("gimg bench cylinder on %s; medians of %d runs; times in ms\n", ctx->device_info().summary().c_str(), runs);
+    std::printf("%-22s %8s %9s | %9s %9s %9s | %9s %9s | %9s %9s | %9s %9s | %7s %7s %7s\n", "mesh", "faces", "size",
+                "zbuf GPU", "zbuf wall", "zbuf new", "ray BVH", "ray img", "scan", "scan 1t", "embree BVH", "embree img",
+                "ray/zb", "scan/zb", "emb/zb");
+    for (const std::string& path : o.meshes.empty() ? default_meshes() : o.meshes) {
+        const geo::Mesh mesh = geo::load_mesh(path);
+        const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, passes::fit_cylinder_frame(mesh));
+        for (const std::string& size_text : o.sizes) {
+            const auto size = size_text == "auto" ? passes::auto_cylinder_size(mesh.face_count()) : parse_size(size_text);
+            const Row r = bench_one(*ctx, path, mesh, cyl, size[0], size[1], runs);
+            const double zb = r.zbuffer_ms;
+            std::printf("%-22s %8zu %4ux%-4u | %9.2f %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %7.2f %7.2f %7.2f\n",
+                        r.mesh.c_str(), r.faces, r.width, r.height, r.zbuffer_gpu_ms, r.zbuffer_ms, r.zbuffer_new_mesh_ms,
+                        r.raycast_bvh_ms, r.raycast_ms, r.scanline_ms, r.scanline_1t_ms, r.embree_bvh_ms, r.embree_ms,
+                        r.raycast_ms / zb, r.scanline_ms / zb, r.embree_ms > 0 ? r.embree_ms / zb : 0.0);
+            j["projections"].push_back({{"mesh", r.mesh},
+                                        {"faces", r.faces},
+                                        {"width", r.width},
+                                        {"height", r.height},
+                                        {"zbuffer_gpu_ms", r.zbuffer_gpu_ms},
+                                        {"zbuffer_ms", r.zbuffer_ms},
+                                        {"zbuffer_new_mesh_ms", r.zbuffer_new_mesh_ms},
+                                        {"raycast_bvh_ms", r.raycast_bvh_ms},
+                                        {"raycast_ms", r.raycast_ms},
+                                        {"scanline_ms", r.scanline_ms},
+                                        {"scanline_single_thread_ms", r.scanline_1t_ms},
+                                        {"embree_bvh_ms", r.embree_bvh_ms},
+                                        {"embree_ms", r.embree_ms},
+                                        {"raycast_over_zbuffer", r.raycast_ms / zb},
+                                        {"scanline_over_zbuffer", r.scanline_ms / zb},
+                                        {"embree_over_zbuffer", r.embree_ms > 0 ? r.embree_ms / zb : 0.0},
+                                        {"embree_new_mesh_over_zbuffer_new_mesh",
+                                         r.embree_ms > 0 ? (r.embree_bvh_ms + r.embree_ms) / r.zbuffer_new_mesh_ms : 0.0}});
+        }
+    }
+
+    // Batch: many rotations of ~10K-face meshes at 144x144 in one graph execution.
+    const auto batch = o.batch_meshes.empty() ? default_batch_meshes() : o.batch_meshes;
+    if (!batch.empty() && o.batch_images > 0) {
+        passes::CylinderZBuffer z(*ctx, 144, 144);
+        std::vector<passes::CylinderZBuffer::Job> jobs;
+        std::vector<std::uint32_t> ids;
+        for (const auto& path : batch) {
+            const geo::Mesh mesh = geo::load_mesh(path);
+            ids.push_back(z.add_mesh(passes::make_cylinder_mesh(mesh, passes::fit_cylinder_frame(mesh))));
+        }
+        for (std::uint32_t k = 0; k < o.batch_images; ++k)
+            jobs.push_back({ids[k % ids.size()], rotation(360.0 * k / o.batch_images, 10.0 * (k % 7))});
+        z.project(jobs);  // warm-up
+        std::vector<double> wall, gpu;
+        for (int k = 0; k < runs; ++k) {
+            wall.push_back(time_ms([&] { z.project(jobs); }));
+            gpu.push_back(z.last_gpu_ms());
+        }
+        const double per_second = 1000.0 * o.batch_images / median(wall);
+        std::printf("batch: %u images of 144x144 from %zu meshes of ~10K faces per execution: %.1f ms wall (%.1f ms GPU), "
+                    "%.0f images/s\n", o.batch_images, batch.size(), median(wall), median(gpu), per_second);
+        j["batch"] = {{"images", o.batch_images}, {"width", 144}, {"height", 144}, {"meshes", batch},
+                      {"wall_ms", median(wall)}, {"gpu_ms", median(gpu)}, {"images_per_second", per_second}};
+    }
+    add_machine_figures(j, ctx.get());
+    write_json(o.json, j);
+}
+
+}  // namespace
+
+void add_bench_command(CLI::App& app, const GlobalOptions& global) {
+    auto* bench = app.add_subcommand("bench", "Benchmarks");
+    bench->require_subcommand(1);
+    auto opts = std::make_shared<BenchOptions>();
+    auto* cyl = bench->add_subcommand("cylinder", "zbuffer vs raycast vs scanline (vs Embree) per projection");
+    cyl->add_option("--mesh", opts->meshes, "Meshes (default: armadillo, bunny, derived/bunny_loop1, dragon)");
+    cyl->add_option("--size", opts->sizes, "Sizes: WxH or auto (default: auto and 540x270)");
+    cyl->add_option("--runs", opts->runs, "Runs per case; the median is reported (default 5)");
+    cyl->add_option("--batch-images", opts->batch_images, "Images per batch execution at 144x144 (0: skip)");
+    cyl->add_option("--batch-mesh", opts->batch_meshes, "Meshes for the batch case (default: ~10K-face shared meshes)");
+    cyl->add_option("--json", opts->json, "Write the figures as JSON");
+    cyl->callback([opts, &global] { run_bench(*opts, global); });
+}
+
+}  // namespace gimg::cli
