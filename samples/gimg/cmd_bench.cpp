@@ -135,10 +135,16 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
             const auto size = size_text == "auto" ? passes::auto_cylinder_size(mesh.face_count()) : parse_size(size_text);
             const Row r = bench_one(*ctx, path, mesh, cyl, size[0], size[1], runs);
             const double zb = r.zbuffer_ms;
-            std::printf("%-22s %8zu %4ux%-4u | %9.2f %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %7.2f %7.2f %7.2f\n",
+            char embree[64] = "        -         - ";
+            char embree_ratio[16] = "      -";
+            if (embree_available()) {
+                std::snprintf(embree, sizeof embree, "%9.2f %9.2f", r.embree_bvh_ms, r.embree_ms);
+                std::snprintf(embree_ratio, sizeof embree_ratio, "%7.2f", r.embree_ms / zb);
+            }
+            std::printf("%-22s %8zu %4ux%-4u | %9.2f %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %s | %7.2f %7.2f %s\n",
                         r.mesh.c_str(), r.faces, r.width, r.height, r.zbuffer_gpu_ms, r.zbuffer_ms, r.zbuffer_new_mesh_ms,
-                        r.raycast_bvh_ms, r.raycast_ms, r.scanline_ms, r.scanline_1t_ms, r.embree_bvh_ms, r.embree_ms,
-                        r.raycast_ms / zb, r.scanline_ms / zb, r.embree_ms > 0 ? r.embree_ms / zb : 0.0);
+                        r.raycast_bvh_ms, r.raycast_ms, r.scanline_ms, r.scanline_1t_ms, embree, r.raycast_ms / zb,
+                        r.scanline_ms / zb, embree_ratio);
             j["projections"].push_back({{"mesh", r.mesh},
                                         {"faces", r.faces},
                                         {"width", r.width},
