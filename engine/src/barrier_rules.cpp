@@ -62,4 +62,26 @@ std::optional<Barrier> advance(SyncState& s, const AccessInfo& use, bool image, 
     return barrier;
 }
 
+void merge_into(VkMemoryBarrier2& global, const Barrier& b) {
+    global.srcStageMask |= b.src_stages;
+    global.srcAccessMask |= b.src_access;
+    global.dstStageMask |= b.dst_stages;
+    global.dstAccessMask |= b.dst_access;
+}
+
+VkImageMemoryBarrier2 image_barrier(const Barrier& b, VkImage image, Format format) {
+    VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    ib.srcStageMask = b.src_stages;
+    ib.srcAccessMask = b.src_access;
+    ib.dstStageMask = b.dst_stages;
+    ib.dstAccessMask = b.dst_access;
+    ib.oldLayout = b.old_layout;
+    ib.newLayout = b.new_layout;
+    ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    ib.image = image;
+    ib.subresourceRange = {VkImageAspectFlags(is_depth(format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT), 0,
+                           1, 0, 1};
+    return ib;
+}
+
 }  // namespace gimg::detail

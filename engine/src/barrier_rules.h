@@ -4,6 +4,7 @@
 // handling, and the Context's uploads and downloads all go through it.
 
 #include "gimg/engine/access.h"
+#include "gimg/engine/format.h"
 #include "gimg/engine/sync_state.h"
 
 #include <vulkan/vulkan.h>
@@ -32,5 +33,9 @@ struct Barrier {
 //    UNDEFINED, but the wait for earlier users of the memory stays.
 // Returns nullopt when no barrier is needed.
 std::optional<Barrier> advance(SyncState& state, const AccessInfo& use, bool image, bool discard);
+
+// The Vulkan forms: buffers share one global memory barrier (merged), images get their own.
+void merge_into(VkMemoryBarrier2& global, const Barrier& barrier);
+VkImageMemoryBarrier2 image_barrier(const Barrier& barrier, VkImage image, Format format);
 
 }  // namespace gimg::detail

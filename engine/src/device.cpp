@@ -260,27 +260,14 @@ void Device::run_now(const std::function<void(VkCommandBuffer)>& fill) {
 namespace {
 void record_barrier(const DeviceFns& fn, VkCommandBuffer cmd, const Barrier& b, VkImage image, Format format) {
     VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
-    VkMemoryBarrier2 mem{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
-    VkImageMemoryBarrier2 img{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
+    VkMemoryBarrier2 global{VK_STRUCTURE_TYPE_MEMORY_BARRIER_2};
+    VkImageMemoryBarrier2 img{};
     if (image == VK_NULL_HANDLE) {
-        mem.srcStageMask = b.src_stages;
-        mem.srcAccessMask = b.src_access;
-        mem.dstStageMask = b.dst_stages;
-        mem.dstAccessMask = b.dst_access;
+        merge_into(global, b);
         dep.memoryBarrierCount = 1;
-        dep.pMemoryBarriers = &mem;
+        dep.pMemoryBarriers = &global;
     } else {
-        img.srcStageMask = b.src_stages;
-        img.srcAccessMask = b.src_access;
-        img.dstStageMask = b.dst_stages;
-        img.dstAccessMask = b.dst_access;
-        img.oldLayout = b.old_layout;
-        img.newLayout = b.new_layout;
-        img.srcQueueFamilyIndex = img.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        img.image = image;
-        img.subresourceRange = {
-            VkImageAspectFlags(is_depth(format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
-            0, 1, 0, 1};
+        img = image_barrier(b, image, format);
         dep.imageMemoryBarrierCount = 1;
         dep.pImageMemoryBarriers = &img;
     }

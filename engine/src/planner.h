@@ -96,9 +96,16 @@ struct PlanData {
 // compile(): liveness, order, merged uses, lifetimes, physical resources; with a device also the
 // objects and their memory; then the inspection schedule.
 std::unique_ptr<PlanData> plan_graph(Context* ctx, GraphData&& graph);
-// Assigns transient logical resources to physical ones (reuse of equal descriptions with
-// disjoint lifetimes).
-void assign_physical_resources(PlanData& plan);
+// Per logical resource: the compiled passes it is used from and to (loops widened; UINT32_MAX
+// when unused) and the image usage its accesses need.
+struct ResourceLifetimes {
+    std::vector<std::uint32_t> first, last;
+    std::vector<VkImageUsageFlags> image_usage;
+};
+
+// Physical resources for the logical ones: imports stand for themselves, exported transients get
+// their own, the others share where descriptions match and lifetimes do not overlap.
+void assign_physical_resources(PlanData& plan, const ResourceLifetimes& lifetimes);
 // Places physical transients in aliasing blocks (real memory requirements when a device is
 // present, estimates otherwise) and, with a device, creates and binds them.
 void place_transient_memory(PlanData& plan);

@@ -6,12 +6,6 @@
 
 namespace gimg::detail {
 
-namespace {
-VkImageAspectFlags aspect_of(Format f) {
-    return is_depth(f) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT;
-}
-}  // namespace
-
 void Recorder::fail(const std::string& message) const {
     std::string where = pass_ ? "pass '" + plan_.graph.passes[pass_->decl].name + "': " : "";
     throw Error(ErrorKind::InvalidGraph, where + message);
@@ -118,24 +112,11 @@ void Recorder::emit(const std::vector<Barrier>& barriers) {
         PhysicalResource& p = plan_.physicals[b.resource];
         if (!b.image) {
             any_buffer = true;
-            memory.srcStageMask |= b.src_stages;
-            memory.srcAccessMask |= b.src_access;
-            memory.dstStageMask |= b.dst_stages;
-            memory.dstAccessMask |= b.dst_access;
+            merge_into(memory, b);
             continue;
         }
         const Image& img = p.imported() ? *plan_.graph.resources[p.import_of].imported_image : p.image_object;
-        VkImageMemoryBarrier2 ib{VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2};
-        ib.srcStageMask = b.src_stages;
-        ib.srcAccessMask = b.src_access;
-        ib.dstStageMask = b.dst_stages;
-        ib.dstAccessMask = b.dst_access;
-        ib.oldLayout = b.old_layout;
-        ib.newLayout = b.new_layout;
-        ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-        ib.image = img.vk();
-        ib.subresourceRange = {aspect_of(img.format()), 0, 1, 0, 1};
-        images.push_back(ib);
+        images.push_back(image_barrier(b, img.vk(), img.format()));
     }
     VkDependencyInfo dep{VK_STRUCTURE_TYPE_DEPENDENCY_INFO};
     dep.memoryBarrierCount = any_buffer ? 1 : 0;

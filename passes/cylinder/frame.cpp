@@ -61,6 +61,13 @@ CylinderMesh make_cylinder_mesh(const geo::Mesh& mesh, const CylinderFrame& fram
     return out;
 }
 
+CylinderTransform to_cylinder_transform(const glm::dmat4& m) {
+    CylinderTransform t{};
+    for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) t[4 * r + c] = float(m[c][r]);
+    return t;
+}
+
 std::array<std::uint32_t, 2> auto_cylinder_size(std::size_t faces) {
     // 2 W H = 2 (2H) H = 4 H^2 = faces.
     const auto h = std::uint32_t(std::max(1.0, std::round(std::sqrt(double(faces) / 4.0))));

@@ -63,10 +63,7 @@ passes::CylinderTransform rotation(double degrees_y, double degrees_z) {
                          glm::rotate(glm::dmat4(1.0), glm::radians(degrees_z), {0, 0, 1}) *
                          glm::rotate(glm::dmat4(1.0), glm::radians(degrees_y), {0, 1, 0}) *
                          glm::translate(glm::dmat4(1.0), {0, -0.5, 0});
-    passes::CylinderTransform t{};
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) t[4 * r + c] = float(m[c][r]);
-    return t;
+    return passes::to_cylinder_transform(m);
 }
 
 struct Row {

@@ -1,5 +1,5 @@
-// Cylindrical projection of shapes with exact answers (cylinder_analytic_cases.h), by the GPU
-// Z-buffer and by the CPU ray caster (the scanline method has its own file).
+// Cylindrical projection of shapes with exact answers (cylinder_analytic_cases.h), and of shapes
+// checked against the literal definition (cylinder_exact.h), by every method.
 #include "cylinder_analytic_cases.h"
 #include "cylinder_exact.h"
 #include "gpu_test.h"
@@ -12,46 +12,44 @@ using namespace gimg;
 
 namespace {
 
-class CylinderAnalytic : public gimg::test::GpuTest {
+enum class Method { ZBuffer, Raycast, Scanline };
+
+// Every method shares one definition, so one set of exact answers.
+class CylinderAnalytic : public gimg::test::GpuTest, public ::testing::WithParamInterface<Method> {
 protected:
-    test::Projector zbuffer() {
+    test::Projector projector() {
         return [this](const geo::Mesh& m, std::uint32_t w, std::uint32_t h) {
+            const passes::CylinderMesh mesh = test::to_cylinder_mesh(m);
+            if (GetParam() == Method::Raycast) return passes::cylinder_raycast(mesh, w, h);
+            if (GetParam() == Method::Scanline) return passes::cylinder_scanline(mesh, w, h);
             passes::CylinderZBuffer z(ctx(), w, h);
-            return z.project(z.add_mesh(test::to_cylinder_mesh(m)));
+            return z.project(z.add_mesh(mesh));
         };
     }
 };
 
 }  // namespace
 
-TEST_F(CylinderAnalytic, SphereCentredOnTheAxis) { test::check_sphere_centred_on_the_axis(zbuffer()); }
+TEST_P(CylinderAnalytic, SphereCentredOnTheAxis) { test::check_sphere_centred_on_the_axis(projector()); }
 
-TEST_F(CylinderAnalytic, CubeAroundTheAxis) { test::check_cube_around_the_axis(zbuffer()); }
+TEST_P(CylinderAnalytic, CubeAroundTheAxis) { test::check_cube_around_the_axis(projector()); }
 
-TEST_F(CylinderAnalytic, SphereOffTheAxisIsSeenThroughTheAxisToo) { test::check_sphere_off_the_axis(zbuffer()); }
+TEST_P(CylinderAnalytic, SphereOffTheAxisIsSeenThroughTheAxisToo) { test::check_sphere_off_the_axis(projector()); }
 
-TEST_F(CylinderAnalytic, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrossesTheSeam) {
-    test::check_tilted_plate_through_the_axis(zbuffer());
+TEST_P(CylinderAnalytic, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrossesTheSeam) {
+    test::check_tilted_plate_through_the_axis(projector());
 }
 
-TEST_F(CylinderAnalytic, ConeDistanceIsLinearInHeight) { test::check_cone_distance_linear_in_height(zbuffer()); }
+TEST_P(CylinderAnalytic, ConeDistanceIsLinearInHeight) { test::check_cone_distance_linear_in_height(projector()); }
 
-TEST_F(CylinderAnalytic, CylindricalShellAcrossTheSeam) { test::check_cylindrical_shell_across_the_seam(zbuffer()); }
+TEST_P(CylinderAnalytic, CylindricalShellAcrossTheSeam) { test::check_cylindrical_shell_across_the_seam(projector()); }
 
-namespace {
-const test::Projector kRaycast = [](const geo::Mesh& m, std::uint32_t w, std::uint32_t h) {
-    return passes::cylinder_raycast(test::to_cylinder_mesh(m), w, h);
-};
-}  // namespace
-
-TEST(CylinderAnalyticRaycast, SphereCentredOnTheAxis) { test::check_sphere_centred_on_the_axis(kRaycast); }
-TEST(CylinderAnalyticRaycast, CubeAroundTheAxis) { test::check_cube_around_the_axis(kRaycast); }
-TEST(CylinderAnalyticRaycast, SphereOffTheAxisIsSeenThroughTheAxisToo) { test::check_sphere_off_the_axis(kRaycast); }
-TEST(CylinderAnalyticRaycast, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrossesTheSeam) {
-    test::check_tilted_plate_through_the_axis(kRaycast);
-}
-TEST(CylinderAnalyticRaycast, ConeDistanceIsLinearInHeight) { test::check_cone_distance_linear_in_height(kRaycast); }
-TEST(CylinderAnalyticRaycast, CylindricalShellAcrossTheSeam) { test::check_cylindrical_shell_across_the_seam(kRaycast); }
+INSTANTIATE_TEST_SUITE_P(Methods, CylinderAnalytic, ::testing::Values(Method::ZBuffer, Method::Raycast, Method::Scanline),
+                         [](const ::testing::TestParamInfo<Method>& p) {
+                             return std::string(p.param == Method::ZBuffer   ? "zbuffer"
+                                                : p.param == Method::Raycast ? "raycast"
+                                                                             : "scanline");
+                         });
 
 // Where there is no closed form: the definition evaluated literally (cylinder_exact.h).
 namespace {

@@ -15,6 +15,7 @@
 #include "gimg/geometry/mesh.h"
 
 #include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
 #include <glm/vec3.hpp>
 
 #include <array>
@@ -47,6 +48,8 @@ struct CylinderMesh {
 // Row-major 3x4: p_cylinder = M * (p, 1). The identity means "already in the frame".
 using CylinderTransform = std::array<float, 12>;
 inline constexpr CylinderTransform kIdentityTransform{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+// The top three rows of an affine glm matrix (column-major) as a CylinderTransform.
+CylinderTransform to_cylinder_transform(const glm::dmat4& affine);
 
 // Where the cylinder frame sits in the model's: p_cylinder = scale * (rotation * p) + translation.
 // rotation comes from PCA (main axis -> y, never a mirror); scale and translation fit the model
