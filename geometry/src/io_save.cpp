@@ -20,6 +20,10 @@ namespace gimg::geo {
 namespace {
 
 void check_savable(const Mesh& mesh) {
+    if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) {
+        throw InputError("cannot save: " + std::to_string(mesh.normals.size()) + " normals for " +
+                         std::to_string(mesh.positions.size()) + " vertices");
+    }
     if (!mesh.texcoords.empty() && mesh.texcoords.size() != mesh.positions.size()) {
         throw InputError("cannot save: " + std::to_string(mesh.texcoords.size()) + " texture coordinates for " +
                          std::to_string(mesh.positions.size()) + " vertices");
@@ -63,23 +67,29 @@ void append_binary(std::string& out, T value) {
 
 std::string ply_contents(const Mesh& mesh, bool binary) {
     const bool uv = mesh.has_texcoords();
+    const bool normals = mesh.has_normals();
     std::string out = "ply\nformat ";
     out += binary ? "binary_little_endian" : "ascii";
     // The comment goes first: OpenMesh's reader misplaces binary data after a comment just
     // before end_header.
     out += " 1.0\ncomment written by gimg\nelement vertex " + std::to_string(mesh.vertex_count()) +
            "\nproperty float x\nproperty float y\nproperty float z\n";
+    if (normals) out += "property float nx\nproperty float ny\nproperty float nz\n";
     if (uv) out += "property float s\nproperty float t\n";
     out += "element face " + std::to_string(mesh.face_count()) + "\nproperty list uchar int vertex_indices\nend_header\n";
     out.reserve(out.size() + mesh.vertex_count() * (binary ? 20 : 40) + mesh.face_count() * (binary ? 13 : 24));
     for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
         const glm::vec3 p(mesh.positions[i]);
-        float values[5] = {p.x, p.y, p.z, 0.0f, 0.0f};
-        if (uv) {
-            values[3] = static_cast<float>(mesh.texcoords[i].x);
-            values[4] = static_cast<float>(mesh.texcoords[i].y);
+        float values[8] = {p.x, p.y, p.z};
+        int n = 3;
+        if (normals) {
+            const glm::vec3 nv(mesh.normals[i]);
+            values[n++] = nv.x, values[n++] = nv.y, values[n++] = nv.z;
         }
-        const int n = uv ? 5 : 3;
+        if (uv) {
+            values[n++] = static_cast<float>(mesh.texcoords[i].x);
+            values[n++] = static_cast<float>(mesh.texcoords[i].y);
+        }
         for (int k = 0; k < n; ++k) {
             if (binary) {
                 append_binary(out, values[k]);
@@ -108,6 +118,7 @@ std::string ply_contents(const Mesh& mesh, bool binary) {
 
 std::string obj_contents(const Mesh& mesh) {
     const bool uv = mesh.has_texcoords();
+    const bool normals = mesh.has_normals();
     std::string out = "# written by gimg\n";
     out.reserve(mesh.vertex_count() * (uv ? 64 : 36) + mesh.face_count() * (uv ? 40 : 24));
     for (const glm::dvec3& position : mesh.positions) {
@@ -129,13 +140,27 @@ std::string obj_contents(const Mesh& mesh) {
             out += '\n';
         }
     }
+    if (normals) {
+        for (const glm::dvec3& normal : mesh.normals) {
+            const glm::vec3 nv(normal);
+            out += "vn ";
+            append_number(out, nv.x);
+            out += ' ';
+            append_number(out, nv.y);
+            out += ' ';
+            append_number(out, nv.z);
+            out += '\n';
+        }
+    }
     for (const glm::uvec3& t : mesh.triangles) {
         out += 'f';
         for (int k = 0; k < 3; ++k) {
             out += ' ';
             const std::uint64_t index = std::uint64_t{t[k]} + 1;  // OBJ counts from 1
             append_number(out, index);
-            if (uv) {
+            if (uv || normals) out += '/';
+            if (uv) append_number(out, index);
+            if (normals) {
                 out += '/';
                 append_number(out, index);
             }

@@ -109,3 +109,21 @@ TEST(SaveMesh, FailuresLeaveNothingHalfWritten) {
         EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
     }
 }
+
+TEST(RoundTrip, NormalsAreWrittenAndTheRestReadsBack) {
+    gimg::geo::Mesh m;
+    m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    m.triangles = {{0, 1, 2}};
+    m.normals = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    for (const char* name : {"normals.ply", "normals_ascii.ply", "normals.obj"}) {
+        const auto path = gimg::test::output_dir("io") / name;
+        gimg::geo::save_mesh(m, path, {.binary = std::string(name) == "normals.ply"});
+        std::ifstream in(path, std::ios::binary);
+        const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        EXPECT_NE(text.find(std::string(name).ends_with(".obj") ? "vn 0 0 1" : "property float nx"), std::string::npos)
+            << name;
+        const gimg::geo::Mesh back = gimg::geo::load_mesh(path);
+        EXPECT_EQ(back.positions, m.positions) << name;
+        EXPECT_EQ(back.triangles, m.triangles) << name;
+    }
+}

@@ -23,10 +23,14 @@ struct Mesh {
     std::vector<glm::uvec3> triangles;
     // Per-vertex texture coordinates: empty, or exactly one per position.
     std::vector<glm::dvec2> texcoords;
+    // Per-vertex unit normals: empty, or exactly one per position (written by save_mesh; the
+    // loaders do not read them).
+    std::vector<glm::dvec3> normals;
 
     std::size_t vertex_count() const { return positions.size(); }
     std::size_t face_count() const { return triangles.size(); }
     bool has_texcoords() const { return !texcoords.empty() && texcoords.size() == positions.size(); }
+    bool has_normals() const { return !normals.empty() && normals.size() == positions.size(); }
     // Bounding box of the positions; {0,0} for an empty mesh.
     Bounds bounds() const;
 };
