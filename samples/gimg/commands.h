@@ -17,6 +17,9 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global);
 void add_cylinder_command(CLI::App& app, const GlobalOptions& global);
 void add_render_command(CLI::App& app, const GlobalOptions& global);
 void add_bench_command(CLI::App& app, const GlobalOptions& global);
+void add_reconstruct_command(CLI::App& app, const GlobalOptions& global);
+void add_sample_command(CLI::App& app, const GlobalOptions& global);
+void add_roundtrip_command(CLI::App& app, const GlobalOptions& global);
 // gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
 void add_info_command(CLI::App& app, const GlobalOptions& global);
 
