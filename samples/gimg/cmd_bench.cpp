@@ -13,6 +13,7 @@
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/io.h"
 #include "gimg/passes/cylinder.h"
+#include "gimg/passes/reconstruct.h"
 
 #include <glm/ext/matrix_transform.hpp>
 
@@ -191,6 +192,48 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
     write_json(o.json, j);
 }
 
+struct ReconstructBenchOptions {
+    std::vector<std::string> meshes;
+    std::string size = "1024x512";
+    int runs = 5;
+    std::string json;
+};
+
+// Reconstruction of a cylindrical image (made by the scanline method) on the GPU and by the CPU
+// reference, medians of N runs.
+void run_reconstruct_bench(const ReconstructBenchOptions& o, const GlobalOptions& global) {
+    auto ctx = open_context(global);
+    const auto size = parse_size(o.size);
+    const int runs = std::max(o.runs, 1);
+    nlohmann::json j;
+    std::printf("gimg bench reconstruct on %s; %ux%u images; medians of %d runs; times in ms\n",
+                ctx->device_info().summary().c_str(), size[0], size[1], runs);
+    std::printf("%-22s %9s %9s %9s %9s %7s\n", "mesh", "vertices", "GPU", "GPU wall", "CPU ref", "cpu/gpu");
+    std::vector<std::string> meshes = o.meshes;
+    if (meshes.empty()) meshes = {(env_or("GIMG_MESH_DIR", "../shared/meshes") / "armadillo.off").string()};
+    for (const std::string& path : meshes) {
+        const geo::Mesh mesh = geo::load_mesh(path);
+        const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh);
+        const auto image = passes::cylinder_scanline(passes::make_cylinder_mesh(mesh, frame), size[0], size[1]);
+        passes::reconstruct_gpu(*ctx, image, frame);  // pipelines compile once
+        std::vector<double> gpu, wall, cpu;
+        std::size_t vertices = 0;
+        for (int k = 0; k < runs; ++k) {
+            passes::ReconstructStats stats;
+            wall.push_back(time_ms([&] { vertices = passes::reconstruct_gpu(*ctx, image, frame, {}, &stats).vertex_count(); }));
+            gpu.push_back(stats.gpu_ms);
+            cpu.push_back(time_ms([&] { passes::reconstruct_cpu(image, frame); }));
+        }
+        const std::string name = std::filesystem::path(path).filename().string();
+        std::printf("%-22s %9zu %9.2f %9.2f %9.2f %7.2f\n", name.c_str(), vertices, median(gpu), median(wall), median(cpu),
+                    median(cpu) / median(wall));
+        j["reconstructions"].push_back({{"mesh", name}, {"width", size[0]}, {"height", size[1]}, {"vertices", vertices},
+                                        {"gpu_ms", median(gpu)}, {"gpu_wall_ms", median(wall)}, {"cpu_ms", median(cpu)}});
+    }
+    add_machine_figures(j, ctx.get());
+    write_json(o.json, j);
+}
+
 }  // namespace
 
 void add_bench_command(CLI::App& app, const GlobalOptions& global) {
@@ -205,6 +248,13 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
     cyl->add_option("--batch-mesh", opts->batch_meshes, "Meshes for the batch case (default: ~10K-face shared meshes)");
     cyl->add_option("--json", opts->json, "Write the figures as JSON");
     cyl->callback([opts, &global] { run_bench(*opts, global); });
+    auto ropts = std::make_shared<ReconstructBenchOptions>();
+    auto* rec = bench->add_subcommand("reconstruct", "Reconstruction on the GPU vs the CPU reference");
+    rec->add_option("--mesh", ropts->meshes, "Meshes to project and reconstruct (default: armadillo)");
+    rec->add_option("--size", ropts->size, "Image size WxH (default 1024x512)");
+    rec->add_option("--runs", ropts->runs, "Runs; the median is reported (default 5)");
+    rec->add_option("--json", ropts->json, "Write the figures as JSON");
+    rec->callback([ropts, &global] { run_reconstruct_bench(*ropts, global); });
 }
 
 }  // namespace gimg::cli
