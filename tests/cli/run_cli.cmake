@@ -3,13 +3,22 @@
 #   [-DEXPECT_STDERR=<regex>] [-DEXPECT_STDOUT=<regex>]
 #   [-DINPUT=<file to write first> -DINPUT_TEXT=<its contents>]
 #   [-DABSENT=<file that must not exist afterwards>]
-#   [-DJSON=<file> -DJSON_CHECKS=<key=value;...>]  (top-level keys, or key.N for list entries)
+#   [-DJSON=<file> -DJSON_CHECKS=<key=value|...>]  (top-level keys, or key.N for list entries)
+#   [-DEXPECT_FILES=<file|...> that must exist afterwards] [-DQUIET_STDERR=1] (stderr must be empty:
+#   no warning, no validation message)
 cmake_minimum_required(VERSION 3.25)
+
+# Lists arrive '|'-separated: ctest would split ';' into separate command-line arguments.
+foreach(list_var IN ITEMS JSON_CHECKS EXPECT_FILES ABSENT)
+  if(DEFINED ${list_var})
+    string(REPLACE "|" ";" ${list_var} "${${list_var}}")
+  endif()
+endforeach()
 
 if(DEFINED INPUT)
   file(WRITE "${INPUT}" "${INPUT_TEXT}")
 endif()
-foreach(path IN ITEMS ${ABSENT} ${JSON})
+foreach(path IN ITEMS ${ABSENT} ${JSON} ${EXPECT_FILES})
   file(REMOVE "${path}")
 endforeach()
 
@@ -38,6 +47,14 @@ foreach(path IN ITEMS ${ABSENT})
     message(FATAL_ERROR "${path} exists but must not")
   endif()
 endforeach()
+foreach(path IN ITEMS ${EXPECT_FILES})
+  if(NOT EXISTS "${path}")
+    message(FATAL_ERROR "${path} was not written")
+  endif()
+endforeach()
+if(QUIET_STDERR AND NOT err STREQUAL "")
+  message(FATAL_ERROR "stderr is not empty")
+endif()
 if(DEFINED JSON)
   if(NOT EXISTS "${JSON}")
     message(FATAL_ERROR "${JSON} was not written")
