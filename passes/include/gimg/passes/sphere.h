@@ -1,0 +1,101 @@
+#pragma once
+// Conformal spherical parameterization of closed genus-0 meshes (seed 000): every vertex gets a
+// point on the unit sphere so that triangles keep their angles and none flips.
+//
+// Methods: `gu` (Gu et al., the paper's base: Gauss map, Tutte phase, conformal phase, user step
+// constants), `kanai` (the paper's method: progressive-mesh hierarchy, vertex splits with local
+// Tutte optimisation and the kernel check, priority-queue conformal optimisation per level),
+// `linear` (Choi, Lam and Lui 2015: harmonic map to the plane, inverse stereographic projection,
+// south-pole Beltrami correction; fast, not guaranteed one-to-one), `gpu` (gimg's: the same
+// energies on the same hierarchy as iterative compute dispatches, flip-free parallel updates).
+
+#include "gimg/engine/context.h"
+#include "gimg/geometry/mesh.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace gimg::passes {
+
+// Throws geo::InputError with what is wrong unless the mesh is one closed, manifold, consistently
+// oriented piece of genus 0 without degenerate faces: "genus 3: spherical parameterization needs
+// genus 0", "2 boundary loops: ...", "non-manifold edge at ...", ...
+void check_sphere_input(const geo::Mesh& mesh);
+
+struct AngleStats {
+    double mean = 0.0, p95 = 0.0, max = 0.0;  // degrees
+};
+
+struct SphereMetrics {
+    // Triangles whose three sphere points are not counter-clockwise seen from outside
+    // (det(a, b, c) <= 0), degenerate ones included.
+    std::size_t flips = 0;
+    // F = sum over edges of w_uv |y(u) - y(v)|^2, w_uv = (cot alpha + cot beta) / 2 of the original
+    // mesh; tends to 8 pi for a perfectly conformal map onto the unit sphere.
+    double conformal_energy = 0.0;
+    double conformal_ratio = 0.0;  // conformal_energy / (8 pi)
+    // |corner angle on the sphere (spherical triangle of the three points' chords) - on the mesh|.
+    AngleStats angle_distortion_deg;
+    // Spread of log(area on the sphere / area on the mesh), both normalised to total 1: the
+    // standard deviation over triangles, weighted by mesh area.
+    double area_distortion = 0.0;
+};
+
+// `sphere` holds one unit vector per mesh vertex.
+SphereMetrics sphere_metrics(const geo::Mesh& mesh, const std::vector<glm::dvec3>& sphere);
+
+// One level or phase of a run: what it did and how long it took.
+struct SphereStage {
+    std::string name;           // e.g. "tutte", "conformal", "level 3 (1234 vertices)"
+    std::size_t vertices = 0;   // active vertices
+    std::size_t iterations = 0;
+    double seconds = 0.0;
+    double energy = 0.0;        // at the end of the stage (the stage's own energy)
+};
+
+struct SphereResult {
+    std::vector<glm::dvec3> positions;  // one unit vector per mesh vertex
+    std::vector<SphereStage> stages;
+    bool converged = true;     // false: stopped at an iteration limit or diverged (see note)
+    std::string note;          // why it did not converge, or anything else worth knowing
+};
+
+// Called now and then by long runs (for a terminal progress line).
+using SphereProgress = std::function<void(const std::string& stage, std::size_t iteration, double energy,
+                                          std::size_t flips, double seconds)>;
+
+struct GuOptions {
+    double tutte_step = 0.5;       // c_t
+    double conformal_step = 0.5;   // c_c
+    double tolerance = 1e-5;       // stop a phase when |E - E0| < tolerance
+    std::size_t max_iterations = 200000;  // per phase
+    SphereProgress progress;
+};
+SphereResult sphere_gu(const geo::Mesh& mesh, const GuOptions& options = {});
+
+struct KanaiOptions {
+    std::size_t base_vertices = 300;  // coarsest level of the progressive mesh (100..500 in the paper)
+    double growth = 2.0;              // split until the vertex count grows this much, then optimise
+    double queue_tolerance = 1e-8;    // stop the priority-queue optimisation below this key
+    SphereProgress progress;
+};
+SphereResult sphere_kanai(const geo::Mesh& mesh, const KanaiOptions& options = {});
+
+SphereResult sphere_linear(const geo::Mesh& mesh);
+
+struct GpuSphereOptions {
+    std::size_t base_vertices = 300;
+    double growth = 2.0;
+    std::uint32_t iterations_per_check = 32;  // K: iterations between read-backs of the energy
+    double tolerance = 1e-7;                  // stop a level when the energy changes less (relative)
+    std::size_t max_iterations_per_level = 20000;
+    SphereProgress progress;
+};
+SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOptions& options = {});
+
+}  // namespace gimg::passes
