@@ -2,6 +2,7 @@
 
 #include "gimg/engine/error.h"
 
+#include "primitives/reduce_f64_comp.h"
 #include "primitives/reduce_sum_comp.h"
 #include "primitives/scan_add_offsets_comp.h"
 #include "primitives/scan_blocks_comp.h"
@@ -13,6 +14,7 @@ namespace {
 const Spirv kScanBlocks = GIMG_SPIRV(gimg_spv_primitives_scan_blocks_comp);
 const Spirv kScanAddOffsets = GIMG_SPIRV(gimg_spv_primitives_scan_add_offsets_comp);
 const Spirv kReduceSum = GIMG_SPIRV(gimg_spv_primitives_reduce_sum_comp);
+const Spirv kReduceF64 = GIMG_SPIRV(gimg_spv_primitives_reduce_f64_comp);
 
 std::uint32_t blocks_of(std::uint32_t count) { return (count + GIMG_SCAN_BLOCK - 1) / GIMG_SCAN_BLOCK; }
 
@@ -55,6 +57,27 @@ BufferHandle add_reduce_sum(Graph& graph, BufferHandle in, BufferHandle out, std
             b.read(in, Access::ComputeRead);
             dst = b.write(dst, Access::ComputeWrite);
         }, [=](Cmd& c) { c.dispatch(kReduceSum, {blocks}, {in, dst}, count); });
+        if (blocks == 1) return dst;
+        in = dst;
+        count = blocks;
+    }
+}
+
+BufferHandle add_reduce_sum_f64(Graph& graph, BufferHandle in, BufferHandle out, std::uint32_t count,
+                                std::uint32_t width, const std::string& name) {
+    require_elements(count, name);
+    struct Push {
+        std::uint32_t count, width;
+    };
+    for (int level = 0;; ++level) {
+        const std::uint32_t blocks = blocks_of(count);
+        const std::string pass = name + " level " + std::to_string(level);
+        BufferHandle dst = blocks == 1 ? out
+                                       : graph.create_buffer({VkDeviceSize(blocks) * 8 * width, pass + " partial sums"});
+        graph.add_compute_pass(pass, [&](PassBuilder& b) {
+            b.read(in, Access::ComputeRead);
+            dst = b.write(dst, Access::ComputeWrite);
+        }, [=](Cmd& c) { c.dispatch(kReduceF64, {blocks}, {in, dst}, Push{count, width}); });
         if (blocks == 1) return dst;
         in = dst;
         count = blocks;

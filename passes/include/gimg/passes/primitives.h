@@ -20,4 +20,10 @@ BufferHandle add_inclusive_scan(Graph& graph, BufferHandle in, BufferHandle out,
 BufferHandle add_reduce_sum(Graph& graph, BufferHandle in, BufferHandle out, std::uint32_t count,
                             const std::string& name = "sum");
 
+// out[c] = sum over i < count of in[i * width + c] for c < width, in double, by a fixed tree (the
+// same result on every run, unlike float atomics). Needs shaderFloat64. Returns the new version of
+// `out` (at least 8 * width bytes).
+BufferHandle add_reduce_sum_f64(Graph& graph, BufferHandle in, BufferHandle out, std::uint32_t count,
+                                std::uint32_t width, const std::string& name = "sum f64");
+
 }  // namespace gimg::passes
