@@ -1,0 +1,182 @@
+// Level layout (fans, cotangent weights, colouring) and the CPU reference of the relaxation.
+#include "sphere_level.h"
+
+#include "gimg/geometry/cotangent.h"
+#include "gimg/geometry/error.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+
+namespace gimg::passes::detail {
+
+double orientation(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    return glm::dot(a, glm::cross(b - a, c - a));
+}
+
+SphereLevel build_sphere_level(const geo::Mesh& mesh) {
+    const std::size_t n = mesh.vertex_count();
+    SphereLevel level;
+    // Per vertex, the corners it owns: for triangle (i, a, b) the fan step a -> b.
+    std::vector<std::uint32_t> corner_offsets(n + 1, 0);
+    for (const glm::uvec3& t : mesh.triangles)
+        for (int k = 0; k < 3; ++k) ++corner_offsets[t[k] + 1];
+    for (std::size_t i = 0; i < n; ++i) corner_offsets[i + 1] += corner_offsets[i];
+    std::vector<std::uint32_t> fill(corner_offsets.begin(), corner_offsets.end() - 1);
+    std::vector<std::uint32_t> step_from(corner_offsets.back()), step_to(corner_offsets.back());
+    std::vector<double> weight_from(corner_offsets.back()), weight_to(corner_offsets.back());
+    level.vertex_areas.assign(n, 0.0);
+    for (const glm::uvec3& t : mesh.triangles) {
+        const glm::dvec3 p[3] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
+        const double area = 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
+        level.total_area += area;
+        for (int k = 0; k < 3; ++k) {
+            const int a = (k + 1) % 3, b = (k + 2) % 3;
+            const std::uint32_t slot = fill[t[k]]++;
+            step_from[slot] = t[a];
+            step_to[slot] = t[b];
+            // Spoke (k, a) is opposite corner b; spoke (k, b) is opposite corner a.
+            weight_from[slot] = 0.5 * geo::clamped_cotangent(p[k] - p[b], p[a] - p[b]);
+            weight_to[slot] = 0.5 * geo::clamped_cotangent(p[k] - p[a], p[b] - p[a]);
+            level.vertex_areas[t[k]] += area / 3.0;
+        }
+    }
+    level.ring_offsets.assign(n + 1, 0);
+    level.ring.resize(corner_offsets.back());
+    level.ring_weights.assign(corner_offsets.back(), 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::uint32_t begin = corner_offsets[i], end = corner_offsets[i + 1];
+        level.ring_offsets[i + 1] = end;
+        if (begin == end) throw geo::InputError("vertex " + std::to_string(i) + " is in no triangle");
+        // Walk the fan: after the spoke to `from`, the next spoke is that corner's `to`.
+        std::uint32_t slot = begin;
+        for (std::uint32_t k = 0; k < end - begin; ++k) {
+            level.ring[begin + k] = step_from[slot];
+            const std::uint32_t to = step_to[slot];
+            const std::uint32_t next_k = (k + 1) % (end - begin);
+            level.ring_weights[begin + k] += weight_from[slot];
+            level.ring_weights[begin + next_k] += weight_to[slot];
+            auto found = std::find(step_from.begin() + begin, step_from.begin() + end, to);
+            if (found == step_from.begin() + end && next_k != 0)
+                throw geo::InputError("the triangles around vertex " + std::to_string(i) + " do not form one closed fan");
+            slot = std::uint32_t(found - step_from.begin());
+            if (slot == begin && next_k != 0)  // a second fan: a non-manifold vertex
+                throw geo::InputError("the triangles around vertex " + std::to_string(i) + " form more than one fan");
+        }
+        if (slot != begin)
+            throw geo::InputError("the triangles around vertex " + std::to_string(i) + " do not form one closed fan");
+    }
+    // Greedy colouring in smallest-last order: repeatedly take away a vertex of least remaining
+    // degree, then colour in reverse. A planar graph always has a vertex of degree <= 5, so a
+    // genus-0 mesh needs at most 6 colours (6 dispatches per sweep).
+    std::vector<std::uint32_t> order;
+    order.reserve(n);
+    {
+        std::vector<std::uint32_t> degree(n);
+        std::vector<std::vector<std::uint32_t>> buckets;
+        for (std::uint32_t v = 0; v < n; ++v) {
+            degree[v] = level.ring_offsets[v + 1] - level.ring_offsets[v];
+            if (degree[v] >= buckets.size()) buckets.resize(degree[v] + 1);
+            buckets[degree[v]].push_back(v);
+        }
+        std::vector<std::uint8_t> removed(n, 0);
+        std::size_t lowest = 0;
+        while (order.size() < n) {
+            lowest = lowest > 0 ? lowest - 1 : 0;  // a removal lowers degrees by at most one
+            while (buckets[lowest].empty()) ++lowest;
+            const std::uint32_t v = buckets[lowest].back();
+            buckets[lowest].pop_back();
+            if (removed[v] || degree[v] != lowest) continue;  // a stale entry
+            removed[v] = 1;
+            order.push_back(v);
+            for (std::uint32_t k = level.ring_offsets[v]; k < level.ring_offsets[v + 1]; ++k) {
+                const std::uint32_t u = level.ring[k];
+                if (!removed[u]) buckets[--degree[u]].push_back(u);
+            }
+        }
+        std::reverse(order.begin(), order.end());
+    }
+    constexpr std::uint32_t kNone = ~0u;
+    std::vector<std::uint32_t> colour(n, kNone);
+    std::uint32_t colours = 0;
+    std::vector<std::uint8_t> used;
+    for (std::uint32_t v : order) {
+        used.assign(colours + 1, 0);
+        for (std::uint32_t k = level.ring_offsets[v]; k < level.ring_offsets[v + 1]; ++k)
+            if (colour[level.ring[k]] != kNone) used[colour[level.ring[k]]] = 1;
+        std::uint32_t c = 0;
+        while (used[c]) ++c;
+        colour[v] = c;
+        colours = std::max(colours, c + 1);
+    }
+    level.colour_offsets.assign(colours + 1, 0);
+    for (std::uint32_t c : colour) ++level.colour_offsets[c + 1];
+    for (std::uint32_t c = 0; c < colours; ++c) level.colour_offsets[c + 1] += level.colour_offsets[c];
+    level.colour_members.resize(n);
+    std::vector<std::uint32_t> cursor(level.colour_offsets.begin(), level.colour_offsets.end() - 1);
+    for (std::uint32_t v = 0; v < n; ++v) level.colour_members[cursor[colour[v]]++] = v;
+    return level;
+}
+
+namespace {
+
+std::uint32_t flipped_in_fan(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t v,
+                             const glm::dvec3& at) {
+    const std::uint32_t begin = level.ring_offsets[v], degree = level.ring_offsets[v + 1] - begin;
+    std::uint32_t flipped = 0;
+    for (std::uint32_t k = 0; k < degree; ++k)
+        if (!(orientation(at, y[level.ring[begin + k]], y[level.ring[begin + (k + 1) % degree]]) > 0.0)) ++flipped;
+    return flipped;
+}
+
+}  // namespace
+
+glm::dvec3 relaxed_position(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t v,
+                            bool uniform_weights) {
+    glm::dvec3 sum(0.0);
+    for (std::uint32_t k = level.ring_offsets[v]; k < level.ring_offsets[v + 1]; ++k)
+        sum += (uniform_weights ? 1.0 : level.ring_weights[k]) * y[level.ring[k]];
+    const double length = glm::length(sum);
+    const glm::dvec3 current = y[v];
+    if (!(length > 1e-300)) return current;
+    const glm::dvec3 target = sum / length;
+    const std::uint32_t flipped_now = flipped_in_fan(level, y, v, current);
+    double t = 1.0;
+    for (int attempt = 0; attempt <= kMaxStepHalvings; ++attempt, t *= 0.5) {
+        const glm::dvec3 chord = current + t * (target - current);
+        const double chord_length = glm::length(chord);
+        if (!(chord_length > 1e-12)) continue;
+        const glm::dvec3 candidate = chord / chord_length;
+        if (flipped_in_fan(level, y, v, candidate) <= flipped_now) return candidate;
+    }
+    return current;
+}
+
+void relax_sweep_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, bool uniform_weights) {
+    for (std::size_t c = 0; c < level.colour_count(); ++c) {
+        // Same-colour vertices do not see each other's moves: compute all, then write.
+        const std::uint32_t begin = level.colour_offsets[c], end = level.colour_offsets[c + 1];
+        std::vector<glm::dvec3> moved(end - begin);
+        for (std::uint32_t m = begin; m < end; ++m)
+            moved[m - begin] = relaxed_position(level, y, level.colour_members[m], uniform_weights);
+        for (std::uint32_t m = begin; m < end; ++m) y[level.colour_members[m]] = moved[m - begin];
+    }
+}
+
+LevelStats level_stats_cpu(const SphereLevel& level, const std::vector<glm::dvec3>& y) {
+    LevelStats stats;
+    for (std::uint32_t v = 0; v < level.vertex_count(); ++v) {
+        const std::uint32_t begin = level.ring_offsets[v], degree = level.ring_offsets[v + 1] - begin;
+        for (std::uint32_t k = 0; k < degree; ++k) {
+            const std::uint32_t a = level.ring[begin + k], b = level.ring[begin + (k + 1) % degree];
+            const glm::dvec3 d = y[v] - y[a];
+            stats.energy += 0.5 * level.ring_weights[begin + k] * glm::dot(d, d);
+            if (v < a && v < b && !(orientation(y[v], y[a], y[b]) > 0.0)) ++stats.flips;
+        }
+        stats.centroid += level.vertex_areas[v] * y[v];
+    }
+    stats.centroid /= level.total_area;
+    return stats;
+}
+
+}  // namespace gimg::passes::detail

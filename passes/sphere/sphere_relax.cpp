@@ -1,0 +1,153 @@
+// One hierarchy level's relaxation on the render graph, and its CPU twin.
+#include "sphere_relax.h"
+
+#include "gimg/engine/graph.h"
+#include "gimg/passes/primitives.h"
+
+#include "sphere/level_stats_comp.h"
+#include "sphere/recentre_comp.h"
+#include "sphere/relax_comp.h"
+
+#include <glm/geometric.hpp>
+
+#include <span>
+
+namespace gimg::passes::detail {
+
+namespace {
+
+const Spirv kRelax = GIMG_SPIRV(gimg_spv_sphere_relax_comp);
+const Spirv kLevelStats = GIMG_SPIRV(gimg_spv_sphere_level_stats_comp);
+const Spirv kRecentre = GIMG_SPIRV(gimg_spv_sphere_recentre_comp);
+
+template <class T>
+Buffer upload_vector(Context& ctx, const std::vector<T>& data, const std::string& name) {
+    Buffer buffer = ctx.create_buffer({VkDeviceSize(std::max<std::size_t>(data.size(), 1) * sizeof(T)), name});
+    if (!data.empty()) ctx.upload(buffer, std::span<const T>(data));
+    return buffer;
+}
+
+std::vector<double> flatten(const std::vector<glm::dvec3>& y) {
+    std::vector<double> flat(3 * y.size());
+    for (std::size_t i = 0; i < y.size(); ++i)
+        for (int k = 0; k < 3; ++k) flat[3 * i + k] = y[i][k];
+    return flat;
+}
+
+LevelStats stats_from_sums(std::span<const double> sums, double total_area) {
+    LevelStats stats;
+    stats.centroid = glm::dvec3(sums[0], sums[1], sums[2]) / total_area;
+    stats.energy = sums[3];
+    stats.flips = std::size_t(sums[4]);
+    return stats;
+}
+
+}  // namespace
+
+RelaxCheck relax_and_check_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, std::uint32_t iterations,
+                               bool uniform_weights) {
+    for (std::uint32_t i = 0; i < iterations; ++i) relax_sweep_cpu(level, y, uniform_weights);
+    RelaxCheck check;
+    check.relaxed = level_stats_cpu(level, y);
+    std::vector<glm::dvec3> moved(y.size());
+    for (std::size_t v = 0; v < y.size(); ++v) moved[v] = glm::normalize(y[v] - check.relaxed.centroid);
+    check.recentred = level_stats_cpu(level, moved);
+    check.recentre_kept = check.recentred.flips <= check.relaxed.flips;
+    if (check.recentre_kept) y = std::move(moved);
+    return check;
+}
+
+GpuSphereRelaxation::GpuSphereRelaxation(Context& ctx, const SphereLevel& level, const std::vector<glm::dvec3>& y)
+    : ctx_(ctx), level_(level) {
+    const std::vector<double> flat = flatten(y);
+    points_[0] = upload_vector(ctx, flat, "sphere points A");
+    points_[1] = upload_vector(ctx, flat, "sphere points B");
+    ring_offsets_ = upload_vector(ctx, level.ring_offsets, "sphere ring offsets");
+    ring_ = upload_vector(ctx, level.ring, "sphere rings");
+    ring_weights_ = upload_vector(ctx, level.ring_weights, "sphere ring weights");
+    members_ = upload_vector(ctx, level.colour_members, "sphere colour members");
+    areas_ = upload_vector(ctx, level.vertex_areas, "sphere vertex areas");
+    sums_relaxed_ = ctx.create_buffer({5 * sizeof(double), "sphere sums (relaxed)"}, MemoryUsage::Readback);
+    sums_recentred_ = ctx.create_buffer({5 * sizeof(double), "sphere sums (recentred)"}, MemoryUsage::Readback);
+}
+
+Plan& GpuSphereRelaxation::plan_for(std::uint32_t iterations, bool uniform_weights) {
+    auto& slot = plans_[{iterations, uniform_weights, current_}];
+    if (slot) return *slot;
+    const auto n = std::uint32_t(level_.vertex_count());
+    Graph g(ctx_);
+    auto points = g.import_buffer(points_[current_]);
+    auto moved = g.import_buffer(points_[1 - current_]);
+    auto offsets = g.import_buffer(ring_offsets_);
+    auto ring = g.import_buffer(ring_);
+    auto weights = g.import_buffer(ring_weights_);
+    auto members = g.import_buffer(members_);
+    auto areas = g.import_buffer(areas_);
+    struct RelaxPush {
+        std::uint32_t first, count, uniform_weights;
+    };
+    g.add_loop(iterations, [&] {
+        for (std::size_t c = 0; c < level_.colour_count(); ++c) {
+            const RelaxPush push{level_.colour_offsets[c], level_.colour_offsets[c + 1] - level_.colour_offsets[c],
+                                 uniform_weights ? 1u : 0u};
+            g.add_compute_pass("relax colour " + std::to_string(c), [&](PassBuilder& b) {
+                b.read(offsets, Access::ComputeRead);
+                b.read(ring, Access::ComputeRead);
+                b.read(weights, Access::ComputeRead);
+                b.read(members, Access::ComputeRead);
+                points = b.write(points, Access::ComputeReadWrite);
+            }, [=](Cmd& cmd) {
+                cmd.dispatch_threads(kRelax, {push.count}, {points, offsets, ring, weights, members}, push);
+            });
+        }
+    });
+    auto reduce_stats = [&](BufferHandle of, Buffer& sums_buffer, const std::string& name) {
+        auto terms = g.create_buffer({VkDeviceSize(n) * 5 * sizeof(double), name + " terms"});
+        g.add_compute_pass(name, [&](PassBuilder& b) {
+            for (BufferHandle h : {of, offsets, ring, weights, areas}) b.read(h, Access::ComputeRead);
+            terms = b.write(terms, Access::ComputeWrite);
+        }, [=](Cmd& cmd) { cmd.dispatch_threads(kLevelStats, {n}, {of, offsets, ring, weights, areas, terms}, n); });
+        auto sums = add_reduce_sum_f64(g, terms, g.import_buffer(sums_buffer), n, 5, name + " sum");
+        return sums;
+    };
+    auto sums = reduce_stats(points, sums_relaxed_, "sphere stats");
+    struct RecentrePush {
+        double total_area;
+        std::uint32_t vertex_count;
+    };
+    g.add_compute_pass("sphere recentre", [&](PassBuilder& b) {
+        b.read(points, Access::ComputeRead);
+        b.read(sums, Access::ComputeRead);
+        moved = b.write(moved, Access::ComputeWrite);
+    }, [points, sums, moved, n, area = level_.total_area](Cmd& cmd) {
+        cmd.dispatch_threads(kRecentre, {n}, {points, sums, moved}, RecentrePush{area, n});
+    });
+    auto sums_moved = reduce_stats(moved, sums_recentred_, "sphere stats recentred");
+    g.export_buffer(sums, Access::HostRead);
+    g.export_buffer(sums_moved, Access::HostRead);
+    g.export_buffer(points, Access::ComputeReadWrite);
+    g.export_buffer(moved, Access::ComputeReadWrite);
+    slot = std::make_unique<Plan>(g.compile());
+    return *slot;
+}
+
+RelaxCheck GpuSphereRelaxation::run(std::uint32_t iterations, bool uniform_weights) {
+    Plan& plan = plan_for(iterations, uniform_weights);
+    plan.execute({.wait = true, .timestamps = timestamps_});
+    last_gpu_ms_ = timestamps_ ? plan.total_gpu_ms() : 0.0;
+    RelaxCheck check;
+    check.relaxed = stats_from_sums(sums_relaxed_.mapped_as<double>(), level_.total_area);
+    check.recentred = stats_from_sums(sums_recentred_.mapped_as<double>(), level_.total_area);
+    check.recentre_kept = check.recentred.flips <= check.relaxed.flips;
+    if (check.recentre_kept) current_ = 1 - current_;
+    return check;
+}
+
+std::vector<glm::dvec3> GpuSphereRelaxation::positions() {
+    const std::vector<double> flat = ctx_.download<double>(points_[current_]);
+    std::vector<glm::dvec3> y(level_.vertex_count());
+    for (std::size_t i = 0; i < y.size(); ++i) y[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
+    return y;
+}
+
+}  // namespace gimg::passes::detail

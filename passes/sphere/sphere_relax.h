@@ -1,0 +1,52 @@
+#pragma once
+// The relaxation of one hierarchy level as iterative compute dispatches (GpuSphereRelaxation),
+// and the same steps on the CPU (relax_and_check_cpu), which tests compare it with.
+//
+// One call runs `iterations` sweeps (one dispatch per colour each), then reduces the level's
+// energy, flip count and mass centre on the GPU, recentres the points into a second buffer and
+// reduces again. Only the two small sums come back to the host, once per call: the caller reads
+// them every K iterations, never every iteration. The recentred points are kept when they flip
+// no more triangles than before.
+#include "sphere_level.h"
+
+#include "gimg/engine/context.h"
+#include "gimg/engine/plan.h"
+
+#include <map>
+#include <memory>
+#include <tuple>
+
+namespace gimg::passes::detail {
+
+struct RelaxCheck {
+    LevelStats relaxed;     // after the sweeps
+    LevelStats recentred;   // after moving the mass centre to the origin
+    bool recentre_kept = false;
+};
+
+RelaxCheck relax_and_check_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, std::uint32_t iterations,
+                               bool uniform_weights);
+
+class GpuSphereRelaxation {
+public:
+    GpuSphereRelaxation(Context& ctx, const SphereLevel& level, const std::vector<glm::dvec3>& y);
+    RelaxCheck run(std::uint32_t iterations, bool uniform_weights);
+    std::vector<glm::dvec3> positions();
+    // GPU time of the last run, when timestamps are on (0 otherwise).
+    double last_gpu_ms() const { return last_gpu_ms_; }
+    void set_timestamps(bool on) { timestamps_ = on; }
+
+private:
+    Plan& plan_for(std::uint32_t iterations, bool uniform_weights);
+
+    Context& ctx_;
+    const SphereLevel& level_;
+    Buffer points_[2], ring_offsets_, ring_, ring_weights_, members_, areas_;
+    Buffer sums_relaxed_, sums_recentred_;
+    int current_ = 0;  // which points_ buffer holds the points
+    bool timestamps_ = false;
+    double last_gpu_ms_ = 0.0;
+    std::map<std::tuple<std::uint32_t, bool, int>, std::unique_ptr<Plan>> plans_;
+};
+
+}  // namespace gimg::passes::detail

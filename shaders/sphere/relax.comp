@@ -1,0 +1,47 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// One colour class of the relaxation (passes/sphere/sphere_level.cpp, relaxed_position, is the
+// CPU reference): each vertex moves towards normalize(sum of w * neighbour), the minimiser of its
+// local energy on the sphere, halving the step until no triangle of its fan flips that was not
+// flipped before. No two vertices of one colour share an edge, so the moves are independent.
+layout(local_size_x = 64) in;
+layout(std430, binding = 0) buffer Points { double pos[]; };
+layout(std430, binding = 1) readonly buffer RingOffsets { uint ring_offsets[]; };
+layout(std430, binding = 2) readonly buffer Ring { uint ring[]; };
+layout(std430, binding = 3) readonly buffer RingWeights { double ring_weights[]; };
+layout(std430, binding = 4) readonly buffer Members { uint members[]; };
+layout(push_constant) uniform Push {
+    uint first;            // of this colour in members
+    uint count;
+    uint uniform_weights;  // 1: Tutte step (all weights 1)
+};
+
+#include "sphere/sphere_common.glsl"
+
+const int kMaxStepHalvings = 16;
+
+void main() {
+    if (gl_GlobalInvocationID.x >= count) return;
+    const uint v = members[first + gl_GlobalInvocationID.x];
+    dvec3 sum = dvec3(0.0LF);
+    for (uint k = ring_offsets[v]; k < ring_offsets[v + 1]; ++k)
+        sum += (uniform_weights != 0 ? 1.0LF : ring_weights[k]) * point_at(ring[k]);
+    const double len = length(sum);
+    if (!(len > 1e-300LF)) return;
+    const dvec3 target = sum / len;
+    const dvec3 current = point_at(v);
+    const uint flipped_now = flipped_in_fan(v, current);
+    double t = 1.0LF;
+    for (int attempt = 0; attempt <= kMaxStepHalvings; ++attempt, t *= 0.5LF) {
+        const dvec3 chord = current + t * (target - current);
+        const double chord_length = length(chord);
+        if (!(chord_length > 1e-12LF)) continue;
+        const dvec3 candidate = chord / chord_length;
+        if (flipped_in_fan(v, candidate) <= flipped_now) {
+            pos[3 * v] = candidate.x;
+            pos[3 * v + 1] = candidate.y;
+            pos[3 * v + 2] = candidate.z;
+            return;
+        }
+    }
+}

@@ -1,0 +1,134 @@
+// The sphere solver's level layout and relaxation: fans and weights match the mesh, the colouring
+// is proper, the GPU sweeps equal the CPU reference, and no sweep adds a flipped triangle.
+#include "sphere/sphere_level.h"
+#include "sphere/sphere_relax.h"
+
+#include "gpu_test.h"
+
+#include "gimg/geometry/adjacency.h"
+#include "gimg/geometry/cotangent.h"
+#include "gimg/geometry/shapes.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <tuple>
+
+using namespace gimg;
+using passes::detail::SphereLevel;
+
+namespace {
+
+// An ellipsoid (so the cotangent weights are not those of a sphere) and a start on the sphere:
+// its points projected radially, with a little noise that flips nothing.
+struct Case {
+    geo::Mesh mesh;
+    std::vector<glm::dvec3> start;
+};
+
+Case ellipsoid_case(int subdivisions, double noise) {
+    Case c;
+    c.mesh = geo::make_icosphere(1.0, subdivisions);
+    std::mt19937 rng(7);
+    std::normal_distribution<double> gauss(0.0, noise);
+    for (glm::dvec3& p : c.mesh.positions) {
+        c.start.push_back(glm::normalize(p + glm::dvec3(gauss(rng), gauss(rng), gauss(rng))));
+        p *= glm::dvec3(1.0, 0.6, 0.35);
+    }
+    return c;
+}
+
+class SphereRelax : public gimg::test::GpuTest {};
+
+}  // namespace
+
+TEST(SphereLevel, FansFollowTheTrianglesAndWeightsAreTheCotangentWeights) {
+    const Case c = ellipsoid_case(2, 0.0);
+    const SphereLevel level = passes::detail::build_sphere_level(c.mesh);
+    std::set<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> faces;
+    for (const glm::uvec3& t : c.mesh.triangles) {
+        faces.insert({t.x, t.y, t.z});
+        faces.insert({t.y, t.z, t.x});
+        faces.insert({t.z, t.x, t.y});
+    }
+    const geo::MeshAdjacency adj = geo::build_adjacency(c.mesh);
+    const std::vector<double> w = geo::cotangent_weights(c.mesh, adj);
+    ASSERT_EQ(level.vertex_count(), c.mesh.vertex_count());
+    double area = 0.0;
+    for (std::uint32_t v = 0; v < level.vertex_count(); ++v) {
+        const std::uint32_t begin = level.ring_offsets[v], degree = level.ring_offsets[v + 1] - begin;
+        ASSERT_EQ(degree, adj.neighbors(v).size()) << "vertex " << v;
+        for (std::uint32_t k = 0; k < degree; ++k) {
+            const std::uint32_t a = level.ring[begin + k], b = level.ring[begin + (k + 1) % degree];
+            EXPECT_TRUE(faces.count({v, a, b})) << "fan triangle (" << v << ", " << a << ", " << b << ") is not a face";
+            EXPECT_NEAR(level.ring_weights[begin + k], w[adj.find_edge(v, a)], 1e-12);
+        }
+        area += level.vertex_areas[v];
+    }
+    EXPECT_NEAR(area, level.total_area, 1e-12);
+}
+
+TEST(SphereLevel, NoEdgeJoinsTwoVerticesOfOneColour) {
+    const Case c = ellipsoid_case(3, 0.0);
+    const SphereLevel level = passes::detail::build_sphere_level(c.mesh);
+    std::vector<std::uint32_t> colour(level.vertex_count(), ~0u);
+    for (std::uint32_t k = 0; k < level.colour_count(); ++k)
+        for (std::uint32_t m = level.colour_offsets[k]; m < level.colour_offsets[k + 1]; ++m)
+            colour[level.colour_members[m]] = k;
+    for (std::uint32_t v = 0; v < level.vertex_count(); ++v) {
+        ASSERT_NE(colour[v], ~0u) << "vertex " << v << " has no colour";
+        for (std::uint32_t k = level.ring_offsets[v]; k < level.ring_offsets[v + 1]; ++k)
+            EXPECT_NE(colour[v], colour[level.ring[k]]) << "edge " << v << "-" << level.ring[k];
+    }
+    // Smallest-last order needs at most 6 colours on a planar graph (one dispatch per colour).
+    EXPECT_LE(level.colour_count(), 6u);
+}
+
+TEST(SphereLevel, SweepsNeverAddAFlippedTriangleAndLowerTheEnergy) {
+    Case c = ellipsoid_case(3, 0.0);
+    // Push one vertex far across its neighbours: its fan flips.
+    c.start[17] = glm::normalize(-c.start[17] + glm::dvec3(0.1, 0.0, 0.0));
+    const SphereLevel level = passes::detail::build_sphere_level(c.mesh);
+    std::vector<glm::dvec3> y = c.start;
+    auto previous = passes::detail::level_stats_cpu(level, y);
+    ASSERT_GT(previous.flips, 0u);
+    for (int sweep = 0; sweep < 30; ++sweep) {
+        passes::detail::relax_sweep_cpu(level, y, sweep < 5);
+        const auto now = passes::detail::level_stats_cpu(level, y);
+        EXPECT_LE(now.flips, previous.flips) << "sweep " << sweep;
+        previous = now;
+    }
+    EXPECT_EQ(previous.flips, 0u) << "the relaxation did not unfold the pushed vertex";
+}
+
+TEST_F(SphereRelax, GpuSweepsEqualTheCpuReference) {
+    if (!ctx().device_info().shader_float64) GTEST_SKIP() << "device has no shaderFloat64";
+    const Case c = ellipsoid_case(3, 0.03);
+    const SphereLevel level = passes::detail::build_sphere_level(c.mesh);
+    std::vector<glm::dvec3> cpu = c.start;
+    passes::detail::GpuSphereRelaxation gpu(ctx(), level, c.start);
+    double energy = passes::detail::level_stats_cpu(level, cpu).energy;
+    for (auto [iterations, tutte] : {std::pair{3u, true}, std::pair{8u, false}, std::pair{8u, false}}) {
+        SCOPED_TRACE(testing::Message() << iterations << " iterations, tutte " << tutte);
+        const auto expected = passes::detail::relax_and_check_cpu(level, cpu, iterations, tutte);
+        const auto got = gpu.run(iterations, tutte);
+        EXPECT_NEAR(got.relaxed.energy, expected.relaxed.energy, 1e-9 * expected.relaxed.energy);
+        EXPECT_EQ(got.relaxed.flips, expected.relaxed.flips);
+        EXPECT_NEAR(glm::length(got.relaxed.centroid - expected.relaxed.centroid), 0.0, 1e-12);
+        EXPECT_NEAR(got.recentred.energy, expected.recentred.energy, 1e-9 * expected.recentred.energy);
+        EXPECT_EQ(got.recentre_kept, expected.recentre_kept);
+        EXPECT_EQ(got.relaxed.flips, 0u);
+        if (!tutte) {
+            EXPECT_LT(got.relaxed.energy, energy) << "a conformal sweep must lower the energy";
+        }
+        energy = got.recentred.energy;
+        const auto y = gpu.positions();
+        double worst = 0.0;
+        for (std::size_t v = 0; v < y.size(); ++v) worst = std::max(worst, glm::length(y[v] - cpu[v]));
+        EXPECT_LT(worst, 1e-12);
+        EXPECT_LT(glm::length(got.recentred.centroid), glm::length(got.relaxed.centroid) + 1e-15);
+    }
+}
