@@ -1,0 +1,33 @@
+#pragma once
+// North-pole step of the `linear` spherical map (Choi, Lam & Lui): take one "big triangle" out of
+// the closed mesh, which leaves a disk, and map that disk into the plane by a harmonic map whose
+// boundary is the big triangle itself laid flat with its own shape.
+
+#include "dirichlet_solve.h"
+
+#include "gimg/geometry/adjacency.h"
+#include "gimg/geometry/mesh.h"
+
+#include <complex>
+#include <cstdint>
+#include <vector>
+
+namespace gimg::passes::linear_sphere {
+
+// The face closest to equilateral (smallest sum over its edges of |edge / perimeter - 1/3|), the
+// paper's choice: a well-shaped boundary keeps the harmonic map's distortion near it small.
+std::uint32_t most_regular_face(const geo::Mesh& mesh);
+
+// Harmonic map of the mesh minus face `big` for the given edge weights (cotangent weights for the
+// paper's map, all ones for a Tutte embedding), the three corners of `big` pinned to a similar
+// copy of it with unit first edge. The copy is mirrored so that every other face comes out
+// counter-clockwise: seen from the disk, the big triangle's boundary runs the other way round.
+// The result is translated so that the vertices' mean is 0.
+DirichletSolution harmonic_map_to_plane(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
+                                        const std::vector<double>& edge_weights, std::uint32_t big);
+
+// sum over edges of weight * |z(u) - z(v)|^2: the Dirichlet energy the harmonic map minimises.
+double dirichlet_energy(const geo::MeshAdjacency& adjacency, const std::vector<double>& edge_weights,
+                        const std::vector<std::complex<double>>& z);
+
+}  // namespace gimg::passes::linear_sphere
