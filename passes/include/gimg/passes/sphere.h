@@ -49,6 +49,12 @@ struct SphereMetrics {
 // `sphere` holds one unit vector per mesh vertex.
 SphereMetrics sphere_metrics(const geo::Mesh& mesh, const std::vector<glm::dvec3>& sphere);
 
+// `mesh` with texture coordinates from the spherical coordinates of its sphere points (+y is the
+// pole): u = longitude / 2 pi, v = colatitude / 2 pi, so checker cells are square at the equator.
+// Vertices along the seam are duplicated with u + 1 so no triangle wraps around the texture. For
+// checker.png, the paper's fig. 1.
+geo::Mesh spherical_texture_mesh(const geo::Mesh& mesh, const std::vector<glm::dvec3>& sphere);
+
 // One level or phase of a run: what it did and how long it took.
 struct SphereStage {
     std::string name;           // e.g. "tutte", "conformal", "level 3 (1234 vertices)"
@@ -62,6 +68,7 @@ struct SphereResult {
     std::vector<glm::dvec3> positions;  // one unit vector per mesh vertex
     std::vector<SphereStage> stages;
     bool converged = true;     // false: stopped at an iteration limit or diverged (see note)
+    double gpu_ms = 0.0;       // sum of pass timestamps (gpu method with timestamps on)
     std::string note;          // why it did not converge, or anything else worth knowing
 };
 
