@@ -47,8 +47,9 @@ SphereMetrics sphere_metrics(const geo::Mesh& mesh, const std::vector<glm::dvec3
     double total_mesh = 0.0, total_sphere = 0.0;
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const glm::uvec3 t = mesh.triangles[f];
-        // a . ((b - a) x (c - a)) equals det(a, b, c) but keeps its precision on tiny triangles.
-        if (glm::dot(y[t.x], glm::cross(y[t.y] - y[t.x], y[t.z] - y[t.x])) <= 0.0) ++m.flips;
+        // det(a, b, c) written a.((b - a) x (c - a)): the plain triple product loses the sign of
+        // triangles smaller than about 1e-8, and conformal maps of limbs make such triangles.
+        if (!(glm::dot(y[t.x], glm::cross(y[t.y] - y[t.x], y[t.z] - y[t.x])) > 0.0)) ++m.flips;
         double on_mesh[3], on_sphere[3];
         corner_angles(mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z], on_mesh);
         corner_angles(y[t.x], y[t.y], y[t.z], on_sphere);
