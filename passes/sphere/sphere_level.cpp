@@ -1,6 +1,8 @@
 // Level layout (fans, cotangent weights, colouring) and the CPU reference of the relaxation.
 #include "sphere_level.h"
 
+#include "sphere_steps.h"
+
 #include "gimg/geometry/cotangent.h"
 #include "gimg/geometry/error.h"
 
@@ -9,10 +11,6 @@
 #include <algorithm>
 
 namespace gimg::passes::detail {
-
-double orientation(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-    return glm::dot(a, glm::cross(b - a, c - a));
-}
 
 SphereLevel build_sphere_level(const geo::Mesh& mesh) {
     const std::size_t n = mesh.vertex_count();
@@ -25,11 +23,8 @@ SphereLevel build_sphere_level(const geo::Mesh& mesh) {
     std::vector<std::uint32_t> fill(corner_offsets.begin(), corner_offsets.end() - 1);
     std::vector<std::uint32_t> step_from(corner_offsets.back()), step_to(corner_offsets.back());
     std::vector<double> weight_from(corner_offsets.back()), weight_to(corner_offsets.back());
-    level.vertex_areas.assign(n, 0.0);
     for (const glm::uvec3& t : mesh.triangles) {
         const glm::dvec3 p[3] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
-        const double area = 0.5 * glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
-        level.total_area += area;
         for (int k = 0; k < 3; ++k) {
             const int a = (k + 1) % 3, b = (k + 2) % 3;
             const std::uint32_t slot = fill[t[k]]++;
@@ -38,7 +33,6 @@ SphereLevel build_sphere_level(const geo::Mesh& mesh) {
             // Spoke (k, a) is opposite corner b; spoke (k, b) is opposite corner a.
             weight_from[slot] = 0.5 * geo::clamped_cotangent(p[k] - p[b], p[a] - p[b]);
             weight_to[slot] = 0.5 * geo::clamped_cotangent(p[k] - p[a], p[b] - p[a]);
-            level.vertex_areas[t[k]] += area / 3.0;
         }
     }
     level.ring_offsets.assign(n + 1, 0);
@@ -120,13 +114,25 @@ SphereLevel build_sphere_level(const geo::Mesh& mesh) {
 
 namespace {
 
-std::uint32_t flipped_in_fan(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t v,
-                             const glm::dvec3& at) {
+// How well triangle (at, a, b) is oriented: 2 passes the relaxation test, 1 only the kernel
+// test, 0 neither (flipped, degenerate, or within the rounding margin).
+int orientation_grade(const glm::dvec3& at, const glm::dvec3& a, const glm::dvec3& b) {
+    if (counter_clockwise(at, a, b, kRelaxMargin)) return 2;
+    return counter_clockwise(at, a, b, kKernelMargin) ? 1 : 0;
+}
+
+// True when moving v from `from` to `to` lowers the grade of no triangle of its fan. Judged per
+// triangle: counts would let a sliver that passes become a flip while another triangle mends.
+bool keeps_every_grade(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t v,
+                       const glm::dvec3& from, const glm::dvec3& to) {
     const std::uint32_t begin = level.ring_offsets[v], degree = level.ring_offsets[v + 1] - begin;
-    std::uint32_t flipped = 0;
-    for (std::uint32_t k = 0; k < degree; ++k)
-        if (!(orientation(at, y[level.ring[begin + k]], y[level.ring[begin + (k + 1) % degree]]) > 0.0)) ++flipped;
-    return flipped;
+    for (std::uint32_t k = 0; k < degree; ++k) {
+        const glm::dvec3& a = y[level.ring[begin + k]];
+        const glm::dvec3& b = y[level.ring[begin + (k + 1) % degree]];
+        const int after = orientation_grade(to, a, b);
+        if (after < 2 && after < orientation_grade(from, a, b)) return false;
+    }
+    return true;
 }
 
 }  // namespace
@@ -140,14 +146,13 @@ glm::dvec3 relaxed_position(const SphereLevel& level, const std::vector<glm::dve
     const glm::dvec3 current = y[v];
     if (!(length > 1e-300)) return current;
     const glm::dvec3 target = sum / length;
-    const std::uint32_t flipped_now = flipped_in_fan(level, y, v, current);
     double t = 1.0;
     for (int attempt = 0; attempt <= kMaxStepHalvings; ++attempt, t *= 0.5) {
         const glm::dvec3 chord = current + t * (target - current);
         const double chord_length = glm::length(chord);
         if (!(chord_length > 1e-12)) continue;
         const glm::dvec3 candidate = chord / chord_length;
-        if (flipped_in_fan(level, y, v, candidate) <= flipped_now) return candidate;
+        if (keeps_every_grade(level, y, v, current, candidate)) return candidate;
     }
     return current;
 }
@@ -171,11 +176,14 @@ LevelStats level_stats_cpu(const SphereLevel& level, const std::vector<glm::dvec
             const std::uint32_t a = level.ring[begin + k], b = level.ring[begin + (k + 1) % degree];
             const glm::dvec3 d = y[v] - y[a];
             stats.energy += 0.5 * level.ring_weights[begin + k] * glm::dot(d, d);
-            if (v < a && v < b && !(orientation(y[v], y[a], y[b]) > 0.0)) ++stats.flips;
+            if (v < a && v < b) {
+                stats.kernel_failures += !counter_clockwise(y[v], y[a], y[b]);
+                stats.flips += !(orientation(y[v], y[a], y[b]) > 0.0);
+            }
         }
-        stats.centroid += level.vertex_areas[v] * y[v];
+        stats.centroid += y[v];
     }
-    stats.centroid /= level.total_area;
+    stats.centroid /= double(level.vertex_count());
     return stats;
 }
 

@@ -1,8 +1,8 @@
 #pragma once
 // One mesh of the sphere hierarchy, laid out for the relaxation that both the GPU solver
 // (shaders/sphere/) and its CPU reference run: per vertex its one-ring in counter-clockwise order
-// with the cotangent weight of each spoke, the vertex's area, and a colouring of the vertices so
-// that no two of one colour share an edge. Vertices of one colour move in parallel exactly as
+// with the cotangent weight of each spoke, and a colouring of the vertices so that no two of one
+// colour share an edge. Vertices of one colour move in parallel exactly as
 // they would one after another: no energy term and no triangle involves two of them.
 #include "gimg/geometry/mesh.h"
 
@@ -18,11 +18,9 @@ struct SphereLevel {
     // Triangle k of vertex i's fan is (i, ring[o + k], ring[o + (k + 1) % degree]), o = ring_offsets[i].
     std::vector<std::uint32_t> ring;
     std::vector<double> ring_weights;      // (cot alpha + cot beta) / 2 of spoke (i, ring[o + k])
-    std::vector<double> vertex_areas;      // a third of the incident triangles' areas
-    double total_area = 0.0;
     std::vector<std::uint32_t> colour_offsets;  // colours + 1
     std::vector<std::uint32_t> colour_members;  // vertices, grouped by colour
-    std::size_t vertex_count() const { return vertex_areas.size(); }
+    std::size_t vertex_count() const { return ring_offsets.size() - 1; }
     std::size_t colour_count() const { return colour_offsets.size() - 1; }
 };
 
@@ -31,8 +29,9 @@ SphereLevel build_sphere_level(const geo::Mesh& mesh);
 
 // The move of one vertex, identical in shaders/sphere/relax.comp: go towards the minimiser of
 // its local energy on the sphere, normalize(sum of w * neighbour) (uniform weights for a Tutte
-// step), along the chord, halving the step until no triangle of the fan is flipped that was not
-// flipped before. Returns the new position (the old one if no step was allowed).
+// step), along the chord, halving the step until no triangle of the fan gets a worse orientation
+// grade (relaxation test passed, only the kernel test of sphere_steps.h passed, neither). Returns
+// the new position (the old one if no step was allowed).
 glm::dvec3 relaxed_position(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t vertex,
                             bool uniform_weights);
 
@@ -40,15 +39,20 @@ glm::dvec3 relaxed_position(const SphereLevel& level, const std::vector<glm::dve
 void relax_sweep_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, bool uniform_weights);
 
 struct LevelStats {
-    double energy = 0.0;        // sum over edges of w |y_u - y_v|^2
-    std::size_t flips = 0;      // triangles with a . ((b - a) x (c - a)) <= 0
-    glm::dvec3 centroid{0.0};   // area-weighted mean of the points
+    double energy = 0.0;               // sum over edges of w |y_u - y_v|^2
+    std::size_t flips = 0;             // triangles with det <= 0 (sphere_metrics' flips)
+    std::size_t kernel_failures = 0;   // triangles failing the kernel test (flips, and slivers within its margin)
+    glm::dvec3 centroid{0.0};          // mean of the points
 };
 LevelStats level_stats_cpu(const SphereLevel& level, const std::vector<glm::dvec3>& y);
 
-// a . ((b - a) x (c - a)): det(a, b, c) with its precision kept on tiny triangles.
-double orientation(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
-
 inline constexpr int kMaxStepHalvings = 16;
+
+// The relaxation's own kernel test is stricter than the flip test: it keeps every corner of the
+// fan above about 1e-6 radians (sin of the angle at the moving vertex). Cotangent weights of
+// obtuse triangles are negative, and the local minimiser they give can lie outside the kernel;
+// stopping at the kernel's edge with the rounding margin alone left slivers of 1e-9 radians, next
+// to which a later vertex split has no room to place its vertex.
+inline constexpr double kRelaxMargin = 1e-6;
 
 }  // namespace gimg::passes::detail

@@ -59,6 +59,7 @@ SphereMetrics sphere_metrics(const geo::Mesh& mesh, const std::vector<glm::dvec3
         total_mesh += area_mesh[f];
         total_sphere += area_sphere[f];
     }
+    if (!area_sphere.empty()) m.smallest_area = *std::min_element(area_sphere.begin(), area_sphere.end());
     if (!errors.empty()) {
         double sum = 0.0;
         for (double e : errors) sum += e;

@@ -1,6 +1,8 @@
 // One hierarchy level's relaxation on the render graph, and its CPU twin.
 #include "sphere_relax.h"
 
+#include "sphere_steps.h"
+
 #include "gimg/engine/graph.h"
 #include "gimg/passes/primitives.h"
 
@@ -34,25 +36,29 @@ std::vector<double> flatten(const std::vector<glm::dvec3>& y) {
     return flat;
 }
 
-LevelStats stats_from_sums(std::span<const double> sums, double total_area) {
+LevelStats stats_from_sums(std::span<const double> sums, std::size_t vertex_count) {
     LevelStats stats;
-    stats.centroid = glm::dvec3(sums[0], sums[1], sums[2]) / total_area;
+    stats.centroid = glm::dvec3(sums[0], sums[1], sums[2]) / double(vertex_count);
     stats.energy = sums[3];
     stats.flips = std::size_t(sums[4]);
+    stats.kernel_failures = std::size_t(sums[5]);
     return stats;
 }
 
 }  // namespace
 
 RelaxCheck relax_and_check_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, std::uint32_t iterations,
-                               bool uniform_weights) {
+                               bool uniform_weights, double recentre_scale) {
     for (std::uint32_t i = 0; i < iterations; ++i) relax_sweep_cpu(level, y, uniform_weights);
     RelaxCheck check;
     check.relaxed = level_stats_cpu(level, y);
+    glm::dvec3 a = recentre_scale * check.relaxed.centroid;
+    if (glm::length(a) > 0.5) a *= 0.5 / glm::length(a);
     std::vector<glm::dvec3> moved(y.size());
-    for (std::size_t v = 0; v < y.size(); ++v) moved[v] = glm::normalize(y[v] - check.relaxed.centroid);
+    for (std::size_t v = 0; v < y.size(); ++v) moved[v] = moebius_move(y[v], a);
     check.recentred = level_stats_cpu(level, moved);
-    check.recentre_kept = check.recentred.flips <= check.relaxed.flips;
+    check.recentre_kept = check.recentred.kernel_failures <= check.relaxed.kernel_failures &&
+                          check.recentred.flips <= check.relaxed.flips;
     if (check.recentre_kept) y = std::move(moved);
     return check;
 }
@@ -66,9 +72,9 @@ GpuSphereRelaxation::GpuSphereRelaxation(Context& ctx, const SphereLevel& level,
     ring_ = upload_vector(ctx, level.ring, "sphere rings");
     ring_weights_ = upload_vector(ctx, level.ring_weights, "sphere ring weights");
     members_ = upload_vector(ctx, level.colour_members, "sphere colour members");
-    areas_ = upload_vector(ctx, level.vertex_areas, "sphere vertex areas");
-    sums_relaxed_ = ctx.create_buffer({5 * sizeof(double), "sphere sums (relaxed)"}, MemoryUsage::Readback);
-    sums_recentred_ = ctx.create_buffer({5 * sizeof(double), "sphere sums (recentred)"}, MemoryUsage::Readback);
+    sums_relaxed_ = ctx.create_buffer({6 * sizeof(double), "sphere sums (relaxed)"}, MemoryUsage::Readback);
+    sums_recentred_ = ctx.create_buffer({6 * sizeof(double), "sphere sums (recentred)"}, MemoryUsage::Readback);
+    control_ = ctx.create_buffer({sizeof(double), "sphere recentre scale"}, MemoryUsage::Upload);
 }
 
 Plan& GpuSphereRelaxation::plan_for(std::uint32_t iterations, bool uniform_weights) {
@@ -82,7 +88,7 @@ Plan& GpuSphereRelaxation::plan_for(std::uint32_t iterations, bool uniform_weigh
     auto ring = g.import_buffer(ring_);
     auto weights = g.import_buffer(ring_weights_);
     auto members = g.import_buffer(members_);
-    auto areas = g.import_buffer(areas_);
+    auto control = g.import_buffer(control_);
     struct RelaxPush {
         std::uint32_t first, count, uniform_weights;
     };
@@ -102,26 +108,21 @@ Plan& GpuSphereRelaxation::plan_for(std::uint32_t iterations, bool uniform_weigh
         }
     });
     auto reduce_stats = [&](BufferHandle of, Buffer& sums_buffer, const std::string& name) {
-        auto terms = g.create_buffer({VkDeviceSize(n) * 5 * sizeof(double), name + " terms"});
+        auto terms = g.create_buffer({VkDeviceSize(n) * 6 * sizeof(double), name + " terms"});
         g.add_compute_pass(name, [&](PassBuilder& b) {
-            for (BufferHandle h : {of, offsets, ring, weights, areas}) b.read(h, Access::ComputeRead);
+            for (BufferHandle h : {of, offsets, ring, weights}) b.read(h, Access::ComputeRead);
             terms = b.write(terms, Access::ComputeWrite);
-        }, [=](Cmd& cmd) { cmd.dispatch_threads(kLevelStats, {n}, {of, offsets, ring, weights, areas, terms}, n); });
-        auto sums = add_reduce_sum_f64(g, terms, g.import_buffer(sums_buffer), n, 5, name + " sum");
+        }, [=](Cmd& cmd) { cmd.dispatch_threads(kLevelStats, {n}, {of, offsets, ring, weights, terms}, n); });
+        auto sums = add_reduce_sum_f64(g, terms, g.import_buffer(sums_buffer), n, 6, name + " sum");
         return sums;
     };
     auto sums = reduce_stats(points, sums_relaxed_, "sphere stats");
-    struct RecentrePush {
-        double total_area;
-        std::uint32_t vertex_count;
-    };
     g.add_compute_pass("sphere recentre", [&](PassBuilder& b) {
         b.read(points, Access::ComputeRead);
         b.read(sums, Access::ComputeRead);
+        b.read(control, Access::ComputeRead);
         moved = b.write(moved, Access::ComputeWrite);
-    }, [points, sums, moved, n, area = level_.total_area](Cmd& cmd) {
-        cmd.dispatch_threads(kRecentre, {n}, {points, sums, moved}, RecentrePush{area, n});
-    });
+    }, [=](Cmd& cmd) { cmd.dispatch_threads(kRecentre, {n}, {points, sums, control, moved}, n); });
     auto sums_moved = reduce_stats(moved, sums_recentred_, "sphere stats recentred");
     g.export_buffer(sums, Access::HostRead);
     g.export_buffer(sums_moved, Access::HostRead);
@@ -133,13 +134,20 @@ Plan& GpuSphereRelaxation::plan_for(std::uint32_t iterations, bool uniform_weigh
 
 RelaxCheck GpuSphereRelaxation::run(std::uint32_t iterations, bool uniform_weights) {
     Plan& plan = plan_for(iterations, uniform_weights);
+    control_.mapped_as<double>()[0] = recentre_scale_;
     plan.execute({.wait = true, .timestamps = timestamps_});
     last_gpu_ms_ = timestamps_ ? plan.total_gpu_ms() : 0.0;
     RelaxCheck check;
-    check.relaxed = stats_from_sums(sums_relaxed_.mapped_as<double>(), level_.total_area);
-    check.recentred = stats_from_sums(sums_recentred_.mapped_as<double>(), level_.total_area);
-    check.recentre_kept = check.recentred.flips <= check.relaxed.flips;
-    if (check.recentre_kept) current_ = 1 - current_;
+    check.relaxed = stats_from_sums(sums_relaxed_.mapped_as<double>(), level_.vertex_count());
+    check.recentred = stats_from_sums(sums_recentred_.mapped_as<double>(), level_.vertex_count());
+    check.recentre_kept = check.recentred.kernel_failures <= check.relaxed.kernel_failures &&
+                          check.recentred.flips <= check.relaxed.flips;
+    if (check.recentre_kept) {
+        current_ = 1 - current_;
+        recentre_scale_ = kRecentreScale;
+    } else {
+        recentre_scale_ *= 0.5;
+    }
     return check;
 }
 

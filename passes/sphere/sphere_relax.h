@@ -3,10 +3,11 @@
 // and the same steps on the CPU (relax_and_check_cpu), which tests compare it with.
 //
 // One call runs `iterations` sweeps (one dispatch per colour each), then reduces the level's
-// energy, flip count and mass centre on the GPU, recentres the points into a second buffer and
-// reduces again. Only the two small sums come back to the host, once per call: the caller reads
-// them every K iterations, never every iteration. The recentred points are kept when they flip
-// no more triangles than before.
+// energy, flip count and mass centre on the GPU, moves the mass centre towards the origin by a
+// Moebius transformation into a second buffer and reduces again. Only the two small sums come
+// back to the host, once per call: the caller reads them every K iterations, never every
+// iteration. The recentred points are kept when no more triangles are flipped or fail the kernel
+// test than before; otherwise the next call tries half the move.
 #include "sphere_level.h"
 
 #include "gimg/engine/context.h"
@@ -20,12 +21,15 @@ namespace gimg::passes::detail {
 
 struct RelaxCheck {
     LevelStats relaxed;     // after the sweeps
-    LevelStats recentred;   // after moving the mass centre to the origin
+    LevelStats recentred;   // after the Moebius move of the mass centre
     bool recentre_kept = false;
 };
 
+// The first Moebius move is a = 3/4 c: to first order the one that centres evenly spread points.
+inline constexpr double kRecentreScale = 0.75;
+
 RelaxCheck relax_and_check_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, std::uint32_t iterations,
-                               bool uniform_weights);
+                               bool uniform_weights, double recentre_scale = kRecentreScale);
 
 class GpuSphereRelaxation {
 public:
@@ -41,8 +45,9 @@ private:
 
     Context& ctx_;
     const SphereLevel& level_;
-    Buffer points_[2], ring_offsets_, ring_, ring_weights_, members_, areas_;
-    Buffer sums_relaxed_, sums_recentred_;
+    Buffer points_[2], ring_offsets_, ring_, ring_weights_, members_;
+    Buffer sums_relaxed_, sums_recentred_, control_;
+    double recentre_scale_ = kRecentreScale;
     int current_ = 0;  // which points_ buffer holds the points
     bool timestamps_ = false;
     double last_gpu_ms_ = 0.0;

@@ -54,11 +54,7 @@ double normalise_mass_centre(std::vector<glm::dvec3>& y, std::span<const std::ui
     if (glm::length(a) > 0.5) a *= 0.5 / glm::length(a);  // big drifts go in several steps
     std::vector<glm::dvec3> moved(y);
     for (int attempt = 0; attempt < 8; ++attempt, a *= 0.5) {
-        const double a2 = glm::dot(a, a);
-        for (std::uint32_t v : active) {
-            const glm::dvec3 d = y[v] - a;
-            moved[v] = glm::normalize((1.0 - a2) * d / glm::dot(d, d) - a);
-        }
+        for (std::uint32_t v : active) moved[v] = moebius_move(y[v], a);
         if (all_counter_clockwise(triangles, moved)) {
             y.swap(moved);
             return glm::length(a);

@@ -31,9 +31,12 @@ inline double orientation(const glm::dvec3& a, const glm::dvec3& b, const glm::d
 // rounds them again; the margin keeps an accepted triangle counter-clockwise through both, and is
 // small enough not to stand in the way of the tiny triangles of long limbs.
 inline constexpr double kKernelMargin = 1e-12;
-inline bool counter_clockwise(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+inline bool counter_clockwise(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                              double margin = kKernelMargin) {
     const glm::dvec3 ab = b - a, ac = c - a;
-    return glm::dot(a, glm::cross(ab, ac)) > kKernelMargin * std::sqrt(glm::dot(ab, ab) * glm::dot(ac, ac));
+    const double det = glm::dot(a, glm::cross(ab, ac));
+    // det > margin |ab| |ac| without the square root (the margin is positive).
+    return det > 0.0 && det * det > margin * margin * (glm::dot(ab, ab) * glm::dot(ac, ac));
 }
 
 // True when every face in `faces` (ids into `triangles`, each naming v) stays counter_clockwise()
@@ -70,6 +73,13 @@ struct VertexStep {
 // moves the vertex to the weighted mean of its neighbours: the paper's step constants are 1.0 and
 // "cannot exceed 1". Its fixed point is the vertex's minimiser on the sphere.
 VertexStep optimise_vertex(const VertexEnergy& e, double step, double tolerance, std::size_t max_iterations);
+
+// T_a(x) = (1 - |a|^2)(x - a) / |x - a|^2 - a, a Moebius transformation of the unit sphere
+// (conformal) that moves the mass centre away from a; normalised against rounding.
+inline glm::dvec3 moebius_move(const glm::dvec3& x, const glm::dvec3& a) {
+    const glm::dvec3 d = x - a;
+    return glm::normalize((1.0 - glm::dot(a, a)) * d / glm::dot(d, d) - a);
+}
 
 // Mean of the active points.
 glm::dvec3 mass_centre(const std::vector<glm::dvec3>& y, std::span<const std::uint32_t> active);

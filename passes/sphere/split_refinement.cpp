@@ -78,12 +78,36 @@ bool place_next_to_parent(const ProgressiveReplay& replay, std::vector<glm::dvec
     return false;
 }
 
+// Fallback when the wedge direction finds no room (the parent nearly in line with left and right,
+// or slivers already in the fan): points inside each face the new vertex takes over from its
+// parent, ever closer to the parent. Any point of the open wedge those faces make near the parent
+// serves, so trying one per face catches what a single direction misses.
+bool place_inside_moved_faces(const ProgressiveReplay& replay, std::vector<glm::dvec3>& y, const VertexSplit& s) {
+    const glm::dvec3 origin = y[s.parent];
+    for (std::uint32_t f : replay.faces_of(s.vertex)) {
+        if (f == s.born_faces[0] || f == s.born_faces[1]) continue;
+        const glm::uvec3 t = replay.triangles()[f];
+        glm::dvec3 middle(0.0);
+        for (int k = 0; k < 3; ++k)
+            if (t[k] != s.vertex) middle += 0.5 * y[t[k]];
+        double share = 1.0 / 3.0;
+        for (int i = 0; i < kPlacementHalvings; ++i, share *= 0.5) {
+            const glm::dvec3 p = glm::normalize(origin + share * (middle - origin));
+            if (in_kernel(replay.faces_of(s.vertex), replay.triangles(), y, s.vertex, p)) {
+                y[s.vertex] = p;
+                return true;
+            }
+        }
+    }
+    return false;
+}
+
 // From just off the parent as far towards the new vertex's Tutte target (the normalised mean of its
 // neighbours) as its kernel allows: the kernel is convex and holds the start, so the farthest of
 // the points 1, 1/2, 1/4, ... of the way that lies in it is a valid place, and a much better start
 // than a sliver next to the parent.
 bool place(const ProgressiveReplay& replay, std::vector<glm::dvec3>& y, const VertexSplit& s) {
-    if (!place_next_to_parent(replay, y, s)) return false;
+    if (!place_next_to_parent(replay, y, s) && !place_inside_moved_faces(replay, y, s)) return false;
     const glm::dvec3 start = y[s.vertex];
     const VertexStep target = optimise_vertex(tutte_energy(replay, y, s.vertex), 1.0, kTutteTolerance, kTutteIterations);
     for (int i = 0; i < kTowardsTargetHalvings; ++i) {

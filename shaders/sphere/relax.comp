@@ -30,14 +30,13 @@ void main() {
     if (!(len > 1e-300LF)) return;
     const dvec3 target = sum / len;
     const dvec3 current = point_at(v);
-    const uint flipped_now = flipped_in_fan(v, current);
     double t = 1.0LF;
     for (int attempt = 0; attempt <= kMaxStepHalvings; ++attempt, t *= 0.5LF) {
         const dvec3 chord = current + t * (target - current);
         const double chord_length = length(chord);
         if (!(chord_length > 1e-12LF)) continue;
         const dvec3 candidate = chord / chord_length;
-        if (flipped_in_fan(v, candidate) <= flipped_now) {
+        if (keeps_every_grade(v, current, candidate)) {
             pos[3 * v] = candidate.x;
             pos[3 * v + 1] = candidate.y;
             pos[3 * v + 2] = candidate.z;

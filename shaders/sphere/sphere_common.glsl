@@ -3,15 +3,31 @@
 
 dvec3 point_at(uint v) { return dvec3(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]); }
 
-// a . ((b - a) x (c - a)): det(a, b, c) with its precision kept on tiny triangles.
-double orientation(dvec3 a, dvec3 b, dvec3 c) { return dot(a, cross(b - a, c - a)); }
+// The kernel test of passes/sphere/sphere_steps.h: counter-clockwise seen from outside by a
+// rounding margin, det(a, b, c) written a . ((b - a) x (c - a)) to keep its precision on tiny
+// triangles.
+const double kKernelMargin = 1e-12LF;
+const double kRelaxMargin = 1e-6LF;  // passes/sphere/sphere_level.h says why
+bool counter_clockwise(dvec3 a, dvec3 b, dvec3 c, double margin) {
+    const dvec3 ab = b - a, ac = c - a;
+    const double det = dot(a, cross(ab, ac));
+    // det > margin |ab| |ac| without the square root (the margin is positive).
+    return det > 0.0LF && det * det > margin * margin * (dot(ab, ab) * dot(ac, ac));
+}
 
-uint flipped_in_fan(uint v, dvec3 at) {
+// Orientation grades and the per-triangle rule of passes/sphere/sphere_level.cpp: 2 passes the
+// relaxation test, 1 only the kernel test, 0 neither; a move may lower no triangle's grade.
+int orientation_grade(dvec3 at, dvec3 a, dvec3 b) {
+    if (counter_clockwise(at, a, b, kRelaxMargin)) return 2;
+    return counter_clockwise(at, a, b, kKernelMargin) ? 1 : 0;
+}
+
+bool keeps_every_grade(uint v, dvec3 from, dvec3 to) {
     const uint begin = ring_offsets[v], degree = ring_offsets[v + 1] - begin;
-    uint flipped = 0;
     for (uint k = 0; k < degree; ++k) {
-        const uint a = ring[begin + k], b = ring[begin + (k + 1) % degree];
-        if (!(orientation(at, point_at(a), point_at(b)) > 0.0LF)) ++flipped;
+        const dvec3 a = point_at(ring[begin + k]), b = point_at(ring[begin + (k + 1) % degree]);
+        const int after = orientation_grade(to, a, b);
+        if (after < 2 && after < orientation_grade(from, a, b)) return false;
     }
-    return flipped;
+    return true;
 }

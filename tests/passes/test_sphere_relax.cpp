@@ -57,7 +57,6 @@ TEST(SphereLevel, FansFollowTheTrianglesAndWeightsAreTheCotangentWeights) {
     const geo::MeshAdjacency adj = geo::build_adjacency(c.mesh);
     const std::vector<double> w = geo::cotangent_weights(c.mesh, adj);
     ASSERT_EQ(level.vertex_count(), c.mesh.vertex_count());
-    double area = 0.0;
     for (std::uint32_t v = 0; v < level.vertex_count(); ++v) {
         const std::uint32_t begin = level.ring_offsets[v], degree = level.ring_offsets[v + 1] - begin;
         ASSERT_EQ(degree, adj.neighbors(v).size()) << "vertex " << v;
@@ -66,9 +65,7 @@ TEST(SphereLevel, FansFollowTheTrianglesAndWeightsAreTheCotangentWeights) {
             EXPECT_TRUE(faces.count({v, a, b})) << "fan triangle (" << v << ", " << a << ", " << b << ") is not a face";
             EXPECT_NEAR(level.ring_weights[begin + k], w[adj.find_edge(v, a)], 1e-12);
         }
-        area += level.vertex_areas[v];
     }
-    EXPECT_NEAR(area, level.total_area, 1e-12);
 }
 
 TEST(SphereLevel, NoEdgeJoinsTwoVerticesOfOneColour) {
@@ -111,9 +108,11 @@ TEST_F(SphereRelax, GpuSweepsEqualTheCpuReference) {
     std::vector<glm::dvec3> cpu = c.start;
     passes::detail::GpuSphereRelaxation gpu(ctx(), level, c.start);
     double energy = passes::detail::level_stats_cpu(level, cpu).energy;
+    double scale = passes::detail::kRecentreScale;
     for (auto [iterations, tutte] : {std::pair{3u, true}, std::pair{8u, false}, std::pair{8u, false}}) {
         SCOPED_TRACE(testing::Message() << iterations << " iterations, tutte " << tutte);
-        const auto expected = passes::detail::relax_and_check_cpu(level, cpu, iterations, tutte);
+        const auto expected = passes::detail::relax_and_check_cpu(level, cpu, iterations, tutte, scale);
+        scale = expected.recentre_kept ? passes::detail::kRecentreScale : 0.5 * scale;
         const auto got = gpu.run(iterations, tutte);
         EXPECT_NEAR(got.relaxed.energy, expected.relaxed.energy, 1e-9 * expected.relaxed.energy);
         EXPECT_EQ(got.relaxed.flips, expected.relaxed.flips);
