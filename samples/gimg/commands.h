@@ -20,6 +20,8 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global);
 void add_reconstruct_command(CLI::App& app, const GlobalOptions& global);
 void add_sample_command(CLI::App& app, const GlobalOptions& global);
 void add_roundtrip_command(CLI::App& app, const GlobalOptions& global);
+// gimg sphere MESH --out DIR [--method gpu|kanai|gu|linear] [--json FILE] (cmd_sphere.cpp)
+void add_sphere_command(CLI::App& app, const GlobalOptions& global);
 // gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
 void add_info_command(CLI::App& app, const GlobalOptions& global);
 

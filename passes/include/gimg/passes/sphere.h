@@ -44,6 +44,9 @@ struct SphereMetrics {
     // Spread of log(area on the sphere / area on the mesh), both normalised to total 1: the
     // standard deviation over triangles, weighted by mesh area.
     double area_distortion = 0.0;
+    // The smallest triangle area on the sphere (of the chord triangles; the whole sphere is 4 pi):
+    // how far the map shrank the mesh's protrusions.
+    double smallest_area = 0.0;
 };
 
 // `sphere` holds one unit vector per mesh vertex.
@@ -77,8 +80,10 @@ using SphereProgress = std::function<void(const std::string& stage, std::size_t 
                                           std::size_t flips, double seconds)>;
 
 struct GuOptions {
-    double tutte_step = 0.5;       // c_t
-    double conformal_step = 0.5;   // c_c
+    // The paper leaves c_t and c_c to the user; 0.05 is stable on an icosphere (0.5 diverges
+    // within a few iterations on the unnormalised Laplacian).
+    double tutte_step = 0.05;      // c_t
+    double conformal_step = 0.05;  // c_c
     double tolerance = 1e-5;       // stop a phase when |E - E0| < tolerance
     std::size_t max_iterations = 200000;  // per phase
     SphereProgress progress;
@@ -96,11 +101,13 @@ SphereResult sphere_kanai(const geo::Mesh& mesh, const KanaiOptions& options = {
 SphereResult sphere_linear(const geo::Mesh& mesh);
 
 struct GpuSphereOptions {
-    std::size_t base_vertices = 300;
+    std::size_t base_vertices = 300;          // as KanaiOptions: the same hierarchy
     double growth = 2.0;
-    std::uint32_t iterations_per_check = 32;  // K: iterations between read-backs of the energy
-    double tolerance = 1e-7;                  // stop a level when the energy changes less (relative)
-    std::size_t max_iterations_per_level = 20000;
+    std::uint32_t iterations_per_check = 32;  // K: sweeps between read-backs of the energy
+    // A level ends when its energy changed by less than this per sweep over the last K sweeps,
+    // relative to it.
+    double tolerance = 1e-5;
+    std::size_t max_iterations_per_level = 4000;
     SphereProgress progress;
 };
 SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOptions& options = {});

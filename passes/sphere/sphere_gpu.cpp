@@ -1,0 +1,145 @@
+// gimg's spherical conformal map: Kanai's hierarchy (the same progressive mesh, base map and
+// kernel-checked vertex splits as sphere_kanai) with the global conformal optimisation of every
+// level done by GpuSphereRelaxation: colour-by-colour parallel sweeps on the render graph, each
+// vertex moving to the minimiser of its local energy on the sphere as far as no triangle flips,
+// with the energy, flip count and mass centre reduced on the GPU and read back every K
+// iterations. The step needs no constant: the local minimiser is exact, and halving only guards
+// the kernel. Points are float64 throughout: conformal maps shrink protrusions to triangles far
+// below float32's resolution on the unit sphere (1e-15 on triceratops), where a float32
+// orientation test would call flips at random.
+#include "gimg/passes/sphere.h"
+
+#include "base_map.h"
+#include "progressive_replay.h"
+#include "sphere_level.h"
+#include "sphere_relax.h"
+#include "split_refinement.h"
+
+#include "gimg/engine/error.h"
+#include "gimg/geometry/error.h"
+
+#include <chrono>
+#include <cmath>
+
+namespace gimg::passes {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+// Tutte phase of a level whose splits left degenerate triangles: at most this many checks of
+// this many sweeps.
+constexpr std::size_t kMaxTutteChecks = 8;
+constexpr std::uint32_t kTutteSweepsPerCheck = 8;
+
+void check_options(const GpuSphereOptions& o) {
+    if (o.base_vertices < 4) throw geo::InputError("gpu sphere: base_vertices must be at least 4");
+    if (!(o.growth > 1.0) || !std::isfinite(o.growth)) throw geo::InputError("gpu sphere: growth must be above 1");
+    if (o.iterations_per_check == 0) throw geo::InputError("gpu sphere: iterations_per_check must be at least 1");
+    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw geo::InputError("gpu sphere: tolerance must be positive");
+    if (o.max_iterations_per_level == 0) throw geo::InputError("gpu sphere: max_iterations_per_level must be at least 1");
+}
+
+// The level mesh of the replay's live faces in local ids (the activation order: a mesh of n
+// vertices holds exactly those with activation index < n), at the original positions.
+geo::Mesh level_mesh(const geo::Mesh& mesh, const detail::ProgressiveReplay& replay,
+                     const std::vector<std::uint32_t>& activation, const std::vector<std::uint32_t>& vertex_of) {
+    geo::Mesh level;
+    const std::size_t n = replay.active_count();
+    level.positions.resize(n);
+    for (std::size_t i = 0; i < n; ++i) level.positions[i] = mesh.positions[vertex_of[i]];
+    level.triangles = replay.live_triangles();
+    for (glm::uvec3& t : level.triangles) t = {activation[t.x], activation[t.y], activation[t.z]};
+    return level;
+}
+
+}  // namespace
+
+SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOptions& options) {
+    check_sphere_input(mesh);
+    check_options(options);
+    if (!ctx.device_info().shader_float64)
+        throw Error(ErrorKind::Unsupported, "gpu sphere: the device has no float64 in shaders (shaderFloat64); use --method kanai or linear");
+    const auto t0 = Clock::now();
+    SphereResult result;
+    result.positions.assign(mesh.vertex_count(), glm::dvec3(0.0));
+
+    const detail::ProgressiveMesh pm = detail::build_progressive_mesh(mesh, options.base_vertices);
+    const std::vector<std::size_t> counts = detail::level_vertex_counts(pm.base_vertex_count, pm.vertex_count, options.growth);
+    const std::vector<std::uint32_t> activation = detail::activation_order(pm);
+    std::vector<std::uint32_t> vertex_of(activation.size());
+    for (std::uint32_t v = 0; v < activation.size(); ++v) vertex_of[activation[v]] = v;
+    result.stages.push_back({"progressive mesh", pm.base_vertex_count, pm.splits.size(), seconds_since(t0), 0.0});
+
+    const auto base_start = Clock::now();
+    detail::ProgressiveReplay replay(pm, pm.coarsest_count());
+    const detail::BaseMapRun base = detail::map_base_mesh(mesh, pm, replay, result.positions);
+    result.stages.push_back({"base map", pm.base_vertex_count, base.vertex_steps, seconds_since(base_start), base.energy});
+    std::vector<std::string> warnings;
+    if (base.placement_failures || base.flips)
+        warnings.push_back("base map: " + std::to_string(base.placement_failures) + " split vertices could not be placed, " +
+                           std::to_string(base.flips) + " flipped triangles");
+
+    for (std::size_t i = counts.size() == 1 ? 0 : 1; i < counts.size(); ++i) {
+        const auto level_start = Clock::now();
+        const std::string name = "level " + std::to_string(i) + " (" + std::to_string(counts[i]) + " vertices)";
+        const detail::SplitRun splits = detail::split_to(replay, result.positions, counts[i]);
+        if (splits.placement_failures)
+            warnings.push_back(name + ": " + std::to_string(splits.placement_failures) + " split vertices could not be placed");
+        const detail::SphereLevel level = detail::build_sphere_level(level_mesh(mesh, replay, activation, vertex_of));
+        std::vector<glm::dvec3> y(level.vertex_count());
+        for (std::size_t v = 0; v < y.size(); ++v) y[v] = result.positions[vertex_of[v]];
+
+        detail::GpuSphereRelaxation relax(ctx, level, y);
+        relax.set_timestamps(true);
+        const detail::LevelStats start = detail::level_stats_cpu(level, y);
+        double energy = start.energy;
+        std::size_t iterations = 0, flips = 0;
+        // A split that found no room left its vertex on its parent (degenerate triangles): Tutte
+        // sweeps (uniform weights) first, as Kanai's Tutte phase, spread such vertices into their
+        // neighbours' middle; the grade rule lets a move mend a triangle, never spoil one.
+        for (std::size_t tutte = 0; start.kernel_failures > 0 && tutte < kMaxTutteChecks; ++tutte) {
+            const detail::RelaxCheck check = relax.run(kTutteSweepsPerCheck, true);
+            iterations += kTutteSweepsPerCheck;
+            result.gpu_ms += relax.last_gpu_ms();
+            const detail::LevelStats& now = check.recentre_kept ? check.recentred : check.relaxed;
+            energy = now.energy;
+            if (now.kernel_failures == 0) break;
+        }
+        bool converged = false;
+        while (iterations < options.max_iterations_per_level) {
+            const auto k = std::uint32_t(std::min<std::size_t>(options.iterations_per_check,
+                                                               options.max_iterations_per_level - iterations));
+            const detail::RelaxCheck check = relax.run(k, false);
+            iterations += k;
+            result.gpu_ms += relax.last_gpu_ms();
+            const detail::LevelStats& now = check.recentre_kept ? check.recentred : check.relaxed;
+            // How much the energy changed per iteration, relative to it, between the kept states of
+            // two checks (the sweeps lower it; the conformal recentring barely changes it).
+            const double change = std::abs(energy - now.energy) / (now.energy * double(k));
+            energy = now.energy;
+            flips = now.flips;
+            if (options.progress) options.progress(name, iterations, energy, flips, seconds_since(t0));
+            if (!std::isfinite(energy)) {
+                warnings.push_back(name + ": the energy is not finite");
+                break;
+            }
+            if (change < options.tolerance) {
+                converged = true;
+                break;
+            }
+        }
+        if (!converged && std::isfinite(energy))
+            warnings.push_back(name + ": stopped at " + std::to_string(iterations) + " iterations");
+        if (flips) warnings.push_back(name + ": " + std::to_string(flips) + " flipped triangles");
+        y = relax.positions();
+        for (std::size_t v = 0; v < y.size(); ++v) result.positions[vertex_of[v]] = y[v];
+        result.stages.push_back({name, level.vertex_count(), iterations, seconds_since(level_start), energy});
+    }
+    for (const std::string& w : warnings) result.note += (result.note.empty() ? "" : "; ") + w;
+    result.converged = warnings.empty();
+    return result;
+}
+
+}  // namespace gimg::passes
