@@ -19,7 +19,7 @@ namespace gimg::geo {
 
 namespace {
 
-void check_savable(const Mesh& mesh) {
+void check_savable(const Mesh& mesh, bool double_precision) {
     if (!mesh.normals.empty() && mesh.normals.size() != mesh.positions.size()) {
         throw InputError("cannot save: " + std::to_string(mesh.normals.size()) + " normals for " +
                          std::to_string(mesh.positions.size()) + " vertices");
@@ -29,7 +29,7 @@ void check_savable(const Mesh& mesh) {
                          std::to_string(mesh.positions.size()) + " vertices");
     }
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-        const glm::vec3 p(mesh.positions[i]);  // as written
+        const glm::dvec3 p = double_precision ? mesh.positions[i] : glm::dvec3(glm::vec3(mesh.positions[i]));  // as written
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
             throw InputError("cannot save: vertex " + std::to_string(i) + " has a NaN, infinite or out-of-float-range coordinate");
         }
@@ -51,6 +51,13 @@ void append_number(std::string& out, float v) {
     out.append(buf, result.ptr);
 }
 
+// Shortest decimal text that reads back as the same double.
+void append_number(std::string& out, double v) {
+    char buf[32];
+    const auto result = std::to_chars(buf, buf + sizeof buf, v);
+    out.append(buf, result.ptr);
+}
+
 void append_number(std::string& out, std::uint64_t v) {
     char buf[24];
     const auto result = std::to_chars(buf, buf + sizeof buf, v);
@@ -65,40 +72,54 @@ void append_binary(std::string& out, T value) {
     out.append(bytes, sizeof(T));
 }
 
-std::string ply_contents(const Mesh& mesh, bool binary) {
+// One vertex's values: position, normal (if any), texture coordinates (if any), in the precision
+// asked for. Texture coordinates are always float32.
+template <typename Real>
+int vertex_values(const Mesh& mesh, std::size_t i, Real values[8]) {
+    int n = 0;
+    for (int k = 0; k < 3; ++k) values[n++] = static_cast<Real>(mesh.positions[i][k]);
+    if (mesh.has_normals())
+        for (int k = 0; k < 3; ++k) values[n++] = static_cast<Real>(mesh.normals[i][k]);
+    if (mesh.has_texcoords())
+        for (int k = 0; k < 2; ++k) values[n++] = static_cast<Real>(static_cast<float>(mesh.texcoords[i][k]));
+    return n;
+}
+
+template <typename Real>
+void append_vertex(std::string& out, const Mesh& mesh, std::size_t i, bool binary) {
+    Real values[8];
+    const int n = vertex_values(mesh, i, values);
+    for (int k = 0; k < n; ++k) {
+        if (binary) {
+            append_binary(out, values[k]);
+        } else {
+            if (k > 0) out += ' ';
+            append_number(out, values[k]);
+        }
+    }
+    if (!binary) out += '\n';
+}
+
+std::string ply_contents(const Mesh& mesh, bool binary, bool double_precision) {
     const bool uv = mesh.has_texcoords();
     const bool normals = mesh.has_normals();
+    const std::string real = double_precision ? "double" : "float";
     std::string out = "ply\nformat ";
     out += binary ? "binary_little_endian" : "ascii";
     // The comment goes first: OpenMesh's reader misplaces binary data after a comment just
     // before end_header.
     out += " 1.0\ncomment written by gimg\nelement vertex " + std::to_string(mesh.vertex_count()) +
-           "\nproperty float x\nproperty float y\nproperty float z\n";
-    if (normals) out += "property float nx\nproperty float ny\nproperty float nz\n";
-    if (uv) out += "property float s\nproperty float t\n";
+           "\nproperty " + real + " x\nproperty " + real + " y\nproperty " + real + " z\n";
+    if (normals) out += "property " + real + " nx\nproperty " + real + " ny\nproperty " + real + " nz\n";
+    if (uv) out += "property " + real + " s\nproperty " + real + " t\n";
     out += "element face " + std::to_string(mesh.face_count()) + "\nproperty list uchar int vertex_indices\nend_header\n";
     out.reserve(out.size() + mesh.vertex_count() * (binary ? 20 : 40) + mesh.face_count() * (binary ? 13 : 24));
     for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
-        const glm::vec3 p(mesh.positions[i]);
-        float values[8] = {p.x, p.y, p.z};
-        int n = 3;
-        if (normals) {
-            const glm::vec3 nv(mesh.normals[i]);
-            values[n++] = nv.x, values[n++] = nv.y, values[n++] = nv.z;
+        if (double_precision) {
+            append_vertex<double>(out, mesh, i, binary);
+        } else {
+            append_vertex<float>(out, mesh, i, binary);
         }
-        if (uv) {
-            values[n++] = static_cast<float>(mesh.texcoords[i].x);
-            values[n++] = static_cast<float>(mesh.texcoords[i].y);
-        }
-        for (int k = 0; k < n; ++k) {
-            if (binary) {
-                append_binary(out, values[k]);
-            } else {
-                if (k > 0) out += ' ';
-                append_number(out, values[k]);
-            }
-        }
-        if (!binary) out += '\n';
     }
     for (const glm::uvec3& t : mesh.triangles) {
         if (binary) {
@@ -116,20 +137,27 @@ std::string ply_contents(const Mesh& mesh, bool binary) {
     return out;
 }
 
-std::string obj_contents(const Mesh& mesh) {
+// x y z of a position or normal, as float32 or float64 text.
+void append_triple(std::string& out, const glm::dvec3& v, bool double_precision) {
+    for (int k = 0; k < 3; ++k) {
+        out += ' ';
+        if (double_precision) {
+            append_number(out, v[k]);
+        } else {
+            append_number(out, static_cast<float>(v[k]));
+        }
+    }
+    out += '\n';
+}
+
+std::string obj_contents(const Mesh& mesh, bool double_precision) {
     const bool uv = mesh.has_texcoords();
     const bool normals = mesh.has_normals();
     std::string out = "# written by gimg\n";
     out.reserve(mesh.vertex_count() * (uv ? 64 : 36) + mesh.face_count() * (uv ? 40 : 24));
     for (const glm::dvec3& position : mesh.positions) {
-        const glm::vec3 p(position);
-        out += "v ";
-        append_number(out, p.x);
-        out += ' ';
-        append_number(out, p.y);
-        out += ' ';
-        append_number(out, p.z);
-        out += '\n';
+        out += 'v';
+        append_triple(out, position, double_precision);
     }
     if (uv) {
         for (const glm::dvec2& t : mesh.texcoords) {
@@ -142,14 +170,8 @@ std::string obj_contents(const Mesh& mesh) {
     }
     if (normals) {
         for (const glm::dvec3& normal : mesh.normals) {
-            const glm::vec3 nv(normal);
-            out += "vn ";
-            append_number(out, nv.x);
-            out += ' ';
-            append_number(out, nv.y);
-            out += ' ';
-            append_number(out, nv.z);
-            out += '\n';
+            out += "vn";
+            append_triple(out, normal, double_precision);
         }
     }
     for (const glm::uvec3& t : mesh.triangles) {
@@ -179,11 +201,11 @@ void save_mesh(const Mesh& mesh, const std::filesystem::path& path, const SaveOp
         throw InputError(path.string() + ": cannot save as '" + ext + "' (gimg writes .ply and .obj)");
     }
     try {
-        check_savable(mesh);
+        check_savable(mesh, options.double_precision);
     } catch (const InputError& e) {
         throw InputError(path.string() + ": " + e.what());
     }
-    write_file_atomically(path, ext == ".ply" ? ply_contents(mesh, options.binary) : obj_contents(mesh));
+    write_file_atomically(path, ext == ".ply" ? ply_contents(mesh, options.binary, options.double_precision) : obj_contents(mesh, options.double_precision));
 }
 
 }  // namespace gimg::geo

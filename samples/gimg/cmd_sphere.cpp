@@ -101,7 +101,8 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
 
     const std::filesystem::path dir = o.out;
     std::filesystem::create_directories(dir);
-    geo::save_mesh(sphere_mesh(mesh, result.positions), dir / "sphere.ply");
+    // float64: the tiniest triangles of a conformal map are below float32's resolution.
+    geo::save_mesh(sphere_mesh(mesh, result.positions), dir / "sphere.ply", {.double_precision = true});
     write_pictures(*ctx, mesh, result.positions, dir);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 

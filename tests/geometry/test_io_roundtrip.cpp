@@ -8,7 +8,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <sstream>
 #include <string>
+#include <vector>
 
 using gimg::geo::LoadReport;
 using gimg::geo::Mesh;
@@ -125,5 +129,44 @@ TEST(RoundTrip, NormalsAreWrittenAndTheRestReadsBack) {
         const gimg::geo::Mesh back = gimg::geo::load_mesh(path);
         EXPECT_EQ(back.positions, m.positions) << name;
         EXPECT_EQ(back.triangles, m.triangles) << name;
+    }
+}
+
+// Float64 files hold every bit of the doubles (float32 would round 1 + 1e-15 to 1). gimg's own
+// loader reads positions as float32, so a reload gives the rounded values.
+TEST(RoundTrip, DoublePrecisionFilesHoldTheDoubles) {
+    Mesh mesh;
+    mesh.positions = {{1.0, 1e-12, 0.0}, {1.0 + 1e-15, 2e-12, 1e-13}, {0.1, 0.2, 0.3}};
+    mesh.triangles = {{0, 1, 2}};
+    for (const Target& target : kTargets) {
+        const auto path = gimg::test::output_dir("io_roundtrip") /
+                          (std::string("double") + (target.binary ? "_binary" : "_ascii") + target.extension);
+        save_mesh(mesh, path, SaveOptions{.binary = target.binary, .double_precision = true});
+        std::ifstream in(path, std::ios::binary);
+        const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+        std::vector<double> values;
+        if (target.binary) {
+            const std::size_t body = bytes.find("end_header\n") + 11;
+            ASSERT_NE(bytes.find("property double x"), std::string::npos);
+            for (std::size_t k = 0; k < 9; ++k) {
+                double v;
+                std::memcpy(&v, bytes.data() + body + 8 * k, 8);
+                values.push_back(v);
+            }
+        } else {
+            std::istringstream text(bytes.substr(target.extension == std::string(".obj") ? 0 : bytes.find("end_header\n") + 11));
+            std::string line;
+            while (values.size() < 9 && std::getline(text, line)) {
+                if (line.empty() || line[0] == '#') continue;
+                std::istringstream fields(line[0] == 'v' ? line.substr(1) : line);
+                double v;
+                while (fields >> v) values.push_back(v);
+            }
+        }
+        ASSERT_EQ(values.size(), 9u) << path;
+        for (std::size_t k = 0; k < 9; ++k) EXPECT_EQ(values[k], mesh.positions[k / 3][int(k % 3)]) << path << " value " << k;
+        const Mesh back = load_mesh(path);
+        ASSERT_EQ(back.vertex_count(), 3u) << path;
+        EXPECT_EQ(back.positions[1].x, double(float(1.0 + 1e-15))) << path;
     }
 }

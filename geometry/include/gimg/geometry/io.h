@@ -43,11 +43,15 @@ Mesh load_mesh(const std::filesystem::path& path, const LoadOptions& options = {
 
 struct SaveOptions {
     bool binary = true;  // PLY only; OBJ is always text
+    // Positions (and normals) as float64: for maps whose triangles are below float32's resolution,
+    // e.g. conformal sphere maps of long limbs (areas of 1e-15 on the unit sphere).
+    bool double_precision = false;
 };
 
 // Writes .ply or .obj (by extension) to a temporary file beside `path`, then renames it, so an
 // error never leaves a half-written file. Positions are written as float32 (exactly what
-// load_mesh reads back); texture coordinates when the mesh has them. Throws InputError for an
+// load_mesh reads back) unless options.double_precision; texture coordinates when the mesh has
+// them. Throws InputError for an
 // unknown extension, indices out of range or non-finite coordinates (files gimg could not read).
 void save_mesh(const Mesh& mesh, const std::filesystem::path& path, const SaveOptions& options = {});
 
