@@ -3,6 +3,7 @@
 // The three cylindrical methods (and Embree, when built with it) on the same meshes in one
 // process: medians of N runs of GPU time (timestamps) and wall time per projection, the time for a
 // new mesh (upload or BVH build plus one image), ratios, and batch throughput.
+#include "bench_paths.h"
 #include "commands.h"
 #include "embree_peer.h"
 #include "gpu_context.h"
@@ -32,16 +33,10 @@ struct BenchOptions {
     std::string json;
 };
 
-std::filesystem::path env_or(const char* name, const std::filesystem::path& fallback) {
-    const char* v = std::getenv(name);
-    return v && *v ? std::filesystem::path(v) : fallback;
-}
-
 // The default set: armadillo and bunny from ../shared/meshes, the fetched large ones.
 std::vector<std::string> default_meshes() {
-    const auto shared = env_or("GIMG_MESH_DIR", "../shared/meshes");
-    const char* home = std::getenv("HOME");
-    const auto large = env_or("GIMG_LARGE_MESH_DIR", std::filesystem::path(home ? home : ".") / ".cache/gimg-large-meshes");
+    const auto shared = shared_mesh_dir();
+    const auto large = large_mesh_dir();
     std::vector<std::string> out;
     for (const auto& p : {shared / "armadillo.off", shared / "bunny.off", large / "derived/bunny_loop1.off", large / "dragon.ply"}) {
         if (std::filesystem::exists(p)) out.push_back(p.string());
@@ -51,7 +46,7 @@ std::vector<std::string> default_meshes() {
 }
 
 std::vector<std::string> default_batch_meshes() {
-    const auto shared = env_or("GIMG_MESH_DIR", "../shared/meshes");
+    const auto shared = shared_mesh_dir();
     std::vector<std::string> out;
     for (const char* name : {"homer.off", "dragon_res4.ply", "mech_holes_shark.off"})
         if (std::filesystem::exists(shared / name)) out.push_back((shared / name).string());
@@ -210,7 +205,7 @@ void run_reconstruct_bench(const ReconstructBenchOptions& o, const GlobalOptions
                 ctx->device_info().summary().c_str(), size[0], size[1], runs);
     std::printf("%-22s %9s %9s %9s %9s %7s\n", "mesh", "vertices", "GPU", "GPU wall", "CPU ref", "cpu/gpu");
     std::vector<std::string> meshes = o.meshes;
-    if (meshes.empty()) meshes = {(env_or("GIMG_MESH_DIR", "../shared/meshes") / "armadillo.off").string()};
+    if (meshes.empty()) meshes = {(shared_mesh_dir() / "armadillo.off").string()};
     for (const std::string& path : meshes) {
         const geo::Mesh mesh = geo::load_mesh(path);
         const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh);
@@ -255,6 +250,7 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
     rec->add_option("--runs", ropts->runs, "Runs; the median is reported (default 5)");
     rec->add_option("--json", ropts->json, "Write the figures as JSON");
     rec->callback([ropts, &global] { run_reconstruct_bench(*ropts, global); });
+    add_bench_sphere_command(*bench, global);
 }
 
 }  // namespace gimg::cli
