@@ -121,8 +121,11 @@ int orientation_grade(const glm::dvec3& at, const glm::dvec3& a, const glm::dvec
     return counter_clockwise(at, a, b, kKernelMargin) ? 1 : 0;
 }
 
-// True when moving v from `from` to `to` lowers the grade of no triangle of its fan. Judged per
-// triangle: counts would let a sliver that passes become a flip while another triangle mends.
+// True when moving v from `from` to `to` lowers the grade of no triangle of its fan, and turns
+// no triangle of grade 0 further clockwise. Judged per triangle: counts would let a sliver that
+// passes become a flip while another triangle mends. Within the margin the sign of det is rounding
+// noise, which the next vertex's move took for a flip it could deepen (measured: a tetrahedron's
+// face went from det 4e-16 to -9e-10 in two moves), so there det may only grow.
 bool keeps_every_grade(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t v,
                        const glm::dvec3& from, const glm::dvec3& to) {
     const std::uint32_t begin = level.ring_offsets[v], degree = level.ring_offsets[v + 1] - begin;
@@ -130,7 +133,10 @@ bool keeps_every_grade(const SphereLevel& level, const std::vector<glm::dvec3>& 
         const glm::dvec3& a = y[level.ring[begin + k]];
         const glm::dvec3& b = y[level.ring[begin + (k + 1) % degree]];
         const int after = orientation_grade(to, a, b);
-        if (after < 2 && after < orientation_grade(from, a, b)) return false;
+        if (after == 2) continue;
+        const int before = orientation_grade(from, a, b);
+        if (after < before) return false;
+        if (after == 0 && before == 0 && orientation(to, a, b) < orientation(from, a, b)) return false;
     }
     return true;
 }

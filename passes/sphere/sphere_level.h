@@ -30,8 +30,9 @@ SphereLevel build_sphere_level(const geo::Mesh& mesh);
 // The move of one vertex, identical in shaders/sphere/relax.comp: go towards the minimiser of
 // its local energy on the sphere, normalize(sum of w * neighbour) (uniform weights for a Tutte
 // step), along the chord, halving the step until no triangle of the fan gets a worse orientation
-// grade (relaxation test passed, only the kernel test of sphere_steps.h passed, neither). Returns
-// the new position (the old one if no step was allowed).
+// grade (relaxation test passed, only the kernel test of sphere_steps.h passed, neither) and no
+// triangle of the lowest grade turns further clockwise. Returns the new position (the old one if
+// no step was allowed).
 glm::dvec3 relaxed_position(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t vertex,
                             bool uniform_weights);
 

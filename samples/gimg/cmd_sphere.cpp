@@ -151,7 +151,7 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
                     "gu (Gu et al., CPU), linear (Choi-Lam-Lui 2015, CPU)")
         ->check(CLI::IsMember({"gpu", "kanai", "gu", "linear"}));
     cmd->add_option("--tolerance", opts->gpu.tolerance,
-                    "gpu: a level ends when the energy changes less than this per iteration, relative")
+                    "gpu: a level ends when the energy changes less than this per iteration, relative (default 3e-6)")
         ->check(CLI::PositiveNumber);
     cmd->add_option("--max-iterations", opts->gpu.max_iterations_per_level, "gpu: at most this many sweeps per level")
         ->check(CLI::PositiveNumber);

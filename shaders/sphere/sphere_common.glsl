@@ -16,18 +16,24 @@ bool counter_clockwise(dvec3 a, dvec3 b, dvec3 c, double margin) {
 }
 
 // Orientation grades and the per-triangle rule of passes/sphere/sphere_level.cpp: 2 passes the
-// relaxation test, 1 only the kernel test, 0 neither; a move may lower no triangle's grade.
+// relaxation test, 1 only the kernel test, 0 neither; a move may lower no triangle's grade, and
+// may turn no triangle of grade 0 further clockwise (there the sign of det is rounding noise).
 int orientation_grade(dvec3 at, dvec3 a, dvec3 b) {
     if (counter_clockwise(at, a, b, kRelaxMargin)) return 2;
     return counter_clockwise(at, a, b, kKernelMargin) ? 1 : 0;
 }
+
+double orientation(dvec3 at, dvec3 a, dvec3 b) { return dot(at, cross(a - at, b - at)); }
 
 bool keeps_every_grade(uint v, dvec3 from, dvec3 to) {
     const uint begin = ring_offsets[v], degree = ring_offsets[v + 1] - begin;
     for (uint k = 0; k < degree; ++k) {
         const dvec3 a = point_at(ring[begin + k]), b = point_at(ring[begin + (k + 1) % degree]);
         const int after = orientation_grade(to, a, b);
-        if (after < 2 && after < orientation_grade(from, a, b)) return false;
+        if (after == 2) continue;
+        const int before = orientation_grade(from, a, b);
+        if (after < before) return false;
+        if (after == 0 && before == 0 && orientation(to, a, b) < orientation(from, a, b)) return false;
     }
     return true;
 }
