@@ -86,7 +86,8 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
     detail::ProgressiveReplay replay(pm, pm.coarsest_count());
     const detail::BaseMapRun base = detail::map_base_mesh(mesh, pm, replay, result.positions);
     result.stages.push_back({"base map", pm.base_vertex_count, base.vertex_steps, seconds_since(base_start), base.energy});
-    std::vector<std::string> warnings;
+    std::vector<std::string> warnings;  // what leaves the map in doubt: converged = false
+    std::vector<std::string> remarks;   // what happened on the way and was put right
     if (base.placement_failures || base.flips)
         warnings.push_back("base map: " + std::to_string(base.placement_failures) + " split vertices could not be placed, " +
                            std::to_string(base.flips) + " flipped triangles");
@@ -95,8 +96,6 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
         const auto level_start = Clock::now();
         const std::string name = "level " + std::to_string(i) + " (" + std::to_string(counts[i]) + " vertices)";
         const detail::SplitRun splits = detail::split_to(replay, result.positions, counts[i]);
-        if (splits.placement_failures)
-            warnings.push_back(name + ": " + std::to_string(splits.placement_failures) + " split vertices could not be placed");
         const detail::SphereLevel level = detail::build_sphere_level(level_mesh(mesh, replay, activation, vertex_of));
         std::vector<glm::dvec3> y(level.vertex_count());
         for (std::size_t v = 0; v < y.size(); ++v) y[v] = result.positions[vertex_of[v]];
@@ -109,13 +108,20 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
         // A split that found no room left its vertex on its parent (degenerate triangles): Tutte
         // sweeps (uniform weights) first, as Kanai's Tutte phase, spread such vertices into their
         // neighbours' middle; the grade rule lets a move mend a triangle, never spoil one.
-        for (std::size_t tutte = 0; start.kernel_failures > 0 && tutte < kMaxTutteChecks; ++tutte) {
+        std::size_t kernel_failures = start.kernel_failures;
+        for (std::size_t tutte = 0; kernel_failures > 0 && tutte < kMaxTutteChecks; ++tutte) {
             const detail::RelaxCheck check = relax.run(kTutteSweepsPerCheck, true);
             iterations += kTutteSweepsPerCheck;
             result.gpu_ms += relax.last_gpu_ms();
             const detail::LevelStats& now = check.recentre_kept ? check.recentred : check.relaxed;
             energy = now.energy;
-            if (now.kernel_failures == 0) break;
+            kernel_failures = now.kernel_failures;
+        }
+        if (splits.placement_failures) {
+            // Mended by the Tutte phase it is worth knowing, not a failure.
+            const std::string what = name + ": " + std::to_string(splits.placement_failures) + " split vertices could not be placed";
+            if (kernel_failures == 0) remarks.push_back(what + " (the Tutte phase placed them)");
+            else warnings.push_back(what + ", " + std::to_string(kernel_failures) + " triangles fail the kernel test after the Tutte phase");
         }
         bool converged = false;
         while (iterations < options.max_iterations_per_level) {
@@ -148,6 +154,7 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
         result.stages.push_back({name, level.vertex_count(), iterations, seconds_since(level_start), energy});
     }
     for (const std::string& w : warnings) result.note += (result.note.empty() ? "" : "; ") + w;
+    for (const std::string& r : remarks) result.note += (result.note.empty() ? "" : "; ") + r;
     result.converged = warnings.empty();
     return result;
 }

@@ -12,6 +12,7 @@
 #include "gimg/passes/sphere.h"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -66,6 +67,9 @@ void write_pictures(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::
 
 void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
     const auto start = std::chrono::steady_clock::now();
+    if (!(o.gpu.tolerance > 0.0) || !std::isfinite(o.gpu.tolerance))
+        throw geo::InputError("--tolerance takes a positive number (default 3e-6)");
+    if (o.gpu.max_iterations_per_level == 0) throw geo::InputError("--max-iterations takes a positive count");
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
     passes::check_sphere_input(mesh);
 
@@ -151,10 +155,9 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
                     "gu (Gu et al., CPU), linear (Choi-Lam-Lui 2015, CPU)")
         ->check(CLI::IsMember({"gpu", "kanai", "gu", "linear"}));
     cmd->add_option("--tolerance", opts->gpu.tolerance,
-                    "gpu: a level ends when the energy changes less than this per iteration, relative (default 3e-6)")
-        ->check(CLI::PositiveNumber);
-    cmd->add_option("--max-iterations", opts->gpu.max_iterations_per_level, "gpu: at most this many sweeps per level")
-        ->check(CLI::PositiveNumber);
+                    "gpu: a level ends when the energy changes less than this per iteration, relative (default 3e-6)");
+    cmd->add_option("--max-iterations", opts->gpu.max_iterations_per_level,
+                    "gpu: at most this many sweeps per level (default 4000)");
     cmd->add_option("--json", opts->json, "Write the metrics and timings as JSON");
     cmd->callback([opts, &global] { run_sphere(*opts, global); });
 }

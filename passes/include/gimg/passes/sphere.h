@@ -70,7 +70,7 @@ struct SphereStage {
 struct SphereResult {
     std::vector<glm::dvec3> positions;  // one unit vector per mesh vertex
     std::vector<SphereStage> stages;
-    bool converged = true;     // false: stopped at an iteration limit or diverged (see note)
+    bool converged = true;     // false: stopped at an iteration limit, diverged or left a doubt (see note)
     double gpu_ms = 0.0;       // sum of pass timestamps (gpu method with timestamps on)
     std::string note;          // why it did not converge, or anything else worth knowing
 };
