@@ -59,8 +59,8 @@ TEST_F(SphereGpu, ASphereMapsToItselfByARotation) {
 
 TEST_F(SphereGpu, TinyMeshesMapWithoutFlipsAndTheIcosahedronToItself) {
     // Meshes below the base size are relaxed whole; coarse maps slide towards a point between
-    // recentrings (all four collapsed into a point, with flipped faces, before recentring adapted
-    // to the level size and slivers were kept from flipping).
+    // recentrings (tetrahedron, cube and icosahedron collapsed into a point, with flipped faces,
+    // and icosphere 1 kept 11 degrees of distortion before recentring adapted to the level size).
     geo::Mesh tetra;
     tetra.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     tetra.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
