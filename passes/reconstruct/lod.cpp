@@ -5,6 +5,21 @@
 
 namespace gimg::passes {
 
+namespace {
+
+// The four pixels under output pixel (u, v), in the order the shader sums them; true when all
+// four are valid (only then is the output pixel valid).
+template <class Image>
+bool fully_covered_block(const Image& image, std::uint32_t u, std::uint32_t v, std::size_t (&i)[4]) {
+    i[0] = image.index(2 * u, 2 * v);
+    i[1] = image.index(2 * u + 1, 2 * v);
+    i[2] = image.index(2 * u, 2 * v + 1);
+    i[3] = image.index(2 * u + 1, 2 * v + 1);
+    return image.covered[i[0]] && image.covered[i[1]] && image.covered[i[2]] && image.covered[i[3]];
+}
+
+}  // namespace
+
 CylinderImage lod_reduce(const CylinderImage& image, std::uint32_t times) {
     detail::check_reconstructible(image.width, image.height, times);
     CylinderImage current = image;
@@ -12,10 +27,8 @@ CylinderImage lod_reduce(const CylinderImage& image, std::uint32_t times) {
         CylinderImage next(current.width / 2, current.height / 2);
         for (std::uint32_t v = 0; v < next.height; ++v)
             for (std::uint32_t u = 0; u < next.width; ++u) {
-                const std::size_t i[4] = {current.index(2 * u, 2 * v), current.index(2 * u + 1, 2 * v),
-                                          current.index(2 * u, 2 * v + 1), current.index(2 * u + 1, 2 * v + 1)};
-                if (!(current.covered[i[0]] && current.covered[i[1]] && current.covered[i[2]] && current.covered[i[3]]))
-                    continue;
+                std::size_t i[4];
+                if (!fully_covered_block(current, u, v, i)) continue;
                 // (a + b) + (c + d), then a quarter: the order the shader uses.
                 const float sum = (current.distance[i[0]] + current.distance[i[1]]) +
                                   (current.distance[i[2]] + current.distance[i[3]]);
@@ -34,10 +47,8 @@ PositionImage lod_reduce(const PositionImage& image, std::uint32_t times) {
         PositionImage next(current.width / 2, current.height / 2);
         for (std::uint32_t v = 0; v < next.height; ++v)
             for (std::uint32_t u = 0; u < next.width; ++u) {
-                const std::size_t i[4] = {current.index(2 * u, 2 * v), current.index(2 * u + 1, 2 * v),
-                                          current.index(2 * u, 2 * v + 1), current.index(2 * u + 1, 2 * v + 1)};
-                if (!(current.covered[i[0]] && current.covered[i[1]] && current.covered[i[2]] && current.covered[i[3]]))
-                    continue;
+                std::size_t i[4];
+                if (!fully_covered_block(current, u, v, i)) continue;
                 const std::size_t o = next.index(u, v);
                 next.covered[o] = 1;
                 for (int c = 0; c < 3; ++c) {
