@@ -5,7 +5,9 @@
 #include "gimg/engine/graph.h"
 
 #include "cylinder/classify_comp.h"
+#include "cylinder/classify_float_comp.h"
 #include "cylinder/cylinder_layout.h"
+#include "cylinder/merge_comp.h"
 #include "cylinder/zbuffer_float_frag.h"
 #include "cylinder/zbuffer_frag.h"
 #include "cylinder/zbuffer_vert.h"
@@ -20,6 +22,8 @@ namespace gimg::passes {
 namespace {
 
 const Spirv kClassify = GIMG_SPIRV(gimg_spv_cylinder_classify_comp);
+const Spirv kClassifyFloat = GIMG_SPIRV(gimg_spv_cylinder_classify_float_comp);
+const Spirv kMerge = GIMG_SPIRV(gimg_spv_cylinder_merge_comp);
 const RasterState kDepthMax{.cull = CullMode::None, .depth_test = true, .depth_write = true,
                             .depth_compare = CompareOp::Less};
 const RasterProgram kZBuffer{GIMG_SPIRV(gimg_spv_cylinder_zbuffer_vert), GIMG_SPIRV(gimg_spv_cylinder_zbuffer_frag),
@@ -35,11 +39,14 @@ struct JobGpu {
 static_assert(sizeof(JobGpu) == 80);
 
 struct ClassifyPush {
-    std::uint32_t total_faces, job_count, width, height, max_rects;
+    std::uint32_t total_faces, job_count, width, height, max_rects, small_pixels, atlas_width;
 };
 struct DrawPush {
     float atlas_size[2];
     std::uint32_t image_size[2];
+};
+struct MergePush {
+    std::uint32_t atlas_width, atlas_height;
 };
 
 struct MeshRange {
@@ -59,7 +66,7 @@ std::vector<std::array<double, 2>> cylinder_directions(std::uint32_t width) {
 
 struct CylinderZBuffer::State {
     Context& ctx;
-    std::uint32_t width, height;
+    std::uint32_t width, height, small_pixels;
     bool use_double;
 
     std::vector<float> positions;
@@ -75,8 +82,10 @@ struct CylinderZBuffer::State {
     // Read by the record callbacks at every execution.
     ClassifyPush classify{};
     DrawPush draw{};
+    MergePush merge{};
 
-    State(Context& c, std::uint32_t w, std::uint32_t h) : ctx(c), width(w), height(h) {
+    State(Context& c, std::uint32_t w, std::uint32_t h, std::uint32_t small)
+        : ctx(c), width(w), height(h), small_pixels(small) {
         use_double = ctx.device_info().shader_float64;
         const auto dirs = cylinder_directions(w);
         if (use_double) {
@@ -131,21 +140,28 @@ struct CylinderZBuffer::State {
         auto args = g.import_buffer(args_buf), dirs = g.import_buffer(directions_buf);
         auto image = g.import_image(atlas);
         auto depth = g.create_image({atlas.width(), atlas.height(), Format::D32F, "cylinder depth"});
-        g.add_compute_pass("reset draw arguments", [&](PassBuilder& b) { args = b.write(args, Access::TransferDst); },
-                           [args](Cmd& c) {
-                               const std::uint32_t init[4] = {0, 1, 0, 0};
-                               c.update(args, init, sizeof init);
-                           });
-        g.add_compute_pass("classify and split", [&](PassBuilder& b) {
+        auto small = g.create_buffer({VkDeviceSize(atlas.width()) * atlas.height() * 4, "cylinder small-piece keys"});
+        g.add_compute_pass("reset", [&](PassBuilder& b) {
+            args = b.write(args, Access::TransferDst);
+            small = b.write(small, Access::TransferDst);
+        }, [args, small](Cmd& c) {
+            const std::uint32_t init[4] = {0, 1, 0, 0};
+            c.update(args, init, sizeof init);
+            c.fill(small, 0);
+        });
+        g.add_compute_pass("classify, split, small pieces", [&](PassBuilder& b) {
             b.read(pos, Access::ComputeRead);
             b.read(tri, Access::ComputeRead);
             b.read(jobs, Access::ComputeRead);
+            b.read(dirs, Access::ComputeRead);
             rects = b.write(rects, Access::ComputeWrite);
             args = b.write(args, Access::ComputeReadWrite);
-        }, [this, pos, tri, jobs, rects, args](Cmd& c) {
+            small = b.write(small, Access::ComputeReadWrite);
+        }, [this, pos, tri, jobs, rects, args, dirs, small](Cmd& c) {
             const std::uint32_t groups = (classify.total_faces + GIMG_CYL_CLASSIFY_GROUP - 1) / GIMG_CYL_CLASSIFY_GROUP;
             const std::uint32_t gx = std::min(groups, 65535u), gy = (groups + gx - 1) / std::max(gx, 1u);
-            c.dispatch(kClassify, {gx, gy, 1}, {pos, tri, jobs, rects, args}, classify);
+            c.dispatch(use_double ? kClassify : kClassifyFloat, {gx, gy, 1}, {pos, tri, jobs, rects, args, dirs, small},
+                       classify);
         });
         g.add_raster_pass("cylindrical z-buffer", [&](PassBuilder& b) {
             b.read(rects, Access::VertexRead);
@@ -160,15 +176,21 @@ struct CylinderZBuffer::State {
         }, [this, rects, jobs, pos, tri, dirs, args](Cmd& c) {
             c.draw_indirect(use_double ? kZBuffer : kZBufferFloat, args, 0, 1, {rects, jobs, pos, tri, dirs}, draw);
         });
+        g.add_compute_pass("merge small pieces", [&](PassBuilder& b) {
+            b.read(small, Access::ComputeRead);
+            image = b.write(image, Access::ComputeReadWrite);
+        }, [this, image, small](Cmd& c) {
+            c.dispatch_threads(kMerge, {merge.atlas_width, merge.atlas_height, 1}, {image, small}, merge);
+        });
         g.export_image(image, Access::TransferSrc);
         plan = g.compile();
     }
 };
 
-CylinderZBuffer::CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height) {
+CylinderZBuffer::CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height, std::uint32_t small_pixels) {
     if (width == 0 || height == 0 || width > 65535 || height > 65535)
         throw Error(ErrorKind::InvalidArgument, "cylinder image size must be between 1x1 and 65535x65535");
-    state_ = std::make_unique<State>(ctx, width, height);
+    state_ = std::make_unique<State>(ctx, width, height, small_pixels);
 }
 
 CylinderZBuffer::~CylinderZBuffer() = default;
@@ -251,7 +273,9 @@ std::vector<CylinderImage> CylinderZBuffer::project_batch(std::span<const Job> j
         prefix += m.face_count;
     }
     s.ctx.upload(s.jobs_buf, gpu.data(), gpu.size() * sizeof(JobGpu));
-    s.classify = {std::uint32_t(total), std::uint32_t(jobs.size()), s.width, s.height, s.rect_capacity};
+    s.classify = {std::uint32_t(total), std::uint32_t(jobs.size()), s.width,         s.height,
+                  s.rect_capacity,       s.small_pixels,              s.atlas.width()};
+    s.merge = {s.atlas.width(), s.atlas.height()};
     s.draw = {{float(s.atlas.width()), float(s.atlas.height())}, {s.width, s.height}};
     s.plan->execute({.wait = true, .timestamps = s.ctx.device_info().timestamp_period_ns > 0.0});
     last_gpu_ms_ = s.ctx.device_info().timestamp_period_ns > 0.0 ? s.plan->total_gpu_ms() : 0.0;

@@ -30,6 +30,7 @@ struct BenchOptions {
     std::vector<std::string> meshes, sizes{"auto", "540x270"}, batch_meshes;
     int runs = 5;
     std::uint32_t batch_images = 256;
+    std::uint32_t small_pixels = passes::CylinderZBuffer::kDefaultSmallPixels;
     std::string json;
 };
 
@@ -67,26 +68,31 @@ struct Row {
     std::size_t faces;
     std::uint32_t width, height;
     double zbuffer_gpu_ms, zbuffer_ms, zbuffer_new_mesh_ms;
+    double zbuffer_graphics_only_ms;  // every piece through the graphics pipeline (small_pixels 0)
     double raycast_bvh_ms, raycast_ms, scanline_ms, scanline_1t_ms;
     double embree_bvh_ms = 0.0, embree_ms = 0.0;
 };
 
 Row bench_one(Context& ctx, const std::string& path, const geo::Mesh& mesh, const passes::CylinderMesh& cyl,
-              std::uint32_t w, std::uint32_t h, int runs) {
-    Row r{std::filesystem::path(path).filename().string(), mesh.face_count(), w, h, 0, 0, 0, 0, 0, 0, 0};
-    std::vector<double> gpu, wall, fresh, bvh, ray, scan, scan1, ebvh, eray;
+              std::uint32_t w, std::uint32_t h, int runs, std::uint32_t small_pixels) {
+    Row r{std::filesystem::path(path).filename().string(), mesh.face_count(), w, h, 0, 0, 0, 0, 0, 0, 0, 0};
+    std::vector<double> gpu, wall, fresh, graphics_only, bvh, ray, scan, scan1, ebvh, eray;
+    passes::CylinderZBuffer all_graphics(ctx, w, h, 0);
+    all_graphics.add_mesh(cyl);
     {
-        passes::CylinderZBuffer warm(ctx, w, h);  // pipelines compile once per process
+        passes::CylinderZBuffer warm(ctx, w, h, small_pixels);  // pipelines compile once per process
         warm.project(warm.add_mesh(cyl));
+        all_graphics.project(0);
     }
     for (int k = 0; k < runs; ++k) {
         std::unique_ptr<passes::CylinderZBuffer> z;
         fresh.push_back(time_ms([&] {
-            z = std::make_unique<passes::CylinderZBuffer>(ctx, w, h);
+            z = std::make_unique<passes::CylinderZBuffer>(ctx, w, h, small_pixels);
             z->project(z->add_mesh(cyl));
         }));
         wall.push_back(time_ms([&] { z->project(0); }));
         gpu.push_back(z->last_gpu_ms());
+        graphics_only.push_back(time_ms([&] { all_graphics.project(0); }));
         std::unique_ptr<passes::CylinderRaycaster> caster;
         bvh.push_back(time_ms([&] { caster = std::make_unique<passes::CylinderRaycaster>(cyl); }));
         ray.push_back(time_ms([&] { caster->project(w, h); }));
@@ -101,6 +107,7 @@ Row bench_one(Context& ctx, const std::string& path, const geo::Mesh& mesh, cons
     r.zbuffer_gpu_ms = median(gpu);
     r.zbuffer_ms = median(wall);
     r.zbuffer_new_mesh_ms = median(fresh);
+    r.zbuffer_graphics_only_ms = median(graphics_only);
     r.raycast_bvh_ms = median(bvh);
     r.raycast_ms = median(ray);
     r.scanline_ms = median(scan);
@@ -117,16 +124,18 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
     j["device"] = ctx->device_info().name;
     j["runs"] = runs;
     j["embree"] = embree_available();
-    std::printf("gimg bench cylinder on %s; medians of %d runs; times in ms\n", ctx->device_info().summary().c_str(), runs);
-    std::printf("%-22s %8s %9s | %9s %9s %9s | %9s %9s | %9s %9s | %9s %9s | %7s %7s %7s\n", "mesh", "faces", "size",
-                "zbuf GPU", "zbuf wall", "zbuf new", "ray BVH", "ray img", "scan", "scan 1t", "embree BVH", "embree img",
-                "ray/zb", "scan/zb", "emb/zb");
+    j["small_pixels"] = o.small_pixels;
+    std::printf("gimg bench cylinder on %s; medians of %d runs; times in ms; pieces of <= %u pixels in compute\n",
+                ctx->device_info().summary().c_str(), runs, o.small_pixels);
+    std::printf("%-22s %8s %9s | %9s %9s %9s %9s | %9s %9s | %9s %9s | %9s %9s | %7s %7s %7s\n", "mesh", "faces",
+                "size", "zbuf GPU", "zbuf wall", "zbuf new", "gfx only", "ray BVH", "ray img", "scan", "scan 1t",
+                "embree BVH", "embree img", "ray/zb", "scan/zb", "emb/zb");
     for (const std::string& path : o.meshes.empty() ? default_meshes() : o.meshes) {
         const geo::Mesh mesh = geo::load_mesh(path);
         const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, passes::fit_cylinder_frame(mesh));
         for (const std::string& size_text : o.sizes) {
             const auto size = size_text == "auto" ? passes::auto_cylinder_size(mesh.face_count()) : parse_size(size_text);
-            const Row r = bench_one(*ctx, path, mesh, cyl, size[0], size[1], runs);
+            const Row r = bench_one(*ctx, path, mesh, cyl, size[0], size[1], runs, o.small_pixels);
             const double zb = r.zbuffer_ms;
             char embree[64] = "        -         - ";
             char embree_ratio[16] = "      -";
@@ -134,9 +143,9 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
                 std::snprintf(embree, sizeof embree, "%9.2f %9.2f", r.embree_bvh_ms, r.embree_ms);
                 std::snprintf(embree_ratio, sizeof embree_ratio, "%7.2f", r.embree_ms / zb);
             }
-            std::printf("%-22s %8zu %4ux%-4u | %9.2f %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %s | %7.2f %7.2f %s\n",
+            std::printf("%-22s %8zu %4ux%-4u | %9.2f %9.2f %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %s | %7.2f %7.2f %s\n",
                         r.mesh.c_str(), r.faces, r.width, r.height, r.zbuffer_gpu_ms, r.zbuffer_ms, r.zbuffer_new_mesh_ms,
-                        r.raycast_bvh_ms, r.raycast_ms, r.scanline_ms, r.scanline_1t_ms, embree, r.raycast_ms / zb,
+                        r.zbuffer_graphics_only_ms, r.raycast_bvh_ms, r.raycast_ms, r.scanline_ms, r.scanline_1t_ms, embree, r.raycast_ms / zb,
                         r.scanline_ms / zb, embree_ratio);
             j["projections"].push_back({{"mesh", r.mesh},
                                         {"faces", r.faces},
@@ -145,6 +154,7 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
                                         {"zbuffer_gpu_ms", r.zbuffer_gpu_ms},
                                         {"zbuffer_ms", r.zbuffer_ms},
                                         {"zbuffer_new_mesh_ms", r.zbuffer_new_mesh_ms},
+                                        {"zbuffer_graphics_only_ms", r.zbuffer_graphics_only_ms},
                                         {"raycast_bvh_ms", r.raycast_bvh_ms},
                                         {"raycast_ms", r.raycast_ms},
                                         {"scanline_ms", r.scanline_ms},
@@ -162,7 +172,7 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
     // Batch: many rotations of ~10K-face meshes at 144x144 in one graph execution.
     const auto batch = o.batch_meshes.empty() ? default_batch_meshes() : o.batch_meshes;
     if (!batch.empty() && o.batch_images > 0) {
-        passes::CylinderZBuffer z(*ctx, 144, 144);
+        passes::CylinderZBuffer z(*ctx, 144, 144, o.small_pixels);
         std::vector<passes::CylinderZBuffer::Job> jobs;
         std::vector<std::uint32_t> ids;
         for (const auto& path : batch) {
@@ -241,6 +251,9 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
     cyl->add_option("--runs", opts->runs, "Runs per case; the median is reported (default 5)");
     cyl->add_option("--batch-images", opts->batch_images, "Images per batch execution at 144x144 (0: skip)");
     cyl->add_option("--batch-mesh", opts->batch_meshes, "Meshes for the batch case (default: ~10K-face shared meshes)");
+    cyl->add_option("--small-pixels", opts->small_pixels,
+                    "zbuffer: pieces of at most this many pixels are decided in compute (0: all through the graphics "
+                    "pipeline; default 64)");
     cyl->add_option("--json", opts->json, "Write the figures as JSON");
     cyl->callback([opts, &global] { run_bench(*opts, global); });
     auto ropts = std::make_shared<ReconstructBenchOptions>();

@@ -12,7 +12,26 @@ using namespace gimg;
 
 namespace {
 
-enum class Method { ZBuffer, Raycast, Scanline };
+// The z-buffer three ways: its default split between the compute pass (small pieces) and the
+// graphics pipeline (large ones), every piece through the graphics pipeline, every piece in compute.
+enum class Method { ZBuffer, ZBufferGraphics, ZBufferCompute, Raycast, Scanline };
+
+std::uint32_t small_pixels(Method m) {
+    return m == Method::ZBufferGraphics  ? 0u
+           : m == Method::ZBufferCompute ? UINT32_MAX
+                                         : passes::CylinderZBuffer::kDefaultSmallPixels;
+}
+
+std::string method_name(Method m) {
+    switch (m) {
+    case Method::ZBuffer: return "zbuffer";
+    case Method::ZBufferGraphics: return "zbuffer_graphics";
+    case Method::ZBufferCompute: return "zbuffer_compute";
+    case Method::Raycast: return "raycast";
+    case Method::Scanline: return "scanline";
+    }
+    return "";
+}
 
 // Every method shares one definition, so one set of exact answers.
 class CylinderAnalytic : public gimg::test::GpuTest, public ::testing::WithParamInterface<Method> {
@@ -22,7 +41,7 @@ protected:
             const passes::CylinderMesh mesh = test::to_cylinder_mesh(m);
             if (GetParam() == Method::Raycast) return passes::cylinder_raycast(mesh, w, h);
             if (GetParam() == Method::Scanline) return passes::cylinder_scanline(mesh, w, h);
-            passes::CylinderZBuffer z(ctx(), w, h);
+            passes::CylinderZBuffer z(ctx(), w, h, small_pixels(GetParam()));
             return z.project(z.add_mesh(mesh));
         };
     }
@@ -44,23 +63,20 @@ TEST_P(CylinderAnalytic, ConeDistanceIsLinearInHeight) { test::check_cone_distan
 
 TEST_P(CylinderAnalytic, CylindricalShellAcrossTheSeam) { test::check_cylindrical_shell_across_the_seam(projector()); }
 
-INSTANTIATE_TEST_SUITE_P(Methods, CylinderAnalytic, ::testing::Values(Method::ZBuffer, Method::Raycast, Method::Scanline),
-                         [](const ::testing::TestParamInfo<Method>& p) {
-                             return std::string(p.param == Method::ZBuffer   ? "zbuffer"
-                                                : p.param == Method::Raycast ? "raycast"
-                                                                             : "scanline");
-                         });
+INSTANTIATE_TEST_SUITE_P(Methods, CylinderAnalytic,
+                         ::testing::Values(Method::ZBuffer, Method::ZBufferGraphics, Method::ZBufferCompute,
+                                           Method::Raycast, Method::Scanline),
+                         [](const ::testing::TestParamInfo<Method>& p) { return method_name(p.param); });
 
 // Where there is no closed form: the definition evaluated literally (cylinder_exact.h).
 namespace {
 
-class CylinderDefinition : public gimg::test::GpuTest, public ::testing::WithParamInterface<bool> {
+class CylinderDefinition : public gimg::test::GpuTest, public ::testing::WithParamInterface<Method> {
 protected:
-    // GetParam(): true for the GPU z-buffer, false for the CPU ray caster.
     passes::CylinderImage project(const passes::CylinderMesh& mesh, std::uint32_t w, std::uint32_t h,
                                   const passes::CylinderTransform& t = passes::kIdentityTransform) {
-        if (!GetParam()) return passes::cylinder_raycast(mesh, w, h, t);
-        passes::CylinderZBuffer z(ctx(), w, h);
+        if (GetParam() == Method::Raycast) return passes::cylinder_raycast(mesh, w, h, t);
+        passes::CylinderZBuffer z(ctx(), w, h, small_pixels(GetParam()));
         return z.project(z.add_mesh(mesh), t);
     }
 };
@@ -108,5 +124,6 @@ TEST_P(CylinderDefinition, RandomTriangleSoupThroughATransformMatchesTheDefiniti
     EXPECT_LE(a.depth_differs, W * H / 2000) << "max |delta d| " << a.max_depth_error;
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, CylinderDefinition, ::testing::Bool(),
-                         [](const ::testing::TestParamInfo<bool>& p) { return std::string(p.param ? "zbuffer" : "raycast"); });
+INSTANTIATE_TEST_SUITE_P(Methods, CylinderDefinition,
+                         ::testing::Values(Method::ZBuffer, Method::ZBufferGraphics, Method::ZBufferCompute, Method::Raycast),
+                         [](const ::testing::TestParamInfo<Method>& p) { return method_name(p.param); });

@@ -124,9 +124,16 @@ CylinderImage cylinder_scanline(const CylinderMesh& mesh, std::uint32_t width, s
 
 // The GPU cylindrical Z-buffer. Meshes are uploaded once; project() renders any number of images
 // (mesh, transform) in one graph execution, tiled into one atlas.
+//
+// Pieces whose pixel rectangle holds at most `small_pixels` pixels are decided by the classify
+// compute pass itself (the fragment stage's exact test, atomicMax per pixel); larger ones go
+// through the graphics pipeline's curved raster. Both give the same image; the split is a speed
+// choice: 0 sends every piece through the graphics pipeline, UINT32_MAX none.
 class CylinderZBuffer {
 public:
-    CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height);
+    static constexpr std::uint32_t kDefaultSmallPixels = 64;
+    CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height,
+                    std::uint32_t small_pixels = kDefaultSmallPixels);
     ~CylinderZBuffer();
     CylinderZBuffer(const CylinderZBuffer&) = delete;
     CylinderZBuffer& operator=(const CylinderZBuffer&) = delete;
@@ -144,9 +151,10 @@ public:
 
     // GPU time of the last project() (sum of its passes), and the plan behind it.
     double last_gpu_ms() const { return last_gpu_ms_; }
-    // Per-pass GPU times of the last project() (reset, classify and split, z-buffer).
+    // Per-pass GPU times of the last project() (reset, classify, z-buffer, merge).
     std::vector<PassTiming> last_pass_timings() const;
-    // Rectangles the last project() rasterised (pieces holding at least one pixel centre).
+    // Rectangles the last project() sent through the graphics pipeline (pieces holding more than
+    // small_pixels pixel centres).
     std::uint64_t last_rect_count() const { return last_rects_; }
     bool double_precision() const;
 

@@ -1,0 +1,8 @@
+#version 460
+// Single precision, for devices without shaderFloat64.
+#define REAL float
+#define REAL2 vec2
+#define REAL3 vec3
+#define REAL4 vec4
+#extension GL_GOOGLE_include_directive : require
+#include "cylinder/classify_body.glsl"
