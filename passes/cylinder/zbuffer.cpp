@@ -84,9 +84,9 @@ struct CylinderZBuffer::State {
     DrawPush draw{};
     MergePush merge{};
 
-    State(Context& c, std::uint32_t w, std::uint32_t h, std::uint32_t small)
-        : ctx(c), width(w), height(h), small_pixels(small) {
-        use_double = ctx.device_info().shader_float64;
+    State(Context& c, std::uint32_t w, std::uint32_t h, const CylinderZBufferOptions& options)
+        : ctx(c), width(w), height(h), small_pixels(options.small_pixels) {
+        use_double = options.double_precision && ctx.device_info().shader_float64;
         const auto dirs = cylinder_directions(w);
         if (use_double) {
             directions_buf = ctx.create_buffer({w * 16ull, "cylinder directions"});
@@ -187,10 +187,11 @@ struct CylinderZBuffer::State {
     }
 };
 
-CylinderZBuffer::CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height, std::uint32_t small_pixels) {
+CylinderZBuffer::CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height,
+                                 const CylinderZBufferOptions& options) {
     if (width == 0 || height == 0 || width > 65535 || height > 65535)
         throw Error(ErrorKind::InvalidArgument, "cylinder image size must be between 1x1 and 65535x65535");
-    state_ = std::make_unique<State>(ctx, width, height, small_pixels);
+    state_ = std::make_unique<State>(ctx, width, height, options);
 }
 
 CylinderZBuffer::~CylinderZBuffer() = default;

@@ -30,7 +30,7 @@ struct BenchOptions {
     std::vector<std::string> meshes, sizes{"auto", "540x270"}, batch_meshes;
     int runs = 5;
     std::uint32_t batch_images = 256;
-    std::uint32_t small_pixels = passes::CylinderZBuffer::kDefaultSmallPixels;
+    std::uint32_t small_pixels = passes::CylinderZBufferOptions{}.small_pixels;
     std::string json;
 };
 
@@ -77,17 +77,17 @@ Row bench_one(Context& ctx, const std::string& path, const geo::Mesh& mesh, cons
               std::uint32_t w, std::uint32_t h, int runs, std::uint32_t small_pixels) {
     Row r{std::filesystem::path(path).filename().string(), mesh.face_count(), w, h, 0, 0, 0, 0, 0, 0, 0, 0};
     std::vector<double> gpu, wall, fresh, graphics_only, bvh, ray, scan, scan1, ebvh, eray;
-    passes::CylinderZBuffer all_graphics(ctx, w, h, 0);
+    passes::CylinderZBuffer all_graphics(ctx, w, h, {.small_pixels = 0});
     all_graphics.add_mesh(cyl);
     {
-        passes::CylinderZBuffer warm(ctx, w, h, small_pixels);  // pipelines compile once per process
+        passes::CylinderZBuffer warm(ctx, w, h, {.small_pixels = small_pixels});  // pipelines compile once per process
         warm.project(warm.add_mesh(cyl));
         all_graphics.project(0);
     }
     for (int k = 0; k < runs; ++k) {
         std::unique_ptr<passes::CylinderZBuffer> z;
         fresh.push_back(time_ms([&] {
-            z = std::make_unique<passes::CylinderZBuffer>(ctx, w, h, small_pixels);
+            z = std::make_unique<passes::CylinderZBuffer>(ctx, w, h, passes::CylinderZBufferOptions{.small_pixels = small_pixels});
             z->project(z->add_mesh(cyl));
         }));
         wall.push_back(time_ms([&] { z->project(0); }));
@@ -172,7 +172,7 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
     // Batch: many rotations of ~10K-face meshes at 144x144 in one graph execution.
     const auto batch = o.batch_meshes.empty() ? default_batch_meshes() : o.batch_meshes;
     if (!batch.empty() && o.batch_images > 0) {
-        passes::CylinderZBuffer z(*ctx, 144, 144, o.small_pixels);
+        passes::CylinderZBuffer z(*ctx, 144, 144, {.small_pixels = o.small_pixels});
         std::vector<passes::CylinderZBuffer::Job> jobs;
         std::vector<std::uint32_t> ids;
         for (const auto& path : batch) {

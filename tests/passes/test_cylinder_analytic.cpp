@@ -12,14 +12,17 @@ using namespace gimg;
 
 namespace {
 
-// The z-buffer three ways: its default split between the compute pass (small pieces) and the
-// graphics pipeline (large ones), every piece through the graphics pipeline, every piece in compute.
-enum class Method { ZBuffer, ZBufferGraphics, ZBufferCompute, Raycast, Scanline };
+// The z-buffer four ways: its default split between the compute pass (small pieces) and the
+// graphics pipeline (large ones), every piece through the graphics pipeline, every piece in
+// compute, and the default split in float32 (devices without shaderFloat64).
+enum class Method { ZBuffer, ZBufferGraphics, ZBufferCompute, ZBufferFloat, Raycast, Scanline };
 
-std::uint32_t small_pixels(Method m) {
-    return m == Method::ZBufferGraphics  ? 0u
-           : m == Method::ZBufferCompute ? UINT32_MAX
-                                         : passes::CylinderZBuffer::kDefaultSmallPixels;
+passes::CylinderZBufferOptions zbuffer_options(Method m) {
+    passes::CylinderZBufferOptions o;
+    if (m == Method::ZBufferGraphics) o.small_pixels = 0;
+    if (m == Method::ZBufferCompute) o.small_pixels = UINT32_MAX;
+    if (m == Method::ZBufferFloat) o.double_precision = false;
+    return o;
 }
 
 std::string method_name(Method m) {
@@ -27,6 +30,7 @@ std::string method_name(Method m) {
     case Method::ZBuffer: return "zbuffer";
     case Method::ZBufferGraphics: return "zbuffer_graphics";
     case Method::ZBufferCompute: return "zbuffer_compute";
+    case Method::ZBufferFloat: return "zbuffer_float";
     case Method::Raycast: return "raycast";
     case Method::Scanline: return "scanline";
     }
@@ -41,31 +45,36 @@ protected:
             const passes::CylinderMesh mesh = test::to_cylinder_mesh(m);
             if (GetParam() == Method::Raycast) return passes::cylinder_raycast(mesh, w, h);
             if (GetParam() == Method::Scanline) return passes::cylinder_scanline(mesh, w, h);
-            passes::CylinderZBuffer z(ctx(), w, h, small_pixels(GetParam()));
+            passes::CylinderZBuffer z(ctx(), w, h, zbuffer_options(GetParam()));
             return z.project(z.add_mesh(mesh));
         };
     }
+    double tolerance() const { return GetParam() == Method::ZBufferFloat ? 5e-5 : 2e-6; }
 };
 
 }  // namespace
 
 TEST_P(CylinderAnalytic, SphereCentredOnTheAxis) { test::check_sphere_centred_on_the_axis(projector()); }
 
-TEST_P(CylinderAnalytic, CubeAroundTheAxis) { test::check_cube_around_the_axis(projector()); }
+TEST_P(CylinderAnalytic, CubeAroundTheAxis) { test::check_cube_around_the_axis(projector(), tolerance()); }
 
 TEST_P(CylinderAnalytic, SphereOffTheAxisIsSeenThroughTheAxisToo) { test::check_sphere_off_the_axis(projector()); }
 
 TEST_P(CylinderAnalytic, TiltedPlateThroughTheAxisHasExceptionTrianglesAndCrossesTheSeam) {
-    test::check_tilted_plate_through_the_axis(projector());
+    test::check_tilted_plate_through_the_axis(projector(), tolerance());
 }
 
-TEST_P(CylinderAnalytic, ConeDistanceIsLinearInHeight) { test::check_cone_distance_linear_in_height(projector()); }
+TEST_P(CylinderAnalytic, ConeDistanceIsLinearInHeight) {
+    test::check_cone_distance_linear_in_height(projector(), tolerance());
+}
 
-TEST_P(CylinderAnalytic, CylindricalShellAcrossTheSeam) { test::check_cylindrical_shell_across_the_seam(projector()); }
+TEST_P(CylinderAnalytic, CylindricalShellAcrossTheSeam) {
+    test::check_cylindrical_shell_across_the_seam(projector(), tolerance());
+}
 
 INSTANTIATE_TEST_SUITE_P(Methods, CylinderAnalytic,
                          ::testing::Values(Method::ZBuffer, Method::ZBufferGraphics, Method::ZBufferCompute,
-                                           Method::Raycast, Method::Scanline),
+                                           Method::ZBufferFloat, Method::Raycast, Method::Scanline),
                          [](const ::testing::TestParamInfo<Method>& p) { return method_name(p.param); });
 
 // Where there is no closed form: the definition evaluated literally (cylinder_exact.h).
@@ -76,7 +85,7 @@ protected:
     passes::CylinderImage project(const passes::CylinderMesh& mesh, std::uint32_t w, std::uint32_t h,
                                   const passes::CylinderTransform& t = passes::kIdentityTransform) {
         if (GetParam() == Method::Raycast) return passes::cylinder_raycast(mesh, w, h, t);
-        passes::CylinderZBuffer z(ctx(), w, h, small_pixels(GetParam()));
+        passes::CylinderZBuffer z(ctx(), w, h, zbuffer_options(GetParam()));
         return z.project(z.add_mesh(mesh), t);
     }
 };
@@ -125,5 +134,6 @@ TEST_P(CylinderDefinition, RandomTriangleSoupThroughATransformMatchesTheDefiniti
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, CylinderDefinition,
-                         ::testing::Values(Method::ZBuffer, Method::ZBufferGraphics, Method::ZBufferCompute, Method::Raycast),
+                         ::testing::Values(Method::ZBuffer, Method::ZBufferGraphics, Method::ZBufferCompute,
+                                           Method::ZBufferFloat, Method::Raycast),
                          [](const ::testing::TestParamInfo<Method>& p) { return method_name(p.param); });

@@ -122,18 +122,22 @@ CylinderImage cylinder_scanline(const CylinderMesh& mesh, std::uint32_t width, s
 CylinderImage cylinder_scanline(const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
                                 const CylinderTransform& transform, unsigned threads);
 
+struct CylinderZBufferOptions {
+    // Pieces whose pixel rectangle holds at most this many pixels are decided by the classify
+    // compute pass itself (the fragment stage's exact test, atomicMax per pixel); larger ones go
+    // through the graphics pipeline's curved raster. Both give the same image; the split is a
+    // speed choice: 0 sends every piece through the graphics pipeline, UINT32_MAX none.
+    std::uint32_t small_pixels = 64;
+    // The exact test in double precision where the device has shaderFloat64 (the ray caster's
+    // arithmetic); false runs the float32 path that devices without it get.
+    bool double_precision = true;
+};
+
 // The GPU cylindrical Z-buffer. Meshes are uploaded once; project() renders any number of images
 // (mesh, transform) in one graph execution, tiled into one atlas.
-//
-// Pieces whose pixel rectangle holds at most `small_pixels` pixels are decided by the classify
-// compute pass itself (the fragment stage's exact test, atomicMax per pixel); larger ones go
-// through the graphics pipeline's curved raster. Both give the same image; the split is a speed
-// choice: 0 sends every piece through the graphics pipeline, UINT32_MAX none.
 class CylinderZBuffer {
 public:
-    static constexpr std::uint32_t kDefaultSmallPixels = 64;
-    CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height,
-                    std::uint32_t small_pixels = kDefaultSmallPixels);
+    CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height, const CylinderZBufferOptions& options = {});
     ~CylinderZBuffer();
     CylinderZBuffer(const CylinderZBuffer&) = delete;
     CylinderZBuffer& operator=(const CylinderZBuffer&) = delete;
@@ -156,6 +160,7 @@ public:
     // Rectangles the last project() sent through the graphics pipeline (pieces holding more than
     // small_pixels pixel centres).
     std::uint64_t last_rect_count() const { return last_rects_; }
+    // Whether the exact test runs in double precision (options and device allowing).
     bool double_precision() const;
 
 private:
