@@ -29,10 +29,11 @@ Buffer upload_vector(Context& ctx, const std::vector<T>& data, const std::string
     return buffer;
 }
 
+// The shaders' layout: one dvec4 per point (w unused), shaders/sphere/sphere_common.glsl.
 std::vector<double> flatten(const std::vector<glm::dvec3>& y) {
-    std::vector<double> flat(3 * y.size());
+    std::vector<double> flat(4 * y.size(), 0.0);
     for (std::size_t i = 0; i < y.size(); ++i)
-        for (int k = 0; k < 3; ++k) flat[3 * i + k] = y[i][k];
+        for (int k = 0; k < 3; ++k) flat[4 * i + k] = y[i][k];
     return flat;
 }
 
@@ -154,7 +155,7 @@ RelaxCheck GpuSphereRelaxation::run(std::uint32_t iterations, bool uniform_weigh
 std::vector<glm::dvec3> GpuSphereRelaxation::positions() {
     const std::vector<double> flat = ctx_.download<double>(points_[current_]);
     std::vector<glm::dvec3> y(level_.vertex_count());
-    for (std::size_t i = 0; i < y.size(); ++i) y[i] = {flat[3 * i], flat[3 * i + 1], flat[3 * i + 2]};
+    for (std::size_t i = 0; i < y.size(); ++i) y[i] = {flat[4 * i], flat[4 * i + 1], flat[4 * i + 2]};
     return y;
 }
 

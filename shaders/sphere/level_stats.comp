@@ -6,7 +6,7 @@
 // flipped ones and those failing the kernel test.
 // level_stats_cpu in passes/sphere/sphere_level.cpp is the CPU reference.
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Points { double pos[]; };
+layout(std430, binding = 0) readonly buffer Points { dvec4 pos[]; };
 layout(std430, binding = 1) readonly buffer RingOffsets { uint ring_offsets[]; };
 layout(std430, binding = 2) readonly buffer Ring { uint ring[]; };
 layout(std430, binding = 3) readonly buffer RingWeights { double ring_weights[]; };
@@ -21,12 +21,19 @@ void main() {
     const dvec3 y = point_at(v);
     const uint begin = ring_offsets[v], degree = ring_offsets[v + 1] - begin;
     double energy = 0.0LF, flips = 0.0LF, kernel_failures = 0.0LF;
+    // Each neighbour loaded once: triangle k's second corner is triangle k + 1's first.
+    const uint first = ring[begin];
+    const dvec3 first_point = point_at(first);
+    uint b = first;
+    dvec3 pb = first_point;
     for (uint k = 0; k < degree; ++k) {
-        const uint a = ring[begin + k], b = ring[begin + (k + 1) % degree];
-        const dvec3 d = y - point_at(a);
+        const uint a = b;
+        const dvec3 pa = pb;
+        b = k + 1 < degree ? ring[begin + k + 1] : first;
+        pb = k + 1 < degree ? point_at(b) : first_point;
+        const dvec3 d = y - pa;
         energy += 0.5LF * ring_weights[begin + k] * dot(d, d);
         if (v < a && v < b) {
-            const dvec3 pa = point_at(a), pb = point_at(b);
             if (!counter_clockwise(y, pa, pb, kKernelMargin)) kernel_failures += 1.0LF;
             if (!(dot(y, cross(pa - y, pb - y)) > 0.0LF)) flips += 1.0LF;
         }

@@ -5,10 +5,10 @@
 // normalize(y - c) does). It writes a separate buffer: the host keeps the result only if it
 // flipped nothing, and halves the scale otherwise.
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) readonly buffer Points { double pos[]; };
+layout(std430, binding = 0) readonly buffer Points { dvec4 pos[]; };
 layout(std430, binding = 1) readonly buffer Sums { double sums[]; };  // level_stats, reduced
 layout(std430, binding = 2) readonly buffer Control { double scale; };
-layout(std430, binding = 3) writeonly buffer Moved { double moved[]; };
+layout(std430, binding = 3) writeonly buffer Moved { dvec4 moved[]; };
 layout(push_constant) uniform Push { uint vertex_count; };
 
 void main() {
@@ -16,9 +16,7 @@ void main() {
     if (v >= vertex_count) return;
     dvec3 a = scale * dvec3(sums[0], sums[1], sums[2]) / double(vertex_count);
     if (length(a) > 0.5LF) a *= 0.5LF / length(a);
-    const dvec3 d = dvec3(pos[3 * v], pos[3 * v + 1], pos[3 * v + 2]) - a;
+    const dvec3 d = pos[v].xyz - a;
     const dvec3 y = normalize((1.0LF - dot(a, a)) * d / dot(d, d) - a);
-    moved[3 * v] = y.x;
-    moved[3 * v + 1] = y.y;
-    moved[3 * v + 2] = y.z;
+    moved[v] = dvec4(y, 0.0LF);
 }

@@ -5,7 +5,7 @@
 // local energy on the sphere, halving the step until no triangle of its fan flips that was not
 // flipped before. No two vertices of one colour share an edge, so the moves are independent.
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) buffer Points { double pos[]; };
+layout(std430, binding = 0) buffer Points { dvec4 pos[]; };
 layout(std430, binding = 1) readonly buffer RingOffsets { uint ring_offsets[]; };
 layout(std430, binding = 2) readonly buffer Ring { uint ring[]; };
 layout(std430, binding = 3) readonly buffer RingWeights { double ring_weights[]; };
@@ -37,9 +37,7 @@ void main() {
         if (!(chord_length > 1e-12LF)) continue;
         const dvec3 candidate = chord / chord_length;
         if (keeps_every_grade(v, current, candidate)) {
-            pos[3 * v] = candidate.x;
-            pos[3 * v + 1] = candidate.y;
-            pos[3 * v + 2] = candidate.z;
+            pos[v] = dvec4(candidate, 0.0LF);
             return;
         }
     }
