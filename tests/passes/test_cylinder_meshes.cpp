@@ -8,9 +8,12 @@
 #include "gimg/geometry/io.h"
 #include "gimg/passes/cylinder.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <utility>
+#include <vector>
 
 using namespace gimg;
 
@@ -36,15 +39,39 @@ Agreement compare(const passes::CylinderImage& a, const passes::CylinderImage& b
     return r;
 }
 
+using Size = std::array<std::uint32_t, 2>;
+
+// A shared mesh in the cylinder frame, and the sizes every test here projects it at.
+struct MeshCase {
+    passes::CylinderMesh cyl;
+    std::vector<Size> sizes;
+};
+
+MeshCase load_case(const std::string& path) {
+    const geo::Mesh mesh = geo::load_mesh(path);
+    const auto auto_size = passes::auto_cylinder_size(mesh.face_count());
+    return {passes::make_cylinder_mesh(mesh, passes::fit_cylinder_frame(mesh)),
+            {{64, 32}, {200, 100}, {540, 270}, {auto_size[0], auto_size[1]}}};
+}
+
+// One method's image against the ray caster's: reported, and held to the bars.
+void expect_agreement(const std::string& label, Size size, const passes::CylinderImage& image,
+                      const passes::CylinderImage& cpu, double max_difference) {
+    const Agreement r = compare(image, cpu);
+    std::printf("%s %ux%u: %zu covered, %zu coverage mismatches, max |delta d| %.3g\n", label.c_str(), size[0], size[1],
+                r.covered, r.coverage_mismatch, r.max_abs_difference);
+    EXPECT_GT(r.covered, std::size_t(size[0]) * size[1] / 10) << label;
+    EXPECT_LE(double(r.coverage_mismatch), 0.0005 * double(r.covered)) << label << " " << size[0] << "x" << size[1];
+    EXPECT_LE(r.max_abs_difference, max_difference) << label << " " << size[0] << "x" << size[1];
+}
+
 }  // namespace
 
 TEST_P(CylinderMeshes, ZBufferAndScanlineEqualRaycast) {
     GIMG_REQUIRE_SHARED_MESH(path, GetParam());
-    const geo::Mesh mesh = geo::load_mesh(path);
-    const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, passes::fit_cylinder_frame(mesh));
-    const auto auto_size = passes::auto_cylinder_size(mesh.face_count());
-    const std::uint32_t sizes[][2] = {{64, 32}, {200, 100}, {540, 270}, {auto_size[0], auto_size[1]}};
-    for (const auto& size : sizes) {
+    const MeshCase c = load_case(path);
+    const passes::CylinderMesh& cyl = c.cyl;
+    for (const Size& size : c.sizes) {
         passes::CylinderZBuffer z(ctx(), size[0], size[1]);
         const auto gpu = z.project(z.add_mesh(cyl));
         passes::CylinderZBuffer graphics(ctx(), size[0], size[1], {.small_pixels = 0});
@@ -58,14 +85,8 @@ TEST_P(CylinderMeshes, ZBufferAndScanlineEqualRaycast) {
         const auto scan = passes::cylinder_scanline(cyl, size[0], size[1]);
         const auto cpu = passes::cylinder_raycast(cyl, size[0], size[1]);
         for (const auto& [name, image] : {std::pair{"zbuffer", &gpu}, std::pair{"zbuffer graphics only", &gpu_graphics},
-                                          std::pair{"zbuffer compute only", &gpu_compute}, std::pair{"scanline", &scan}}) {
-            const Agreement r = compare(*image, cpu);
-            std::printf("%s %ux%u %s: %zu covered, %zu coverage mismatches, max |delta d| %.3g\n", GetParam(),
-                        size[0], size[1], name, r.covered, r.coverage_mismatch, r.max_abs_difference);
-            EXPECT_GT(r.covered, std::size_t(size[0]) * size[1] / 10);
-            EXPECT_LE(double(r.coverage_mismatch), 0.0005 * double(r.covered)) << name << " " << size[0] << "x" << size[1];
-            EXPECT_LE(r.max_abs_difference, 1e-5) << name << " " << size[0] << "x" << size[1];
-        }
+                                          std::pair{"zbuffer compute only", &gpu_compute}, std::pair{"scanline", &scan}})
+            expect_agreement(std::string(GetParam()) + " " + name, size, *image, cpu, 1e-5);
     }
 }
 
@@ -74,21 +95,14 @@ TEST_P(CylinderMeshes, ZBufferAndScanlineEqualRaycast) {
 // agrees to 5e-5 rather than the double path's 1e-5 (worst measured: 1.9e-5, teapot at 540x270).
 TEST_P(CylinderMeshes, ZBufferInFloatAgreesWithRaycast) {
     GIMG_REQUIRE_SHARED_MESH(path, GetParam());
-    const geo::Mesh mesh = geo::load_mesh(path);
-    const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, passes::fit_cylinder_frame(mesh));
-    const auto auto_size = passes::auto_cylinder_size(mesh.face_count());
-    const std::uint32_t sizes[][2] = {{64, 32}, {200, 100}, {540, 270}, {auto_size[0], auto_size[1]}};
-    for (const auto& size : sizes) {
-        const auto cpu = passes::cylinder_raycast(cyl, size[0], size[1]);
+    const MeshCase c = load_case(path);
+    for (const Size& size : c.sizes) {
+        const auto cpu = passes::cylinder_raycast(c.cyl, size[0], size[1]);
         for (const std::uint32_t small : {0u, UINT32_MAX}) {
             passes::CylinderZBuffer z(ctx(), size[0], size[1], {.small_pixels = small, .double_precision = false});
             ASSERT_FALSE(z.double_precision());
-            const Agreement r = compare(z.project(z.add_mesh(cyl)), cpu);
-            std::printf("%s %ux%u float %s: %zu covered, %zu coverage mismatches, max |delta d| %.3g\n", GetParam(),
-                        size[0], size[1], small ? "compute" : "graphics", r.covered, r.coverage_mismatch, r.max_abs_difference);
-            EXPECT_GT(r.covered, std::size_t(size[0]) * size[1] / 10);
-            EXPECT_LE(double(r.coverage_mismatch), 0.0005 * double(r.covered)) << size[0] << "x" << size[1];
-            EXPECT_LE(r.max_abs_difference, 5e-5) << size[0] << "x" << size[1];
+            expect_agreement(std::string(GetParam()) + (small ? " float compute" : " float graphics"), size,
+                             z.project(z.add_mesh(c.cyl)), cpu, 5e-5);
         }
     }
 }
