@@ -2,6 +2,7 @@
 #include "sphere_relax.h"
 
 #include "sphere_steps.h"
+#include "upload_vector.h"
 
 #include "gimg/engine/graph.h"
 #include "gimg/passes/primitives.h"
@@ -21,13 +22,6 @@ namespace {
 const Spirv kRelax = GIMG_SPIRV(gimg_spv_sphere_relax_comp);
 const Spirv kLevelStats = GIMG_SPIRV(gimg_spv_sphere_level_stats_comp);
 const Spirv kRecentre = GIMG_SPIRV(gimg_spv_sphere_recentre_comp);
-
-template <class T>
-Buffer upload_vector(Context& ctx, const std::vector<T>& data, const std::string& name) {
-    Buffer buffer = ctx.create_buffer({VkDeviceSize(std::max<std::size_t>(data.size(), 1) * sizeof(T)), name});
-    if (!data.empty()) ctx.upload(buffer, std::span<const T>(data));
-    return buffer;
-}
 
 // The shaders' layout: one dvec4 per point (w unused), shaders/sphere/sphere_common.glsl.
 std::vector<double> flatten(const std::vector<glm::dvec3>& y) {

@@ -28,6 +28,9 @@ inline glm::dvec3 sphere_from_north_chart(Complex q) {
     return glm::dvec3(2.0 * q.real(), 2.0 * q.imag(), 1.0 - r2) / (1.0 + r2);
 }
 
+// The inverse of sphere_from_south_chart; infinite at the north pole.
+inline Complex south_chart_from_sphere(const glm::dvec3& p) { return Complex(p.x, -p.y) / (1.0 - p.z); }
+
 // The same sphere point in the other chart (infinite at w = 0, the south pole).
 inline Complex north_from_south_chart(Complex w) { return 1.0 / w; }
 

@@ -1,0 +1,61 @@
+#pragma once
+// The planar polish, step 2: the Jacobi-preconditioned conjugate gradient solve of a PlaneProblem
+// as iterative compute dispatches (GpuPlaneCg), and the same iterations on the CPU
+// (plane_cg_cpu), which tests compare it with.
+//
+// One iteration is three passes and two reductions (primitives/reduce_f64, a fixed tree):
+// q = A p and p.q; then x += alpha p, r -= alpha q and r.z (z = r / diag(A)); then p = z + beta p.
+// The scalars alpha and beta never leave the GPU: each pass reads the reduced sums it needs. Only
+// r.z comes back, once per call, for the convergence test. (Summing the partials inside the next
+// pass instead, to save the reduction dispatches, was 1.3-1.5x slower on lavapipe: its
+// workgroup barriers cost more than the dispatches.)
+#include "plane_problem.h"
+
+#include "gimg/engine/context.h"
+#include "gimg/engine/plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+
+namespace gimg::passes::detail {
+
+struct PlaneCgState {
+    std::vector<glm::dvec2> x, r, p;  // solution, residual b - A x, search direction
+    double rz = 0.0;                  // r . z, z = r / diag(A)
+    double rz_rhs = 0.0;              // b . (b / diag(A)): the scale rz is measured against
+    // |r| / |b| in the preconditioner's norm.
+    double relative_residual() const { return rz_rhs > 0.0 ? std::sqrt(std::max(rz, 0.0) / rz_rhs) : 0.0; }
+};
+
+// x = the problem's start, r = b - A x, p = r / diag(A).
+PlaneCgState start_plane_cg(const PlaneProblem& problem);
+
+// `iterations` conjugate gradient iterations on the CPU, in the GPU's order of operations.
+void plane_cg_cpu(const PlaneProblem& problem, PlaneCgState& state, std::uint32_t iterations);
+
+class GpuPlaneCg {
+public:
+    GpuPlaneCg(Context& ctx, const PlaneProblem& problem);
+    // Runs `iterations` (even) iterations; returns the state's relative residual after them.
+    double run(std::uint32_t iterations);
+    std::vector<glm::dvec2> solution();
+    double last_gpu_ms() const { return last_gpu_ms_; }
+    void set_timestamps(bool on) { timestamps_ = on; }
+
+private:
+    Plan& plan_for(std::uint32_t iterations);
+
+    Context& ctx_;
+    std::uint32_t rows_ = 0;
+    double rz_rhs_ = 0.0;
+    Buffer offsets_, columns_, values_, diagonal_;
+    Buffer x_, r_, p_, q_;
+    Buffer rz_[2], pq_;  // rz_[0] holds r.z between calls (the loop body runs two iterations)
+    bool timestamps_ = false;
+    double last_gpu_ms_ = 0.0;
+    std::map<std::uint32_t, std::unique_ptr<Plan>> plans_;
+};
+
+}  // namespace gimg::passes::detail

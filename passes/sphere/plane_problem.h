@@ -1,0 +1,52 @@
+#pragma once
+// The planar polish of a finished sphere map, step 1: the problem. Relaxation on the sphere moves
+// each vertex towards its neighbours, so it needs about as many sweeps as a protrusion has rings
+// squared to straighten the protrusion's shape, and a conformal map shrinks protrusions so much
+// (bunny's ears to 1e-9 of the mean triangle) that they carry no energy the convergence test
+// would miss: the relaxed map has mean angle errors of 20-80 degrees there. A conformal map stays
+// conformal under stereographic projection, so in the plane it is harmonic: project the relaxed
+// map from a pole inside its largest triangle, pin a small cap of vertices around the pole at
+// their projected points (where the relaxed map is accurate) and solve the cotangent Laplace
+// equation for all other vertices. That is one sparse linear system, solved by conjugate gradients
+// (plane_cg.h), which straightens a protrusion in about as many iterations as it has rings.
+#include "sphere_level.h"
+
+#include <glm/mat3x3.hpp>
+#include <glm/vec2.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace gimg::passes::detail {
+
+// Pinning 1% of the vertices (at least 3): on bunny and armadillo 1% and 5% give the same angles,
+// a single triangle (Choi's big triangle with the relaxed map's shape) distorts its neighbourhood
+// (bunny 5.3 degrees mean instead of 0.8), and a 10-20% cap can take in a squeezed protrusion
+// whose relaxed shape is still wrong (armadillo: flips).
+inline constexpr double kPlaneCapFraction = 0.01;
+
+// A x = b over the free vertices: A is the cotangent Laplacian restricted to them (diagonal: the
+// sum of the vertex's spoke weights; off-diagonal: minus the weight of a spoke to another free
+// vertex), b the pinned neighbours' pull. x holds the two chart coordinates of each free vertex.
+struct PlaneProblem {
+    glm::dmat3 frame{1.0};                 // columns e1, e2, e3: the pole is e3
+    std::vector<std::uint32_t> free_vertices;  // row i is vertex free_vertices[i]
+    std::vector<std::uint32_t> row_offsets;    // rows + 1, into columns / values
+    std::vector<std::uint32_t> columns;        // free (row) indices of free neighbours
+    std::vector<double> values;                // minus the spoke weights
+    std::vector<double> diagonal;
+    std::vector<glm::dvec2> rhs;
+    std::vector<glm::dvec2> start;             // the relaxed map in the chart: the first guess
+    std::size_t rows() const { return free_vertices.size(); }
+};
+
+// Throws nothing; `y` must be flip-free unit vectors on `level`.
+PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm::dvec3>& y,
+                                double cap_fraction = kPlaneCapFraction);
+
+// The sphere map with every free vertex at the inverse projection of its solution `x`; pinned
+// vertices keep their point in `y`.
+std::vector<glm::dvec3> sphere_points_from_plane(const PlaneProblem& problem, const std::vector<glm::dvec3>& y,
+                                                 const std::vector<glm::dvec2>& x);
+
+}  // namespace gimg::passes::detail
