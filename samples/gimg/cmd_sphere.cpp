@@ -158,6 +158,8 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
                     "gpu: a level ends when the energy changes less than this per iteration, relative (default 3e-6)");
     cmd->add_option("--max-iterations", opts->gpu.max_iterations_per_level,
                     "gpu: at most this many sweeps per level (default 4000)");
+    cmd->add_flag_callback("--no-polish", [opts] { opts->gpu.plane_polish = false; },
+                           "gpu: skip the planar polish after the finest level (faster, protrusions stay crooked)");
     cmd->add_option("--json", opts->json, "Write the metrics and timings as JSON");
     cmd->callback([opts, &global] { run_sphere(*opts, global); });
 }
