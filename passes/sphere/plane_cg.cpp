@@ -135,8 +135,7 @@ double GpuPlaneCg::run(std::uint32_t iterations) {
     Plan& plan = plan_for(iterations);
     plan.execute({.wait = true, .timestamps = timestamps_});
     last_gpu_ms_ = timestamps_ ? plan.total_gpu_ms() : 0.0;
-    const double rz = ctx_.download<double>(rz_[0])[0];
-    return rz_rhs_ > 0.0 ? std::sqrt(std::max(rz, 0.0) / rz_rhs_) : 0.0;
+    return relative_residual(ctx_.download<double>(rz_[0])[0], rz_rhs_);
 }
 
 std::vector<glm::dvec2> GpuPlaneCg::solution() {

@@ -21,12 +21,16 @@
 
 namespace gimg::passes::detail {
 
+// |r| / |b| in the preconditioner's norm, from r.z and b.(b / diag(A)).
+inline double relative_residual(double rz, double rz_rhs) {
+    return rz_rhs > 0.0 ? std::sqrt(std::max(rz, 0.0) / rz_rhs) : 0.0;
+}
+
 struct PlaneCgState {
     std::vector<glm::dvec2> x, r, p;  // solution, residual b - A x, search direction
     double rz = 0.0;                  // r . z, z = r / diag(A)
     double rz_rhs = 0.0;              // b . (b / diag(A)): the scale rz is measured against
-    // |r| / |b| in the preconditioner's norm.
-    double relative_residual() const { return rz_rhs > 0.0 ? std::sqrt(std::max(rz, 0.0) / rz_rhs) : 0.0; }
+    double relative_residual() const { return detail::relative_residual(rz, rz_rhs); }
 };
 
 // x = the problem's start, r = b - A x, p = r / diag(A).
