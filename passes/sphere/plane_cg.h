@@ -1,14 +1,15 @@
 #pragma once
-// The planar polish, step 2: the Jacobi-preconditioned conjugate gradient solve of a PlaneProblem
-// as iterative compute dispatches (GpuPlaneCg), and the same iterations on the CPU
-// (plane_cg_cpu), which tests compare it with.
+// The planar polish, step 2: the conjugate gradient solve of a PlaneProblem, preconditioned by one
+// multigrid V-cycle (plane_multigrid.h), as iterative compute dispatches (GpuPlaneCg), and the
+// same iterations on the CPU (plane_cg_cpu), which tests compare it with.
 //
-// One iteration is three passes and two reductions (primitives/reduce_f64, a fixed tree):
-// q = A p and p.q; then x += alpha p, r -= alpha q and r.z (z = r / diag(A)); then p = z + beta p.
-// The scalars alpha and beta never leave the GPU: each pass reads the reduced sums it needs. Only
-// r.z comes back, once per call, for the convergence test. (Summing the partials inside the next
-// pass instead, to save the reduction dispatches, was 1.3-1.5x slower on lavapipe: its
-// workgroup barriers cost more than the dispatches.)
+// One iteration: q = A p and p.q (a pass and a reduction, primitives/reduce_f64, a fixed tree);
+// x += alpha p, r -= alpha q; z = V-cycle(r) with r.z from its last pass, and a reduction; then
+// p = z + beta p. The scalars alpha and beta never leave the GPU: each pass reads the reduced sums
+// it needs. Only r.z comes back, once per call, for the convergence test. (Summing the partials
+// inside the next pass instead, to save the reduction dispatches, was 1.3-1.5x slower on
+// lavapipe: its workgroup barriers cost more than the dispatches.)
+#include "plane_multigrid.h"
 #include "plane_problem.h"
 
 #include "gimg/engine/context.h"
@@ -21,27 +22,27 @@
 
 namespace gimg::passes::detail {
 
-// |r| / |b| in the preconditioner's norm, from r.z and b.(b / diag(A)).
+// |r| / |b| in the preconditioner's norm, from r.z and b.M b.
 inline double relative_residual(double rz, double rz_rhs) {
     return rz_rhs > 0.0 ? std::sqrt(std::max(rz, 0.0) / rz_rhs) : 0.0;
 }
 
 struct PlaneCgState {
     std::vector<glm::dvec2> x, r, p;  // solution, residual b - A x, search direction
-    double rz = 0.0;                  // r . z, z = r / diag(A)
-    double rz_rhs = 0.0;              // b . (b / diag(A)): the scale rz is measured against
+    double rz = 0.0;                  // r . z, z = M r (the V-cycle)
+    double rz_rhs = 0.0;              // b . M b: the scale rz is measured against
     double relative_residual() const { return detail::relative_residual(rz, rz_rhs); }
 };
 
-// x = the problem's start, r = b - A x, p = r / diag(A).
-PlaneCgState start_plane_cg(const PlaneProblem& problem);
+// x = the problem's start, r = b - A x, p = M r.
+PlaneCgState start_plane_cg(const PlaneProblem& problem, const PlaneMultigrid& mg);
 
 // `iterations` conjugate gradient iterations on the CPU, in the GPU's order of operations.
-void plane_cg_cpu(const PlaneProblem& problem, PlaneCgState& state, std::uint32_t iterations);
+void plane_cg_cpu(const PlaneMultigrid& mg, PlaneCgState& state, std::uint32_t iterations);
 
 class GpuPlaneCg {
 public:
-    GpuPlaneCg(Context& ctx, const PlaneProblem& problem);
+    GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMultigrid& mg);
     // Runs `iterations` (even) iterations; returns the state's relative residual after them.
     double run(std::uint32_t iterations);
     std::vector<glm::dvec2> solution();
@@ -51,10 +52,23 @@ public:
 private:
     Plan& plan_for(std::uint32_t iterations);
 
+    struct Matrix {
+        Buffer offsets, columns, values;
+        std::uint32_t rows = 0;
+    };
+    struct Level {
+        Matrix a, prolong, restrict_;
+        Buffer smoother;
+    };
+    Matrix upload(const CsrMatrix& m, const std::string& name);
+
     Context& ctx_;
     std::uint32_t rows_ = 0;
     double rz_rhs_ = 0.0;
-    Buffer offsets_, columns_, values_, diagonal_;
+    std::vector<Level> levels_;
+    Matrix finest_;  // the operator when there is no smoothed level (else levels_[0].a)
+    Buffer coarsest_inverse_;
+    std::uint32_t coarsest_rows_ = 0;
     Buffer x_, r_, p_, q_;
     Buffer rz_[2], pq_;  // rz_[0] holds r.z between calls (the loop body runs two iterations)
     bool timestamps_ = false;
