@@ -100,13 +100,10 @@ SettleRun settle(detail::GpuSphereRelaxation& relax, std::uint32_t per_check, co
     return run;
 }
 
-// Levels the polish follows: the polish replaces everything but the pinned cap around its pole,
-// so the levels above this size settle to kLooseToleranceScale x the tolerance in checks of
-// kLooseSweepsPerCheck sweeps. (Measured, with the default options: bunny, armadillo and
-// armadillo_loop1 end with the same angles to 0.001 degree mean and the same conformal ratio to
-// 3e-5, in 16 sweeps a level instead of 64-184.) Smaller levels fix the map's global layout and
-// cost little: they settle in full.
-constexpr std::size_t kLoosePolishLevelVertices = 10000;
+// Levels the polish follows (GpuSphereOptions::loose_levels_above) settle to
+// kLooseToleranceScale x the tolerance in checks of kLooseSweepsPerCheck sweeps: bunny, armadillo
+// and armadillo_loop1 end with the same angles to 0.001 degree mean and the same conformal ratio
+// to 3e-5, in 16 sweeps a level instead of 64-184.
 constexpr double kLooseToleranceScale = 100.0;
 constexpr std::uint32_t kLooseSweepsPerCheck = 8;
 
@@ -245,11 +242,11 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
             if (kernel_failures == 0) remarks.push_back(what + " (the Tutte phase placed them)");
             else warnings.push_back(what + ", " + std::to_string(kernel_failures) + " triangles fail the kernel test after the Tutte phase");
         }
-        // Under the polish the levels above a few hundred vertices only have to hand a flip-free
-        // map to the next: settled loosely (polish_level_options); the finest settles in full
-        // after all when the polish is not kept.
+        // Under the polish big levels only have to hand a flip-free map to the next: settled
+        // loosely (loose_level_options); the finest settles in full after all when the polish is
+        // not kept.
         const bool last = i + 1 == counts.size();
-        const bool loose = options.plane_polish && level.vertex_count() > kLoosePolishLevelVertices;
+        const bool loose = options.plane_polish && level.vertex_count() > options.loose_levels_above;
         const GpuSphereOptions level_options = loose ? loose_level_options(options) : options;
         SettleRun settled = settle(relax, sweeps_per_check(level.vertex_count(), level_options.iterations_per_check),
                                    level_options, iterations, energy, name, t0, result.gpu_ms);
