@@ -67,7 +67,7 @@ std::vector<std::array<double, 2>> cylinder_directions(std::uint32_t width) {
 struct CylinderZBuffer::State {
     Context& ctx;
     std::uint32_t width, height, small_pixels;
-    bool use_double;
+    bool use_double, timestamps;
 
     std::vector<float> positions;
     std::vector<std::uint32_t> triangles;
@@ -87,6 +87,7 @@ struct CylinderZBuffer::State {
     State(Context& c, std::uint32_t w, std::uint32_t h, const CylinderZBufferOptions& options)
         : ctx(c), width(w), height(h), small_pixels(options.small_pixels) {
         use_double = options.double_precision && ctx.device_info().shader_float64;
+        timestamps = options.timestamps && ctx.device_info().timestamp_period_ns > 0.0;
         const auto dirs = cylinder_directions(w);
         if (use_double) {
             directions_buf = ctx.create_buffer({w * 16ull, "cylinder directions"});
@@ -199,7 +200,7 @@ CylinderZBuffer::~CylinderZBuffer() = default;
 bool CylinderZBuffer::double_precision() const { return state_->use_double; }
 
 std::vector<PassTiming> CylinderZBuffer::last_pass_timings() const {
-    if (!state_->plan || state_->ctx.device_info().timestamp_period_ns == 0.0) return {};
+    if (!state_->plan || !state_->timestamps) return {};
     return state_->plan->timings();
 }
 
@@ -278,8 +279,8 @@ std::vector<CylinderImage> CylinderZBuffer::project_batch(std::span<const Job> j
                   s.rect_capacity,       s.small_pixels,              s.atlas.width()};
     s.merge = {s.atlas.width(), s.atlas.height()};
     s.draw = {{float(s.atlas.width()), float(s.atlas.height())}, {s.width, s.height}};
-    s.plan->execute({.wait = true, .timestamps = s.ctx.device_info().timestamp_period_ns > 0.0});
-    last_gpu_ms_ = s.ctx.device_info().timestamp_period_ns > 0.0 ? s.plan->total_gpu_ms() : 0.0;
+    s.plan->execute({.wait = true, .timestamps = s.timestamps});
+    last_gpu_ms_ = s.timestamps ? s.plan->total_gpu_ms() : 0.0;
 
     std::uint32_t args[4] = {0, 0, 0, 0};
     s.ctx.download(s.args_buf, args, sizeof args);

@@ -30,7 +30,7 @@ void run_cylinder(const CylinderOptions& o, const GlobalOptions& global) {
     double gpu_ms = 0.0;
     if (o.method == "zbuffer") {
         ctx = open_context(global);
-        passes::CylinderZBuffer zbuffer(*ctx, size[0], size[1]);
+        passes::CylinderZBuffer zbuffer(*ctx, size[0], size[1], {.timestamps = true});
         image = zbuffer.project(zbuffer.add_mesh(cyl));
         gpu_ms = zbuffer.last_gpu_ms();
     } else if (o.method == "scanline") {

@@ -40,7 +40,7 @@ void run_demo(const std::string& out, const GlobalOptions& global) {
     const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, frame);
     const std::uint32_t W = 512, H = 256;
 
-    passes::CylinderZBuffer zbuffer(*ctx, W, H);
+    passes::CylinderZBuffer zbuffer(*ctx, W, H, {.timestamps = true});
     const std::uint32_t id = zbuffer.add_mesh(cyl);
     zbuffer.project(id);  // first use compiles the pipelines
     passes::CylinderImage gpu;

@@ -40,7 +40,7 @@ void add_roundtrip_command(CLI::App& app, const GlobalOptions& global) {
         auto ctx = open_context(global);
         const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh);
         const auto wh = o->size.empty() ? passes::auto_cylinder_size(mesh.face_count()) : parse_size(o->size);
-        passes::CylinderZBuffer zbuffer(*ctx, wh[0], wh[1]);
+        passes::CylinderZBuffer zbuffer(*ctx, wh[0], wh[1], {.timestamps = true});
         passes::CylinderImage image;
         const double project_ms = time_ms([&] { image = zbuffer.project(zbuffer.add_mesh(passes::make_cylinder_mesh(mesh, frame))); });
         passes::write_cylinder_files(o->out, image, frame, {o->mesh, "zbuffer"});

@@ -68,3 +68,21 @@ TEST_F(CylinderBatch, BatchesLargerThanOneExecutionAreSplitAndStayEqual) {
         EXPECT_EQ(batch[k].distance, single.distance) << "image " << k;
     }
 }
+
+TEST_F(CylinderBatch, TimestampsOnlyWhenAskedForAndTheSameImage) {
+    // GPU times cost lavapipe 0.5 ms a projection, so they are off unless asked for; the image
+    // must not depend on them.
+    if (ctx().device_info().timestamp_period_ns == 0.0) GTEST_SKIP() << "device has no timestamps";
+    const auto mesh = gimg::test::to_cylinder_mesh(geo::make_torus(0.3, 0.1, 24, 12));
+    passes::CylinderTransform t = passes::kIdentityTransform;
+    t[7] = 0.5f;
+    passes::CylinderZBuffer plain(ctx(), 64, 32), timed(ctx(), 64, 32, {.timestamps = true});
+    const auto a = plain.project(plain.add_mesh(mesh), t);
+    const auto b = timed.project(timed.add_mesh(mesh), t);
+    EXPECT_EQ(plain.last_gpu_ms(), 0.0);
+    EXPECT_TRUE(plain.last_pass_timings().empty());
+    EXPECT_GT(timed.last_gpu_ms(), 0.0);
+    EXPECT_FALSE(timed.last_pass_timings().empty());
+    EXPECT_EQ(a.covered, b.covered);
+    EXPECT_EQ(a.distance, b.distance);
+}
