@@ -35,9 +35,11 @@ double dot_sum(const std::vector<glm::dvec2>& a, const std::vector<glm::dvec2>& 
     return sum;
 }
 
-struct TransferPush {
+// Push constants of the cycle's passes: the level's rows and the pass's switch (mg_transfer:
+// accumulate; mg_postsmooth and mg_coarsest: write r.z's terms).
+struct RowsAndSwitch {
     std::uint32_t rows;
-    std::uint32_t accumulate;
+    std::uint32_t on;
 };
 
 }  // namespace
@@ -162,7 +164,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
                 for (BufferHandle h : {level.restrict_.offsets, level.restrict_.columns, level.restrict_.values, level.r}) pb.read(h, Access::ComputeRead);
                 coarse_b = pb.write(coarse_b, Access::ComputeWrite);
             }, [=, m = level.restrict_, v = level.r, y = coarse_b](Cmd& cmd) {
-                cmd.dispatch_threads(kTransfer, {m.rows}, {m.offsets, m.columns, m.values, v, y}, TransferPush{m.rows, 0});
+                cmd.dispatch_threads(kTransfer, {m.rows}, {m.offsets, m.columns, m.values, v, y}, RowsAndSwitch{m.rows, 0});
             });
         }
         // With no smoothed level the dense solve is the whole cycle and writes r.z's terms.
@@ -176,7 +178,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
             if (alone) terms = pb.write(terms, Access::ComputeWrite);
         }, [=, inv = coarsest_inverse, out = dense_x, t = terms](Cmd& cmd) {
             cmd.dispatch_threads(kCoarsest, {coarsest_rows}, {inv, dense_b, out, alone ? t : out},
-                                 TransferPush{coarsest_rows, alone ? 1u : 0u});
+                                 RowsAndSwitch{coarsest_rows, alone ? 1u : 0u});
         });
         for (std::size_t l = depth; l-- > 0;) {
             LevelHandles& level = levels[l];
@@ -187,7 +189,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
                 for (BufferHandle h : {level.prolong.offsets, level.prolong.columns, level.prolong.values, coarse_x}) pb.read(h, Access::ComputeRead);
                 level.x = pb.write(level.x, Access::ComputeReadWrite);
             }, [=, m = level.prolong, y = level.x](Cmd& cmd) {
-                cmd.dispatch_threads(kTransfer, {m.rows}, {m.offsets, m.columns, m.values, coarse_x, y}, TransferPush{m.rows, 1});
+                cmd.dispatch_threads(kTransfer, {m.rows}, {m.offsets, m.columns, m.values, coarse_x, y}, RowsAndSwitch{m.rows, 1});
             });
             BufferHandle& out = l ? level.out : z;
             g.add_compute_pass(name + " postsmooth" + suffix, [&](PassBuilder& pb) {
@@ -195,7 +197,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
                 out = pb.write(out, Access::ComputeWrite);
                 if (l == 0) terms = pb.write(terms, Access::ComputeWrite);
             }, [=, a = level.a, s = level.smoother, lx = level.x, o = out, t = terms](Cmd& cmd) {
-                const TransferPush push{a.rows, l == 0 ? 1u : 0u};
+                const RowsAndSwitch push{a.rows, l == 0 ? 1u : 0u};
                 if (l == 0) cmd.dispatch_threads(kPostsmooth, {a.rows}, {a.offsets, a.columns, a.values, s, b, lx, o, t}, push);
                 else cmd.dispatch_threads(kPostsmooth, {a.rows}, {a.offsets, a.columns, a.values, s, b, lx, o, o}, push);
             });

@@ -21,7 +21,7 @@ namespace {
 using Sparse = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
 
 // Above this the dense coarsest level would cost more than the cycle it ends.
-constexpr std::size_t kMaxDenseRows = 4096;
+constexpr std::size_t kMaxDenseRows = 1024;
 // A level that keeps more than this share of its rows is not worth another level.
 constexpr double kStalledCoarsening = 0.9;
 // Power iterations for the largest eigenvalue of D^-1 A; the damping 4 / (3 rho) leaves a

@@ -51,8 +51,9 @@ struct PlaneMultigrid {
 // Levels are coarsened until at most this many rows are left, which are solved densely.
 inline constexpr std::size_t kMultigridDenseRows = 256;
 
-// Throws gimg::Error (Internal) when aggregation stalls above 4096 rows (a matrix without
-// off-diagonal entries), which a cotangent Laplacian of a connected mesh cannot produce.
+// Throws gimg::Error (InvalidArgument) when aggregation stalls above 1024 rows (a matrix almost
+// without off-diagonal entries), which the cotangent Laplacian of a connected mesh cannot be; the
+// polish is then not kept, with the message in the map's note.
 PlaneMultigrid build_plane_multigrid(const PlaneProblem& problem);
 
 // z = V-cycle(b).

@@ -4,6 +4,7 @@
 #include "sphere/plane_cg.h"
 #include "sphere/plane_multigrid.h"
 
+#include "gimg/engine/error.h"
 #include "gimg/geometry/shapes.h"
 
 #include <glm/geometric.hpp>
@@ -130,4 +131,24 @@ TEST(SpherePlaneMultigrid, IterationsStayFlatAsTheMeshGrows) {
     std::printf("iterations to 1e-8 from zero: %u (2,562 vertices), %u (40,962 vertices)\n", n_small, n_large);
     EXPECT_LE(n_large, 40u);
     EXPECT_LE(n_large, n_small + n_small / 2);
+}
+
+TEST(SpherePlaneMultigrid, RefusesAMatrixThatDoesNotCoarsen) {
+    // 2,000 rows without a single off-diagonal entry: no aggregate grows, and a dense level of
+    // that size would cost more than the cycle it ends. (A diagonal of 300 rows is fine: dense.)
+    for (std::size_t rows : {300u, 2000u}) {
+        PlaneProblem p;
+        p.free_vertices.resize(rows);
+        p.row_offsets.assign(rows + 1, 0);
+        p.diagonal.assign(rows, 2.0);
+        p.rhs.assign(rows, glm::dvec2(1.0));
+        p.start.assign(rows, glm::dvec2(0.0));
+        if (rows > 1024) {
+            EXPECT_THROW(build_plane_multigrid(p), gimg::Error);
+        } else {
+            const PlaneMultigrid mg = build_plane_multigrid(p);
+            EXPECT_EQ(mg.coarsest_rows(), rows);
+            EXPECT_NEAR(apply_multigrid_cpu(mg, p.rhs)[7].x, 0.5, 1e-15);
+        }
+    }
 }
