@@ -74,13 +74,14 @@ struct SettleRun {
     bool converged = false;
 };
 
-// Checks of `per_check` sweeps until the energy changed by less than options.tolerance per sweep,
-// relative to it, or the level's budget of sweeps is spent.
-SettleRun settle(detail::GpuSphereRelaxation& relax, std::uint32_t per_check, const GpuSphereOptions& options,
+// Checks of K sweeps until the energy changed by less than options.tolerance per sweep, relative
+// to it, or the level's budget of sweeps is spent.
+SettleRun settle(detail::GpuSphereRelaxation& relax, std::size_t vertex_count, const GpuSphereOptions& options,
                  std::size_t iterations, double energy, const std::string& name, Clock::time_point t0, double& gpu_ms) {
     SettleRun run{iterations, energy, 0, false};
     while (run.iterations < options.max_iterations_per_level) {
-        const auto k = std::uint32_t(std::min<std::size_t>(per_check, options.max_iterations_per_level - run.iterations));
+        const auto k = std::uint32_t(std::min<std::size_t>(sweeps_per_check(vertex_count, options.iterations_per_check),
+                                                           options.max_iterations_per_level - run.iterations));
         const detail::RelaxCheck check = relax.run(k, false);
         run.iterations += k;
         gpu_ms += relax.last_gpu_ms();
@@ -174,8 +175,9 @@ PolishRun polish_in_plane(Context& ctx, const detail::SphereLevel& level, std::v
     detail::GpuSphereRelaxation relax(ctx, level, polished);
     relax.set_timestamps(options.timestamps);
     const std::string name = "plane polish: relaxation";
-    const std::uint32_t per_check = sweeps_per_check(level.vertex_count(), std::min(options.iterations_per_check, kPolishSweepsPerCheck));
-    const SettleRun settled = settle(relax, per_check, options, 0, polished_energy, name, t0, result.gpu_ms);
+    GpuSphereOptions relax_options = options;
+    relax_options.iterations_per_check = std::min(options.iterations_per_check, kPolishSweepsPerCheck);
+    const SettleRun settled = settle(relax, level.vertex_count(), relax_options, 0, polished_energy, name, t0, result.gpu_ms);
     result.stages.push_back({name, level.vertex_count(), settled.iterations, seconds_since(relax_start), settled.energy});
     if (settled.flips) return {false, std::to_string(settled.flips) + " flipped triangles"};
     if (!(settled.energy <= energy * 1.001)) return {false, "energy " + std::to_string(settled.energy) + " against " + std::to_string(energy)};
@@ -248,8 +250,7 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
         const bool last = i + 1 == counts.size();
         const bool loose = options.plane_polish && level.vertex_count() > options.loose_levels_above;
         const GpuSphereOptions level_options = loose ? loose_level_options(options) : options;
-        SettleRun settled = settle(relax, sweeps_per_check(level.vertex_count(), level_options.iterations_per_check),
-                                   level_options, iterations, energy, name, t0, result.gpu_ms);
+        SettleRun settled = settle(relax, level.vertex_count(), level_options, iterations, energy, name, t0, result.gpu_ms);
         y = relax.positions();
         result.stages.push_back({name, level.vertex_count(), settled.iterations, seconds_since(level_start), settled.energy});
         bool polished = false;
@@ -261,8 +262,7 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
         if (loose && last && !polished) {
             const auto full_start = Clock::now();
             const std::string full_name = name + ", settled in full without the polish";
-            settled = settle(relax, sweeps_per_check(level.vertex_count(), options.iterations_per_check), options, 0,
-                             settled.energy, full_name, t0, result.gpu_ms);
+            settled = settle(relax, level.vertex_count(), options, 0, settled.energy, full_name, t0, result.gpu_ms);
             y = relax.positions();
             result.stages.push_back({full_name, level.vertex_count(), settled.iterations, seconds_since(full_start), settled.energy});
         }
