@@ -22,9 +22,12 @@
 
 namespace gimg::passes::detail {
 
-// |r| / |b| in the preconditioner's norm, from r.z and b.M b.
+// |r| / |b| in the preconditioner's norm, from r.z and b.M b. A negative r.z or b.M b means the
+// matrix or its preconditioner is not positive definite (cotangent weights can make it so) and
+// conjugate gradients have broken down: NaN, never a small number that would pass for converged.
 inline double relative_residual(double rz, double rz_rhs) {
-    return rz_rhs > 0.0 ? std::sqrt(std::max(rz, 0.0) / rz_rhs) : 0.0;
+    if (rz < 0.0 || rz_rhs < 0.0) return std::nan("");
+    return rz_rhs > 0.0 ? std::sqrt(rz / rz_rhs) : 0.0;
 }
 
 struct PlaneCgState {

@@ -14,6 +14,7 @@
 #include "progressive_replay.h"
 #include "sphere_level.h"
 #include "sphere_relax.h"
+#include "sphere_untangle.h"
 #include "split_refinement.h"
 
 #include "gimg/engine/error.h"
@@ -165,11 +166,25 @@ PolishRun polish_in_plane(Context& ctx, const detail::SphereLevel& level, std::v
         }
     }
     const std::string solve_name = "plane polish: conjugate gradients (" + std::to_string(problem.rows()) + " free vertices)";
-    const std::vector<glm::dvec3> polished = detail::sphere_points_from_plane(problem, y, cg.solution());
-    const double polished_energy = detail::level_stats_cpu(level, polished).energy;
-    result.stages.push_back({solve_name, problem.rows(), cg_iterations, seconds_since(solve_start), polished_energy});
-    if (!std::isfinite(residual)) return {false, "the conjugate gradient residual is not finite"};
+    std::vector<glm::dvec3> polished = detail::sphere_points_from_plane(problem, y, cg.solution());
+    const detail::LevelStats polished_stats = detail::level_stats_cpu(level, polished);
+    result.stages.push_back({solve_name, problem.rows(), cg_iterations, seconds_since(solve_start), polished_stats.energy});
+    if (!std::isfinite(residual))
+        return {false, "conjugate gradients broke down (the problem or its preconditioner is not positive definite)"};
     if (residual > kCgTolerance) return {false, "conjugate gradients stopped at residual " + std::to_string(residual)};
+    double polished_energy = polished_stats.energy;
+    if (polished_stats.flips > 0) {
+        // Negative cotangent weights (obtuse triangles) folded a few triangles: repair them locally.
+        const auto untangle_start = Clock::now();
+        const detail::UntangleResult untangled = detail::untangle_sphere_map(level, polished);
+        polished_energy = detail::level_stats_cpu(level, polished).energy;
+        result.stages.push_back({"plane polish: untangling (" + std::to_string(untangled.flips_before) + " flipped triangles, " +
+                                     std::to_string(untangled.flips_after) + " left, " + std::to_string(untangled.moves) +
+                                     " moves)",
+                                 level.vertex_count(), untangled.moves, seconds_since(untangle_start), polished_energy});
+        if (untangled.flips_after > 0)
+            return {false, std::to_string(untangled.flips_after) + " flipped triangles the untangling could not repair"};
+    }
 
     const auto relax_start = Clock::now();
     detail::GpuSphereRelaxation relax(ctx, level, polished);

@@ -115,9 +115,10 @@ TEST_F(SphereGpu, EveryClosedGenusZeroSharedMeshWithoutFlips) {
 TEST_F(SphereGpu, LooseLevelsBeforeThePolishKeepTheQuality) {
     // Levels settled loosely ahead of the polish (every level above 500 vertices here, not only
     // the default's above 10,000): where the polish is kept (bunny_small) the map is as good as
-    // with every level settled in full; where it folds (triceratops) the finest level settles in
-    // full after all, flip-free and within 1% of Kanai's energy.
-    for (const char* name : {"bunny_small.obj", "triceratops.off"}) {
+    // with every level settled in full; where it folds beyond repair (camel, 2,600 folded
+    // triangles) the finest level settles in full after all, flip-free and within 1% of Kanai's
+    // energy.
+    for (const char* name : {"bunny_small.obj", "camel.off"}) {
         auto path = test::shared_mesh(name);
         if (!path) GTEST_SKIP() << "shared mesh " << name << " not found (set GIMG_MESH_DIR)";
         SCOPED_TRACE(name);

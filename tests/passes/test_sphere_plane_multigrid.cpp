@@ -152,3 +152,28 @@ TEST(SpherePlaneMultigrid, RefusesAMatrixThatDoesNotCoarsen) {
         }
     }
 }
+
+TEST(SpherePlaneMultigrid, ConjugateGradientsReportABreakdownOnAnIndefiniteMatrix) {
+    // [[1, -2], [-2, 1]] has the eigenvalues 3 and -1 (negative cotangent weights can make a polish
+    // matrix indefinite). With b along the eigenvector of -1, r.z < 0 from the start: conjugate
+    // gradients have broken down, and the residual must say so rather than read as converged.
+    PlaneProblem p;
+    p.free_vertices = {0, 1};
+    p.row_offsets = {0, 1, 2};
+    p.columns = {1, 0};
+    p.values = {-2.0, -2.0};
+    p.diagonal = {1.0, 1.0};
+    p.rhs.assign(2, glm::dvec2(1.0));
+    p.start.assign(2, glm::dvec2(0.0));
+    const PlaneMultigrid mg = build_plane_multigrid(p);
+    PlaneCgState state = start_plane_cg(p, mg);
+    EXPECT_LT(state.rz, 0.0);
+    EXPECT_TRUE(std::isnan(state.relative_residual()));
+    // A positive definite matrix with the same pattern converges, and its residual is a number.
+    p.diagonal = {3.0, 3.0};
+    const PlaneMultigrid spd = build_plane_multigrid(p);
+    state = start_plane_cg(p, spd);
+    EXPECT_GT(state.relative_residual(), 0.5);
+    plane_cg_cpu(spd, state, 2);
+    EXPECT_LT(state.relative_residual(), 1e-12);
+}
