@@ -78,10 +78,6 @@ void grow(const SphereLevel& level, std::vector<std::uint8_t>& region) {
     }
 }
 
-}  // namespace
-
-namespace {
-
 // v's fan in the gnomonic projection about the centre of its link: a frame and the link's points.
 struct GnomonicFan {
     glm::dvec3 c{0.0}, e1{0.0}, e2{0.0};  // e1 x e2 = c: the projection keeps orientation
@@ -228,7 +224,10 @@ UntangleResult untangle_sphere_map(const SphereLevel& level, std::vector<glm::dv
         for (std::size_t sweep = 0; sweep < options.sweeps_per_round && result.flips_after > 0; ++sweep) {
             for (std::uint32_t v : region) {
                 if (ring == 0 && fan_counter_clockwise(level, y, v, y[v])) continue;
-                if (result.moves >= move_budget) return result;
+                if (result.moves >= move_budget) {
+                    result.flips_after = flipped_corners(level, y, in_region);
+                    return result;
+                }
                 glm::dvec3 p;
                 // The centroid is in the kernel up to rounding; the test says so for sure. Where
                 // the kernel is empty (the link itself is folded) the least folded point makes

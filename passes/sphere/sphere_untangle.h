@@ -2,7 +2,7 @@
 // Local repair of a sphere map with a few flipped triangles. The planar polish (plane_problem.h)
 // solves a cotangent Laplace equation, and where a mesh has obtuse triangles some cotangent
 // weights are negative: the harmonic map is then not guaranteed one-to-one and folds a few
-// triangles (triceratops 25, cow 69), while everywhere else it is far more conformal than the
+// triangles (triceratops 26, cow 89), while everywhere else it is far more conformal than the
 // relaxed map it started from (triceratops 6 instead of 16 degrees mean). Rather than drop it, move
 // the vertices around the folds into the kernels of their fans: a vertex inside its kernel sees
 // every triangle of its fan counter-clockwise, so once every vertex of a fold has been moved there
@@ -50,8 +50,8 @@ bool fan_kernel_centroid(const SphereLevel& level, const std::vector<glm::dvec3>
                          glm::dvec3& centroid);
 
 // Where the kernel is empty: the point that maximises the smallest signed distance (in the
-// gnomonic projection) to the link edges' lines, kept within twice the link's bounding box; false
-// when it is no better than where v is.
+// gnomonic projection) to the link edges' lines, within the link's bounding box widened by its
+// size on every side; false when it is no better than where v is.
 bool fan_least_folded_point(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t v,
                             glm::dvec3& point);
 
