@@ -2,6 +2,7 @@
 #include "plane_problem.h"
 
 #include "linear/stereographic.h"
+#include "sphere_steps.h"
 
 #include <glm/geometric.hpp>
 
@@ -33,12 +34,6 @@ glm::dvec3 pole_of(const SphereLevel& level, const std::vector<glm::dvec3>& y) {
     return pole;
 }
 
-glm::dmat3 frame_with_pole(const glm::dvec3& pole) {
-    const glm::dvec3 helper = std::abs(pole.x) < 0.9 ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(0.0, 1.0, 0.0);
-    const glm::dvec3 e1 = glm::normalize(glm::cross(helper, pole));
-    return glm::dmat3(e1, glm::cross(pole, e1), pole);  // right-handed: keeps orientation
-}
-
 glm::dvec2 chart_point(const glm::dmat3& frame, const glm::dvec3& p) {
     const linear_sphere::Complex w = linear_sphere::south_chart_from_sphere(glm::transpose(frame) * p);
     return {w.real(), w.imag()};
@@ -50,7 +45,7 @@ PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm:
     const std::size_t n = level.vertex_count();
     PlaneProblem problem;
     const glm::dvec3 pole = pole_of(level, y);
-    problem.frame = frame_with_pole(pole);
+    problem.frame = tangent_frame(pole);  // the pole is e3
 
     // The cap: the vertices nearest the pole.
     const std::size_t cap = std::min(n, std::max<std::size_t>(3, std::size_t(std::ceil(cap_fraction * double(n)))));

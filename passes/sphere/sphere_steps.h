@@ -9,6 +9,7 @@
 // 1e-16, is then as large as the quantities wanted).
 
 #include <glm/geometric.hpp>
+#include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
 #include <cmath>
@@ -24,6 +25,14 @@ namespace gimg::passes::detail {
 // its sign for tiny triangles; sphere_metrics() counts flips with the same expression.
 inline double orientation(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
     return glm::dot(a, glm::cross(b - a, c - a));
+}
+
+// A right-handed frame (e1, e2, n) around the unit vector n: projections onto e1, e2 seen from
+// outside along n keep a triangle's orientation.
+inline glm::dmat3 tangent_frame(const glm::dvec3& n) {
+    const glm::dvec3 helper = std::abs(n.x) < 0.9 ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(0.0, 1.0, 0.0);
+    const glm::dvec3 e1 = glm::normalize(glm::cross(helper, n));
+    return glm::dmat3(e1, glm::cross(n, e1), n);
 }
 
 // Counter-clockwise with a margin: det > kKernelMargin |b - a| |c - a|. Computing det this way errs

@@ -94,9 +94,9 @@ bool project_fan(const SphereLevel& level, const std::vector<glm::dvec3>& y, std
     const double length = glm::length(sum);
     if (!(length > 1e-300)) return false;
     fan.c = sum / length;
-    const glm::dvec3 helper = std::abs(fan.c.x) < 0.9 ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(0.0, 1.0, 0.0);
-    fan.e1 = glm::normalize(glm::cross(helper, fan.c));
-    fan.e2 = glm::cross(fan.c, fan.e1);
+    const glm::dmat3 frame = tangent_frame(fan.c);
+    fan.e1 = frame[0];
+    fan.e2 = frame[1];
     fan.link.resize(degree);
     for (std::uint32_t k = 0; k < degree; ++k) {
         const glm::dvec3& a = y[level.ring[begin + k]];
@@ -167,12 +167,8 @@ glm::dvec2 max_min_point(const std::vector<Halfplane>& h, double& best) {
     return arg;
 }
 
-}  // namespace
-
-bool fan_kernel_centroid(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t v,
-                         glm::dvec3& centroid) {
-    GnomonicFan fan;
-    if (!project_fan(level, y, v, fan)) return false;
+// The centroid of the fan's kernel, in its gnomonic coordinates; false when the kernel is empty.
+bool kernel_centroid(const GnomonicFan& fan, glm::dvec2& x) {
     const std::size_t degree = fan.link.size();
     // The kernel lies inside the link polygon, hence inside its bounding box.
     std::vector<glm::dvec2> kernel{fan.lo, {fan.hi.x, fan.lo.y}, fan.hi, {fan.lo.x, fan.hi.y}};
@@ -191,21 +187,38 @@ bool fan_kernel_centroid(const SphereLevel& level, const std::vector<glm::dvec3>
     }
     const glm::dvec2 extent = fan.hi - fan.lo;
     if (!(area > 1e-18 * extent.x * extent.y)) return false;
-    centroid = fan.to_sphere(weighted / area);
+    x = weighted / area;
+    return true;
+}
+
+// The least folded point of the fan (fan_least_folded_point), in its gnomonic coordinates; false
+// when it is no better than `current` (v's point on the sphere).
+bool least_folded(const GnomonicFan& fan, const glm::dvec3& current, glm::dvec2& x) {
+    const std::vector<Halfplane> h = fan_halfplanes(fan);
+    const glm::dvec3 d = current - fan.c;
+    const double height = glm::dot(current, fan.c);
+    const double now = height > 0.0 ? min_value(h, glm::dvec2(glm::dot(d, fan.e1), glm::dot(d, fan.e2)) / height) : -1e300;
+    double best = 0.0;
+    x = max_min_point(h, best);
+    return best > now;
+}
+
+}  // namespace
+
+bool fan_kernel_centroid(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t v,
+                         glm::dvec3& centroid) {
+    GnomonicFan fan;
+    glm::dvec2 x;
+    if (!project_fan(level, y, v, fan) || !kernel_centroid(fan, x)) return false;
+    centroid = fan.to_sphere(x);
     return true;
 }
 
 bool fan_least_folded_point(const SphereLevel& level, const std::vector<glm::dvec3>& y, std::uint32_t v,
                             glm::dvec3& point) {
     GnomonicFan fan;
-    if (!project_fan(level, y, v, fan)) return false;
-    const std::vector<Halfplane> h = fan_halfplanes(fan);
-    const glm::dvec3 d = y[v] - fan.c;
-    const double height = glm::dot(y[v], fan.c);
-    const double now = height > 0.0 ? min_value(h, glm::dvec2(glm::dot(d, fan.e1), glm::dot(d, fan.e2)) / height) : -1e300;
-    double best = 0.0;
-    const glm::dvec2 x = max_min_point(h, best);
-    if (!(best > now)) return false;
+    glm::dvec2 x;
+    if (!project_fan(level, y, v, fan) || !least_folded(fan, y[v], x)) return false;
     point = fan.to_sphere(x);
     return true;
 }
@@ -228,13 +241,16 @@ UntangleResult untangle_sphere_map(const SphereLevel& level, std::vector<glm::dv
                     result.flips_after = flipped_corners(level, y, in_region);
                     return result;
                 }
-                glm::dvec3 p;
+                GnomonicFan fan;
+                if (!project_fan(level, y, v, fan)) continue;
                 // The centroid is in the kernel up to rounding; the test says so for sure. Where
                 // the kernel is empty (the link itself is folded) the least folded point makes
                 // room for the neighbours' moves.
-                if ((fan_kernel_centroid(level, y, v, p) && fan_counter_clockwise(level, y, v, p)) ||
-                    fan_least_folded_point(level, y, v, p)) {
-                    y[v] = p;
+                glm::dvec2 x;
+                bool moved = kernel_centroid(fan, x) && fan_counter_clockwise(level, y, v, fan.to_sphere(x));
+                if (!moved) moved = least_folded(fan, y[v], x);
+                if (moved) {
+                    y[v] = fan.to_sphere(x);
                     ++result.moves;
                 }
             }
