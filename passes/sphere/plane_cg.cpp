@@ -247,4 +247,20 @@ std::vector<glm::dvec2> GpuPlaneCg::solution() {
     return ctx_.download<glm::dvec2>(x_);
 }
 
+PlaneSolve solve_plane_gpu(Context& ctx, const PlaneProblem& problem, const PlaneMultigrid& mg, double tolerance,
+                           std::uint32_t per_check, std::size_t max_iterations, bool timestamps,
+                           const std::function<void(std::size_t, double)>& progress) {
+    GpuPlaneCg cg(ctx, problem, mg);
+    cg.set_timestamps(timestamps);
+    PlaneSolve solve;
+    while (solve.iterations < max_iterations && std::isfinite(solve.residual) && solve.residual > tolerance) {
+        solve.residual = cg.run(per_check);
+        solve.iterations += per_check;
+        solve.gpu_ms += cg.last_gpu_ms();
+        if (progress) progress(solve.iterations, solve.residual);
+    }
+    solve.x = cg.solution();
+    return solve;
+}
+
 }  // namespace gimg::passes::detail

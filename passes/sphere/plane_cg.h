@@ -17,6 +17,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <memory>
 
@@ -78,5 +79,20 @@ private:
     double last_gpu_ms_ = 0.0;
     std::map<std::uint32_t, std::unique_ptr<Plan>> plans_;
 };
+
+struct PlaneSolve {
+    std::vector<glm::dvec2> x;
+    double residual = 1.0;  // relative_residual at the end: NaN when conjugate gradients broke down
+    std::size_t iterations = 0;
+    double gpu_ms = 0.0;    // pass timestamps, when on
+    bool converged(double tolerance) const { return residual <= tolerance; }
+};
+
+// GpuPlaneCg from the problem's start until the relative residual is at most `tolerance` (checked
+// every `per_check` iterations, even), it breaks down, or `max_iterations` are spent. `progress`
+// (may be empty) hears the iterations and the residual after every check.
+PlaneSolve solve_plane_gpu(Context& ctx, const PlaneProblem& problem, const PlaneMultigrid& mg, double tolerance,
+                           std::uint32_t per_check, std::size_t max_iterations, bool timestamps,
+                           const std::function<void(std::size_t, double)>& progress = {});
 
 }  // namespace gimg::passes::detail

@@ -12,11 +12,7 @@
 
 namespace gimg::passes::detail {
 
-namespace {
-
-// The unit direction of the centroid of the level's largest triangle on the sphere (chord area):
-// where the relaxed map resolves the mesh best, so the pinned cap around it is accurate.
-glm::dvec3 pole_of(const SphereLevel& level, const std::vector<glm::dvec3>& y) {
+glm::dvec3 largest_triangle_pole(const SphereLevel& level, const std::vector<glm::dvec3>& y) {
     double best = -1.0;
     glm::dvec3 pole(0.0, 0.0, 1.0);
     for (std::uint32_t v = 0; v < level.vertex_count(); ++v) {
@@ -34,6 +30,8 @@ glm::dvec3 pole_of(const SphereLevel& level, const std::vector<glm::dvec3>& y) {
     return pole;
 }
 
+namespace {
+
 glm::dvec2 chart_point(const glm::dmat3& frame, const glm::dvec3& p) {
     const linear_sphere::Complex w = linear_sphere::south_chart_from_sphere(glm::transpose(frame) * p);
     return {w.real(), w.imag()};
@@ -41,27 +39,16 @@ glm::dvec2 chart_point(const glm::dmat3& frame, const glm::dvec3& p) {
 
 }  // namespace
 
-PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm::dvec3>& y, double cap_fraction) {
+PlaneProblem make_dirichlet_problem(const SphereLevel& level, const std::vector<std::uint8_t>& pinned,
+                                    const std::vector<glm::dvec2>& chart) {
     const std::size_t n = level.vertex_count();
     PlaneProblem problem;
-    const glm::dvec3 pole = pole_of(level, y);
-    problem.frame = tangent_frame(pole);  // the pole is e3
-
-    // The cap: the vertices nearest the pole.
-    const std::size_t cap = std::min(n, std::max<std::size_t>(3, std::size_t(std::ceil(cap_fraction * double(n)))));
-    std::vector<std::uint32_t> order(n);
-    std::iota(order.begin(), order.end(), 0u);
-    std::nth_element(order.begin(), order.begin() + std::ptrdiff_t(cap) - 1, order.end(),
-                     [&](std::uint32_t a, std::uint32_t b) { return glm::dot(y[a], pole) > glm::dot(y[b], pole); });
     std::vector<std::uint32_t> row_of(n, 0);
-    std::vector<std::uint8_t> pinned(n, 0);
-    for (std::size_t i = 0; i < cap; ++i) pinned[order[i]] = 1;
     for (std::uint32_t v = 0; v < n; ++v) {
         if (pinned[v]) continue;
         row_of[v] = std::uint32_t(problem.free_vertices.size());
         problem.free_vertices.push_back(v);
     }
-
     problem.row_offsets.push_back(0);
     for (std::uint32_t v : problem.free_vertices) {
         double diagonal = 0.0;
@@ -71,7 +58,7 @@ PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm:
             const double w = level.ring_weights[k];
             diagonal += w;
             if (pinned[u]) {
-                rhs += w * chart_point(problem.frame, y[u]);
+                rhs += w * chart[u];
             } else {
                 problem.columns.push_back(row_of[u]);
                 problem.values.push_back(-w);
@@ -80,9 +67,33 @@ PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm:
         problem.row_offsets.push_back(std::uint32_t(problem.columns.size()));
         problem.diagonal.push_back(diagonal);
         problem.rhs.push_back(rhs);
-        problem.start.push_back(chart_point(problem.frame, y[v]));
+        problem.start.push_back(chart[v]);
     }
     return problem;
+}
+
+PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm::dvec3>& y, const glm::dvec3& pole,
+                                double cap_fraction) {
+    const std::size_t n = level.vertex_count();
+    const glm::dmat3 frame = tangent_frame(pole);  // the pole is e3
+
+    // The cap: the vertices nearest the pole.
+    const std::size_t cap = std::min(n, std::max<std::size_t>(3, std::size_t(std::ceil(cap_fraction * double(n)))));
+    std::vector<std::uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    std::nth_element(order.begin(), order.begin() + std::ptrdiff_t(cap) - 1, order.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return glm::dot(y[a], pole) > glm::dot(y[b], pole); });
+    std::vector<std::uint8_t> pinned(n, 0);
+    for (std::size_t i = 0; i < cap; ++i) pinned[order[i]] = 1;
+    std::vector<glm::dvec2> chart(n);
+    for (std::uint32_t v = 0; v < n; ++v) chart[v] = chart_point(frame, y[v]);
+    PlaneProblem problem = make_dirichlet_problem(level, pinned, chart);
+    problem.frame = frame;
+    return problem;
+}
+
+PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm::dvec3>& y, double cap_fraction) {
+    return make_plane_problem(level, y, largest_triangle_pole(level, y), cap_fraction);
 }
 
 std::vector<glm::dvec3> sphere_points_from_plane(const PlaneProblem& problem, const std::vector<glm::dvec3>& y,

@@ -40,9 +40,22 @@ struct PlaneProblem {
     std::size_t rows() const { return free_vertices.size(); }
 };
 
-// Throws nothing; `y` must be flip-free unit vectors on `level`.
+// The unit direction of the centroid of the largest triangle of `y` (chord area): where a relaxed
+// map resolves the mesh best, so a cap pinned around it is accurate.
+glm::dvec3 largest_triangle_pole(const SphereLevel& level, const std::vector<glm::dvec3>& y);
+
+// Throws nothing; `y` must be flip-free unit vectors on `level`, at least near `pole`, around
+// which the cap is pinned.
+PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm::dvec3>& y, const glm::dvec3& pole,
+                                double cap_fraction = kPlaneCapFraction);
+// The same with the pole inside the largest triangle.
 PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm::dvec3>& y,
                                 double cap_fraction = kPlaneCapFraction);
+
+// The Dirichlet problem of vertices `pinned` at `chart[v]`; the free vertices start at theirs.
+// The frame stays the identity: the chart is the caller's.
+PlaneProblem make_dirichlet_problem(const SphereLevel& level, const std::vector<std::uint8_t>& pinned,
+                                    const std::vector<glm::dvec2>& chart);
 
 // The sphere map with every free vertex at the inverse projection of its solution `x`; pinned
 // vertices keep their point in `y`.

@@ -151,7 +151,7 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--out", opts->out, "Output folder for sphere.ply, metrics.json, checker.png and sphere.png")
         ->required();
     cmd->add_option("--method", opts->method,
-                    "gpu (default: hierarchical, flip-free, on the render graph), kanai (the paper's CPU method), "
+                    "gpu (default: flip-free, on the render graph), kanai (the paper's CPU method), "
                     "gu (Gu et al., CPU), linear (Choi-Lam-Lui 2015, CPU)")
         ->check(CLI::IsMember({"gpu", "kanai", "gu", "linear"}));
     cmd->add_option("--tolerance", opts->gpu.tolerance,
@@ -159,7 +159,10 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--max-iterations", opts->gpu.max_iterations_per_level,
                     "gpu: at most this many sweeps per level (default 4000)");
     cmd->add_flag_callback("--no-polish", [opts] { opts->gpu.plane_polish = false; },
-                           "gpu: skip the planar polish after the finest level (faster, protrusions stay crooked)");
+                           "gpu: skip the planar polish after the finest level (faster, protrusions stay crooked); "
+                           "implies --hierarchy");
+    cmd->add_flag_callback("--hierarchy", [opts] { opts->gpu.direct = false; },
+                           "gpu: skip the direct route and build Kanai's hierarchy at once");
     cmd->add_option("--json", opts->json, "Write the metrics and timings as JSON");
     cmd->callback([opts, &global] { run_sphere(*opts, global); });
 }

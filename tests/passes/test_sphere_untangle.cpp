@@ -131,7 +131,9 @@ TEST_F(SphereUntangle, PolishIsRepairedOnMeshesWhereItFolds) {
         if (!path) GTEST_SKIP() << "shared mesh " << name << " not found (set GIMG_MESH_DIR)";
         SCOPED_TRACE(name);
         const geo::Mesh mesh = geo::load_mesh(*path);
-        const passes::SphereResult polished = passes::sphere_gpu(ctx(), mesh);
+        passes::GpuSphereOptions hierarchy;  // the polish of the hierarchy's relaxed map folds
+        hierarchy.direct = false;
+        const passes::SphereResult polished = passes::sphere_gpu(ctx(), mesh, hierarchy);
         passes::GpuSphereOptions no_polish;
         no_polish.plane_polish = false;
         const passes::SphereResult relaxed = passes::sphere_gpu(ctx(), mesh, no_polish);

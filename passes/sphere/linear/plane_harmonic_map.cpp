@@ -30,6 +30,14 @@ std::uint32_t most_regular_face(const geo::Mesh& mesh) {
     return best;
 }
 
+std::array<std::complex<double>, 3> flat_big_triangle(const geo::Mesh& mesh, std::uint32_t big) {
+    const glm::uvec3 t = mesh.triangles[big];
+    const glm::dvec3 pa = mesh.positions[t.x], pb = mesh.positions[t.y], pc = mesh.positions[t.z];
+    const double angle_a = geo::corner_angle(pa, pb, pc);
+    const double ratio = glm::length(pc - pa) / glm::length(pb - pa);
+    return {std::complex<double>(0.0, 0.0), std::complex<double>(1.0, 0.0), std::polar(ratio, -angle_a)};
+}
+
 DirichletSolution harmonic_map_to_plane(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
                                         const std::vector<double>& edge_weights, std::uint32_t big) {
     const std::size_t n = mesh.vertex_count();
@@ -44,18 +52,14 @@ DirichletSolution harmonic_map_to_plane(const geo::Mesh& mesh, const geo::MeshAd
         stiffness.push_back({b, a, -w});
     }
 
-    // The big triangle (a, b, c) flat: a at 0, b at 1, c at the angle of corner a and the length
-    // ratio |ac| / |ab|, below the real axis (the mirror image, see the header).
     const glm::uvec3 t = mesh.triangles[big];
-    const glm::dvec3 pa = mesh.positions[t.x], pb = mesh.positions[t.y], pc = mesh.positions[t.z];
-    const double angle_a = geo::corner_angle(pa, pb, pc);
-    const double ratio = glm::length(pc - pa) / glm::length(pb - pa);
+    const std::array<std::complex<double>, 3> flat = flat_big_triangle(mesh, big);
     std::vector<std::uint8_t> pinned(n, 0);
     std::vector<std::complex<double>> values(n, {0.0, 0.0});
     pinned[t.x] = pinned[t.y] = pinned[t.z] = 1;
-    values[t.x] = {0.0, 0.0};
-    values[t.y] = {1.0, 0.0};
-    values[t.z] = std::polar(ratio, -angle_a);
+    values[t.x] = flat[0];
+    values[t.y] = flat[1];
+    values[t.z] = flat[2];
 
     DirichletSolution plane = solve_dirichlet(n, stiffness, pinned, values);
     if (!plane.ok) return plane;
@@ -64,6 +68,30 @@ DirichletSolution harmonic_map_to_plane(const geo::Mesh& mesh, const geo::MeshAd
     mean /= double(n);
     for (auto& z : plane.z) z -= mean;
     return plane;
+}
+
+double balancing_scale(const geo::Mesh& mesh, const std::vector<std::complex<double>>& w, std::uint32_t big) {
+    std::size_t inner = mesh.face_count();
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        if (f == big) continue;
+        const glm::uvec3 t = mesh.triangles[f];
+        const double d = std::abs(w[t.x]) + std::abs(w[t.y]) + std::abs(w[t.z]);
+        if (d < nearest) {
+            nearest = d;
+            inner = f;
+        }
+    }
+    if (inner == mesh.face_count()) return 1.0;
+    auto mean_edge = [&](std::size_t f, auto chart) {
+        const glm::uvec3 t = mesh.triangles[f];
+        const std::complex<double> a = chart(w[t.x]), b = chart(w[t.y]), c = chart(w[t.z]);
+        return (std::abs(a - b) + std::abs(b - c) + std::abs(c - a)) / 3.0;
+    };
+    const double north = mean_edge(big, [](std::complex<double> z) { return z; });
+    const double south = mean_edge(inner, [](std::complex<double> z) { return 1.0 / z; });
+    const double scale = std::sqrt(south / north);
+    return std::isfinite(scale) && scale > 0.0 ? scale : 1.0;
 }
 
 double dirichlet_energy(const geo::MeshAdjacency& adjacency, const std::vector<double>& edge_weights,

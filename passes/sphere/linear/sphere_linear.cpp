@@ -28,7 +28,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <limits>
 #include <numeric>
 #include <string>
 
@@ -64,34 +63,6 @@ double conformal_energy(const geo::MeshAdjacency& adj, const std::vector<double>
 void add_note(SphereResult& result, const std::string& text) {
     if (!result.note.empty()) result.note += "; ";
     result.note += text;
-}
-
-// Scale for the plane map so that the big triangle (at infinity, the north pole) and the face
-// nearest the origin (the south pole) end up the same size: the big triangle's mean edge in the
-// south chart w and the inner face's mean edge in the north chart 1 / w meet at their geometric
-// mean. 1 when either size is unusable.
-double balancing_scale(const geo::Mesh& mesh, const std::vector<Complex>& w, std::uint32_t big) {
-    std::size_t inner = mesh.face_count();
-    double nearest = std::numeric_limits<double>::infinity();
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        if (f == big) continue;
-        const glm::uvec3 t = mesh.triangles[f];
-        const double d = std::abs(w[t.x]) + std::abs(w[t.y]) + std::abs(w[t.z]);
-        if (d < nearest) {
-            nearest = d;
-            inner = f;
-        }
-    }
-    if (inner == mesh.face_count()) return 1.0;
-    auto mean_edge = [&](std::size_t f, auto chart) {
-        const glm::uvec3 t = mesh.triangles[f];
-        const Complex a = chart(w[t.x]), b = chart(w[t.y]), c = chart(w[t.z]);
-        return (std::abs(a - b) + std::abs(b - c) + std::abs(c - a)) / 3.0;
-    };
-    const double north = mean_edge(big, [](Complex z) { return z; });
-    const double south = mean_edge(inner, [](Complex z) { return 1.0 / z; });
-    const double scale = std::sqrt(south / north);
-    return std::isfinite(scale) && scale > 0.0 ? scale : 1.0;
 }
 
 // The `count` vertices nearest the south pole (smallest z).
@@ -137,7 +108,7 @@ SphereResult sphere_linear(const geo::Mesh& mesh) {
                              linear_sphere::dirichlet_energy(adj, weights, plane.z)});
 
     // 2. Balanced inverse stereographic projection: the plane's origin goes to the south pole.
-    const double scale = balancing_scale(mesh, plane.z, big);
+    const double scale = linear_sphere::balancing_scale(mesh, plane.z, big);
     std::vector<glm::dvec3> sphere(n);
     for (std::size_t v = 0; v < n; ++v) sphere[v] = linear_sphere::sphere_from_south_chart(scale * plane.z[v]);
     result.stages.push_back({"inverse stereographic projection (balanced)", n, 0, clock.lap(),

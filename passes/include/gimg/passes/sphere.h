@@ -116,6 +116,13 @@ struct GpuSphereOptions {
     // nothing. It straightens protrusions that the relaxation shrank but left crooked (bunny: mean
     // angle distortion 7.8 degrees without, 0.8 with).
     bool plane_polish = true;
+    // With the polish, try the direct route first: the polish applied to Choi, Lam and Lui's
+    // pinned-triangle harmonic map (itself solved by the same multigrid conjugate gradients)
+    // instead of to the hierarchy's relaxed map, so no progressive mesh is built. Kept when it
+    // flips nothing and covers the sphere once; otherwise the hierarchy runs as without it (the
+    // note says why). Meshes whose obtuse triangles fold the map beyond repair, or whose
+    // protrusions shrink below double precision in the pinned-triangle map, take the hierarchy.
+    bool direct = true;
     // With the polish, levels above this many vertices settle to 100x the tolerance in checks of
     // at most 8 sweeps: the polish replaces all but a small cap of the map (bunny, armadillo and
     // armadillo_loop1 end with the same angles to 0.001 degree mean). The finest level settles in

@@ -1,0 +1,114 @@
+// Choi, Lam and Lui's north-pole step on the GPU: the direct route's start.
+#include "harmonic_start.h"
+
+#include "linear/plane_harmonic_map.h"
+#include "linear/stereographic.h"
+#include "plane_cg.h"
+#include "plane_multigrid.h"
+
+#include "gimg/engine/error.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+
+namespace gimg::passes::detail {
+
+namespace {
+
+// The start's conjugate gradients, checked every so many iterations, at most so many: the
+// multigrid preconditioner needs 16-40 (plane_cg.h).
+constexpr std::uint32_t kIterationsPerCheck = 8;
+constexpr std::size_t kMaxIterations = 2000;
+
+}  // namespace
+
+HarmonicStart harmonic_start_gpu(Context& ctx, const geo::Mesh& mesh, const SphereLevel& level, double tolerance,
+                                 bool timestamps, const std::function<void(std::size_t, double)>& progress) {
+    HarmonicStart start;
+    const std::size_t n = mesh.vertex_count();
+    const std::uint32_t big = linear_sphere::most_regular_face(mesh);
+    const glm::uvec3 t = mesh.triangles[big];
+    const auto flat = linear_sphere::flat_big_triangle(mesh, big);
+    std::vector<std::uint8_t> pinned(n, 0);
+    std::vector<glm::dvec2> chart(n, glm::dvec2(0.0));  // the free vertices start at the origin
+    for (int k = 0; k < 3; ++k) {
+        pinned[t[k]] = 1;
+        chart[t[k]] = {flat[std::size_t(k)].real(), flat[std::size_t(k)].imag()};
+    }
+    const PlaneProblem problem = make_dirichlet_problem(level, pinned, chart);
+    start.free_vertices = problem.rows();
+    if (std::any_of(problem.diagonal.begin(), problem.diagonal.end(), [](double d) { return !(d > 0.0); })) {
+        start.why = "a vertex's cotangent weights sum to zero or less";
+        return start;
+    }
+    PlaneMultigrid mg;
+    try {
+        mg = build_plane_multigrid(problem);
+    } catch (const Error& e) {
+        start.why = e.what();
+        return start;
+    }
+    const PlaneSolve solve = solve_plane_gpu(ctx, problem, mg, tolerance, kIterationsPerCheck, kMaxIterations, timestamps, progress);
+    start.iterations = solve.iterations;
+    start.residual = solve.residual;
+    start.gpu_ms = solve.gpu_ms;
+    if (!std::isfinite(solve.residual)) {
+        start.why = "conjugate gradients broke down (the problem or its preconditioner is not positive definite)";
+        return start;
+    }
+    if (!solve.converged(tolerance)) {
+        start.why = "conjugate gradients stopped at residual " + std::to_string(solve.residual);
+        return start;
+    }
+
+    // The plane map, centred on the vertices' mean as in sphere_linear, balanced and projected.
+    std::vector<std::complex<double>> z(n);
+    for (std::uint32_t v = 0; v < n; ++v) z[v] = {chart[v].x, chart[v].y};
+    for (std::size_t i = 0; i < problem.rows(); ++i) z[problem.free_vertices[i]] = {solve.x[i].x, solve.x[i].y};
+    std::complex<double> mean(0.0, 0.0);
+    for (const auto& w : z) mean += w;
+    mean /= double(n);
+    for (auto& w : z) w -= mean;
+    const double scale = linear_sphere::balancing_scale(mesh, z, big);
+    start.y.resize(n);
+    for (std::uint32_t v = 0; v < n; ++v) start.y[v] = glm::normalize(linear_sphere::sphere_from_south_chart(scale * z[v]));
+
+    // The polish's pole: inside the face nearest the origin (never on a vertex, whose chart point
+    // would be infinite).
+    double nearest = std::numeric_limits<double>::infinity();
+    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
+        if (f == big) continue;
+        const glm::uvec3 s = mesh.triangles[f];
+        const double d = std::abs(z[s.x]) + std::abs(z[s.y]) + std::abs(z[s.z]);
+        if (d < nearest) {
+            nearest = d;
+            start.accurate_pole = glm::normalize(start.y[s.x] + start.y[s.y] + start.y[s.z]);
+        }
+    }
+    const bool finite = std::all_of(start.y.begin(), start.y.end(), [](const glm::dvec3& p) {
+        return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);
+    });
+    if (!finite) start.why = "the harmonic map has points that are not finite";
+    return start;
+}
+
+double total_solid_angle(const SphereLevel& level, const std::vector<glm::dvec3>& y) {
+    double sum = 0.0;
+    for (std::uint32_t v = 0; v < level.vertex_count(); ++v) {
+        const std::uint32_t begin = level.ring_offsets[v], degree = level.ring_offsets[v + 1] - begin;
+        for (std::uint32_t k = 0; k < degree; ++k) {
+            const std::uint32_t a = level.ring[begin + k], b = level.ring[begin + (k + 1) % degree];
+            if (a < v || b < v) continue;  // each triangle once, from its smallest vertex
+            // Van Oosterom and Strackee's solid angle of the spherical triangle (v, a, b).
+            const glm::dvec3 p = y[v], q = y[a], r = y[b];
+            sum += 2.0 * std::atan2(glm::dot(p, glm::cross(q, r)), 1.0 + glm::dot(p, q) + glm::dot(q, r) + glm::dot(r, p));
+        }
+    }
+    return sum;
+}
+
+}  // namespace gimg::passes::detail
