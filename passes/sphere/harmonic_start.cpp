@@ -13,7 +13,6 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <limits>
 
 namespace gimg::passes::detail {
 
@@ -79,15 +78,10 @@ HarmonicStart harmonic_start_gpu(Context& ctx, const geo::Mesh& mesh, const Sphe
 
     // The polish's pole: inside the face nearest the origin (never on a vertex, whose chart point
     // would be infinite).
-    double nearest = std::numeric_limits<double>::infinity();
-    for (std::size_t f = 0; f < mesh.face_count(); ++f) {
-        if (f == big) continue;
-        const glm::uvec3 s = mesh.triangles[f];
-        const double d = std::abs(z[s.x]) + std::abs(z[s.y]) + std::abs(z[s.z]);
-        if (d < nearest) {
-            nearest = d;
-            start.accurate_pole = glm::normalize(start.y[s.x] + start.y[s.y] + start.y[s.z]);
-        }
+    const std::size_t inner = linear_sphere::face_nearest_origin(mesh, z, big);
+    if (inner < mesh.face_count()) {
+        const glm::uvec3 s = mesh.triangles[inner];
+        start.accurate_pole = glm::normalize(start.y[s.x] + start.y[s.y] + start.y[s.z]);
     }
     const bool finite = std::all_of(start.y.begin(), start.y.end(), [](const glm::dvec3& p) {
         return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z);

@@ -70,7 +70,7 @@ DirichletSolution harmonic_map_to_plane(const geo::Mesh& mesh, const geo::MeshAd
     return plane;
 }
 
-double balancing_scale(const geo::Mesh& mesh, const std::vector<std::complex<double>>& w, std::uint32_t big) {
+std::size_t face_nearest_origin(const geo::Mesh& mesh, const std::vector<std::complex<double>>& w, std::uint32_t big) {
     std::size_t inner = mesh.face_count();
     double nearest = std::numeric_limits<double>::infinity();
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
@@ -82,6 +82,11 @@ double balancing_scale(const geo::Mesh& mesh, const std::vector<std::complex<dou
             inner = f;
         }
     }
+    return inner;
+}
+
+double balancing_scale(const geo::Mesh& mesh, const std::vector<std::complex<double>>& w, std::uint32_t big) {
+    const std::size_t inner = face_nearest_origin(mesh, w, big);
     if (inner == mesh.face_count()) return 1.0;
     auto mean_edge = [&](std::size_t f, auto chart) {
         const glm::uvec3 t = mesh.triangles[f];

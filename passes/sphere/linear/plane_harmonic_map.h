@@ -31,6 +31,10 @@ std::array<std::complex<double>, 3> flat_big_triangle(const geo::Mesh& mesh, std
 DirichletSolution harmonic_map_to_plane(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
                                         const std::vector<double>& edge_weights, std::uint32_t big);
 
+// The face other than `big` whose corners' distances from the origin of the plane map `w` sum
+// least (where the south pole goes); the face count when there is none.
+std::size_t face_nearest_origin(const geo::Mesh& mesh, const std::vector<std::complex<double>>& w, std::uint32_t big);
+
 // Scale for the plane map `w` (big triangle at infinity) so that the big triangle and the face
 // nearest the origin come out the same size on the sphere: the big triangle's mean edge in the
 // chart w and the inner face's mean edge in the chart 1 / w meet at their geometric mean. 1 when
