@@ -75,11 +75,6 @@ void plane_cg_cpu(const PlaneMultigrid& mg, PlaneCgState& state, std::uint32_t i
     }
 }
 
-GpuPlaneCg::Matrix GpuPlaneCg::upload(const CsrMatrix& m, const std::string& name) {
-    return {upload_vector(ctx_, m.offsets, name + " offsets"), upload_vector(ctx_, m.columns, name + " columns"),
-            upload_vector(ctx_, m.values, name + " values"), std::uint32_t(m.rows())};
-}
-
 GpuPlaneCg::GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMultigrid& mg)
     : ctx_(ctx), rows_(std::uint32_t(problem.rows())) {
     const PlaneCgState start = start_plane_cg(problem, mg);
@@ -87,16 +82,21 @@ GpuPlaneCg::GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMul
     for (std::size_t l = 0; l < mg.levels.size(); ++l) {
         const std::string name = "plane mg level " + std::to_string(l);
         const MultigridLevel& level = mg.levels[l];
-        levels_.push_back({upload(level.a, name + " A"), upload(level.prolong, name + " P"),
-                           upload(level.restrict_, name + " R"), upload_vector(ctx, level.smoother, name + " smoother")});
+        TexelMatrix a = upload_matrix_texels(ctx, level.a, level.smoother, {}, name + " A");
+        std::vector<glm::uvec4> scaled(level.a.values.size());
+        for (std::size_t k = 0; k < scaled.size(); ++k)
+            scaled[k] = texel_of(level.a.columns[k], 0u, level.a.values[k] * level.smoother[level.a.columns[k]]);
+        levels_.push_back({std::move(a), upload_matrix_texels(ctx, level.prolong, {}, {}, name + " P"),
+                           upload_matrix_texels(ctx, level.restrict_, {}, {}, name + " R"),
+                           upload_texels(ctx, std::move(scaled), name + " A S entries")});
     }
-    if (levels_.empty()) finest_ = upload(mg.coarsest, "plane mg coarsest A");
+    if (levels_.empty()) finest_ = upload_matrix_texels(ctx, mg.coarsest, {}, {}, "plane mg coarsest A");
     coarsest_inverse_ = upload_vector(ctx, mg.coarsest_inverse, "plane mg coarsest inverse");
     coarsest_rows_ = std::uint32_t(mg.coarsest_rows());
-    x_ = upload_vector(ctx, start.x, "plane cg x");
-    r_ = upload_vector(ctx, start.r, "plane cg r");
-    p_ = upload_vector(ctx, start.p, "plane cg p");
-    q_ = ctx.create_buffer({VkDeviceSize(std::max<std::uint32_t>(rows_, 1)) * sizeof(glm::dvec2), "plane cg q"});
+    x_ = upload_vector_texels(ctx, start.x, "plane cg x");
+    r_ = upload_vector_texels(ctx, start.r, "plane cg r");
+    p_ = upload_vector_texels(ctx, start.p, "plane cg p");
+    q_ = ctx.create_image(texel_image_desc(rows_, "plane cg q"));
     rz_[0] = ctx.create_buffer({sizeof(double), "plane cg r.z"}, MemoryUsage::Readback);
     rz_[1] = ctx.create_buffer({sizeof(double), "plane cg r.z (odd iterations)"});
     pq_ = ctx.create_buffer({sizeof(double), "plane cg p.q"});
@@ -108,37 +108,34 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
     if (slot) return *slot;
     Graph g(ctx_);
     struct MatrixHandles {
-        BufferHandle offsets, columns, values;
-        std::uint32_t rows;
+        ImageHandle rows, entries;
+        std::uint32_t count;
     };
-    auto import = [&](Matrix& m) {
-        return MatrixHandles{g.import_buffer(m.offsets), g.import_buffer(m.columns), g.import_buffer(m.values), m.rows};
-    };
-    auto vector = [&](std::uint32_t rows, const std::string& name) {
-        return g.create_buffer({VkDeviceSize(std::max<std::uint32_t>(rows, 1)) * sizeof(glm::dvec2), name});
-    };
-    // Per level: its operator, transfers and smoother, and the cycle's vectors. Level 0's right-
-    // hand side is the conjugate gradients' r and its result their z.
+    auto import = [&](TexelMatrix& m) { return MatrixHandles{g.import_image(m.rows), g.import_image(m.entries), m.row_count}; };
+    auto vector = [&](std::uint32_t rows, const std::string& name) { return g.create_image(texel_image_desc(rows, name)); };
+    // Per level: its operator (and its entries times the smoother), transfers, and the cycle's
+    // vectors. Level 0's right-hand side is the conjugate gradients' r and its result their z.
     struct LevelHandles {
         MatrixHandles a, prolong, restrict_;
-        BufferHandle smoother, b, x, r, out;
+        ImageHandle a_scaled, b, x, r, out;
     };
     std::vector<LevelHandles> levels;
     for (std::size_t l = 0; l < levels_.size(); ++l) {
         Level& level = levels_[l];
         const std::string name = "plane mg " + std::to_string(l);
-        levels.push_back({import(level.a), import(level.prolong), import(level.restrict_), g.import_buffer(level.smoother),
-                          l ? vector(level.a.rows, name + " b") : BufferHandle{}, vector(level.a.rows, name + " x"),
-                          vector(level.a.rows, name + " r"), l ? vector(level.a.rows, name + " out") : BufferHandle{}});
+        const std::uint32_t n = level.a.row_count;
+        levels.push_back({import(level.a), import(level.prolong), import(level.restrict_), g.import_image(level.a_scaled),
+                          l ? vector(n, name + " b") : ImageHandle{}, vector(n, name + " x"), vector(n, name + " r"),
+                          l ? vector(n, name + " out") : ImageHandle{}});
     }
     const MatrixHandles finest = levels.empty() ? import(finest_) : levels.front().a;
     auto coarsest_inverse = g.import_buffer(coarsest_inverse_);
     auto coarsest_b = vector(coarsest_rows_, "plane mg coarsest b");
     auto coarsest_x = vector(coarsest_rows_, "plane mg coarsest x");
-    auto x = g.import_buffer(x_);
-    auto r = g.import_buffer(r_);
-    auto p = g.import_buffer(p_);
-    auto q = g.import_buffer(q_);
+    auto x = g.import_image(x_);
+    auto r = g.import_image(r_);
+    auto p = g.import_image(p_);
+    auto q = g.import_image(q_);
     auto z = vector(rows_, "plane cg z");
     BufferHandle rz[2] = {g.import_buffer(rz_[0]), g.import_buffer(rz_[1])};
     auto pq = g.import_buffer(pq_);
@@ -150,56 +147,56 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
         const std::size_t depth = levels.size();
         for (std::size_t l = 0; l < depth; ++l) {
             LevelHandles& level = levels[l];
-            const BufferHandle b = l ? level.b : r;
-            BufferHandle& coarse_b = l + 1 < depth ? levels[l + 1].b : coarsest_b;
+            const ImageHandle b = l ? level.b : r;
+            ImageHandle& coarse_b = l + 1 < depth ? levels[l + 1].b : coarsest_b;
             const std::string name = "plane mg " + std::to_string(l);
             g.add_compute_pass(name + " presmooth" + suffix, [&](PassBuilder& pb) {
-                for (BufferHandle h : {level.a.offsets, level.a.columns, level.a.values, level.smoother, b}) pb.read(h, Access::ComputeRead);
+                for (ImageHandle h : {level.a.rows, level.a_scaled, b}) pb.read(h, Access::ComputeRead);
                 level.x = pb.write(level.x, Access::ComputeWrite);
                 level.r = pb.write(level.r, Access::ComputeWrite);
-            }, [=, a = level.a, s = level.smoother, lx = level.x, lr = level.r](Cmd& cmd) {
-                cmd.dispatch_threads(kPresmooth, {a.rows}, {a.offsets, a.columns, a.values, s, b, lx, lr}, a.rows);
+            }, [=, a = level.a, s = level.a_scaled, lx = level.x, lr = level.r](Cmd& cmd) {
+                cmd.dispatch_threads(kPresmooth, {a.count}, {a.rows, s, b, lx, lr}, a.count);
             });
             g.add_compute_pass(name + " restrict" + suffix, [&](PassBuilder& pb) {
-                for (BufferHandle h : {level.restrict_.offsets, level.restrict_.columns, level.restrict_.values, level.r}) pb.read(h, Access::ComputeRead);
+                for (ImageHandle h : {level.restrict_.rows, level.restrict_.entries, level.r}) pb.read(h, Access::ComputeRead);
                 coarse_b = pb.write(coarse_b, Access::ComputeWrite);
             }, [=, m = level.restrict_, v = level.r, y = coarse_b](Cmd& cmd) {
-                cmd.dispatch_threads(kTransfer, {m.rows}, {m.offsets, m.columns, m.values, v, y}, RowsAndSwitch{m.rows, 0});
+                cmd.dispatch_threads(kTransfer, {m.count}, {m.rows, m.entries, v, y}, RowsAndSwitch{m.count, 0});
             });
         }
         // With no smoothed level the dense solve is the whole cycle and writes r.z's terms.
         const bool alone = depth == 0;
-        const BufferHandle dense_b = alone ? r : coarsest_b;
-        BufferHandle& dense_x = alone ? z : coarsest_x;
+        const ImageHandle dense_b = alone ? r : coarsest_b;
+        ImageHandle& dense_x = alone ? z : coarsest_x;
         g.add_compute_pass("plane mg coarsest" + suffix, [&](PassBuilder& pb) {
             pb.read(coarsest_inverse, Access::ComputeRead);
             pb.read(dense_b, Access::ComputeRead);
             dense_x = pb.write(dense_x, Access::ComputeWrite);
             if (alone) terms = pb.write(terms, Access::ComputeWrite);
+            else pb.read(terms, Access::ComputeRead);  // bound, not written
         }, [=, inv = coarsest_inverse, out = dense_x, t = terms](Cmd& cmd) {
-            cmd.dispatch_threads(kCoarsest, {coarsest_rows}, {inv, dense_b, out, alone ? t : out},
-                                 RowsAndSwitch{coarsest_rows, alone ? 1u : 0u});
+            cmd.dispatch_threads(kCoarsest, {coarsest_rows}, {inv, dense_b, out, t}, RowsAndSwitch{coarsest_rows, alone ? 1u : 0u});
         });
         for (std::size_t l = depth; l-- > 0;) {
             LevelHandles& level = levels[l];
-            const BufferHandle b = l ? level.b : r;
-            const BufferHandle coarse_x = l + 1 < depth ? levels[l + 1].out : coarsest_x;
+            const ImageHandle b = l ? level.b : r;
+            const ImageHandle coarse_x = l + 1 < depth ? levels[l + 1].out : coarsest_x;
             const std::string name = "plane mg " + std::to_string(l);
             g.add_compute_pass(name + " prolong" + suffix, [&](PassBuilder& pb) {
-                for (BufferHandle h : {level.prolong.offsets, level.prolong.columns, level.prolong.values, coarse_x}) pb.read(h, Access::ComputeRead);
+                for (ImageHandle h : {level.prolong.rows, level.prolong.entries, coarse_x}) pb.read(h, Access::ComputeRead);
                 level.x = pb.write(level.x, Access::ComputeReadWrite);
             }, [=, m = level.prolong, y = level.x](Cmd& cmd) {
-                cmd.dispatch_threads(kTransfer, {m.rows}, {m.offsets, m.columns, m.values, coarse_x, y}, RowsAndSwitch{m.rows, 1});
+                cmd.dispatch_threads(kTransfer, {m.count}, {m.rows, m.entries, coarse_x, y}, RowsAndSwitch{m.count, 1});
             });
-            BufferHandle& out = l ? level.out : z;
+            ImageHandle& out = l ? level.out : z;
+            // Only the finest level writes r.z's terms; the others bind them unwritten.
             g.add_compute_pass(name + " postsmooth" + suffix, [&](PassBuilder& pb) {
-                for (BufferHandle h : {level.a.offsets, level.a.columns, level.a.values, level.smoother, b, level.x}) pb.read(h, Access::ComputeRead);
+                for (ImageHandle h : {level.a.rows, level.a.entries, b, level.x}) pb.read(h, Access::ComputeRead);
                 out = pb.write(out, Access::ComputeWrite);
                 if (l == 0) terms = pb.write(terms, Access::ComputeWrite);
-            }, [=, a = level.a, s = level.smoother, lx = level.x, o = out, t = terms](Cmd& cmd) {
-                const RowsAndSwitch push{a.rows, l == 0 ? 1u : 0u};
-                if (l == 0) cmd.dispatch_threads(kPostsmooth, {a.rows}, {a.offsets, a.columns, a.values, s, b, lx, o, t}, push);
-                else cmd.dispatch_threads(kPostsmooth, {a.rows}, {a.offsets, a.columns, a.values, s, b, lx, o, o}, push);
+                else pb.read(terms, Access::ComputeRead);
+            }, [=, a = level.a, lx = level.x, o = out, t = terms](Cmd& cmd) {
+                cmd.dispatch_threads(kPostsmooth, {a.count}, {a.rows, a.entries, b, lx, o, t}, RowsAndSwitch{a.count, l == 0 ? 1u : 0u});
             });
         }
     };
@@ -209,26 +206,29 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
             const BufferHandle rz_old = rz[half];
             const std::string suffix = half ? " (odd)" : " (even)";
             g.add_compute_pass("plane cg apply" + suffix, [&](PassBuilder& b) {
-                for (BufferHandle h : {p, finest.offsets, finest.columns, finest.values}) b.read(h, Access::ComputeRead);
+                for (ImageHandle h : {p, finest.rows, finest.entries}) b.read(h, Access::ComputeRead);
                 q = b.write(q, Access::ComputeWrite);
                 terms = b.write(terms, Access::ComputeWrite);
-            }, [=](Cmd& cmd) { cmd.dispatch_threads(kApply, {rows}, {p, finest.offsets, finest.columns, finest.values, q, terms}, rows); });
+            }, [=](Cmd& cmd) { cmd.dispatch_threads(kApply, {rows}, {p, finest.rows, finest.entries, q, terms}, rows); });
             pq = add_reduce_sum_f64(g, terms, pq, rows, 1, "plane cg p.q" + suffix);
             g.add_compute_pass("plane cg step" + suffix, [&](PassBuilder& b) {
-                for (BufferHandle h : {pq, rz_old, p, q}) b.read(h, Access::ComputeRead);
+                for (BufferHandle h : {pq, rz_old}) b.read(h, Access::ComputeRead);
+                for (ImageHandle h : {p, q}) b.read(h, Access::ComputeRead);
                 x = b.write(x, Access::ComputeReadWrite);
                 r = b.write(r, Access::ComputeReadWrite);
             }, [=](Cmd& cmd) { cmd.dispatch_threads(kStep, {rows}, {pq, rz_old, p, q, x, r}, rows); });
             add_cycle(suffix);
             const BufferHandle rz_new = rz[1 - half] = add_reduce_sum_f64(g, terms, rz[1 - half], rows, 1, "plane cg r.z" + suffix);
             g.add_compute_pass("plane cg direction" + suffix, [&](PassBuilder& b) {
-                for (BufferHandle h : {rz_old, rz_new, z}) b.read(h, Access::ComputeRead);
+                for (BufferHandle h : {rz_old, rz_new}) b.read(h, Access::ComputeRead);
+                b.read(z, Access::ComputeRead);
                 p = b.write(p, Access::ComputeReadWrite);
             }, [=](Cmd& cmd) { cmd.dispatch_threads(kDirection, {rows}, {rz_old, rz_new, z, p}, rows); });
         }
     });
     g.export_buffer(rz[0], Access::HostRead);
-    for (BufferHandle h : {x, r, p, q, pq, rz[1]}) g.export_buffer(h, Access::ComputeReadWrite);
+    for (ImageHandle h : {x, r, p, q}) g.export_image(h, Access::ComputeReadWrite);
+    for (BufferHandle h : {pq, rz[1]}) g.export_buffer(h, Access::ComputeReadWrite);
     slot = std::make_unique<Plan>(g.compile());
     return *slot;
 }
@@ -244,7 +244,7 @@ double GpuPlaneCg::run(std::uint32_t iterations) {
 
 std::vector<glm::dvec2> GpuPlaneCg::solution() {
     if (rows_ == 0) return {};
-    return ctx_.download<glm::dvec2>(x_);
+    return download_vector_texels(ctx_, x_, rows_);
 }
 
 PlaneSolve solve_plane_gpu(Context& ctx, const PlaneProblem& problem, const PlaneMultigrid& mg, double tolerance,

@@ -6,11 +6,13 @@
 // One iteration: q = A p and p.q (a pass and a reduction, primitives/reduce_f64, a fixed tree);
 // x += alpha p, r -= alpha q; z = V-cycle(r) with r.z from its last pass, and a reduction; then
 // p = z + beta p. The scalars alpha and beta never leave the GPU: each pass reads the reduced sums
-// it needs. Only r.z comes back, once per call, for the convergence test. (Summing the partials
+// it needs. Only r.z comes back, once per call, for the convergence test. Vectors and matrices
+// live in storage images, not buffers (texel_layout.h says why: 2-3x faster on lavapipe). (Summing the partials
 // inside the next pass instead, to save the reduction dispatches, was 1.3-1.5x slower on
 // lavapipe: its workgroup barriers cost more than the dispatches.)
 #include "plane_multigrid.h"
 #include "plane_problem.h"
+#include "texel_layout.h"
 
 #include "gimg/engine/context.h"
 #include "gimg/engine/plan.h"
@@ -46,6 +48,8 @@ void plane_cg_cpu(const PlaneMultigrid& mg, PlaneCgState& state, std::uint32_t i
 
 class GpuPlaneCg {
 public:
+    // Throws gimg::Error (InvalidArgument) when a vector or matrix is too large for the device's
+    // images (texel_layout.h).
     GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMultigrid& mg);
     // Runs `iterations` (even) iterations; returns the state's relative residual after them.
     double run(std::uint32_t iterations);
@@ -56,24 +60,19 @@ public:
 private:
     Plan& plan_for(std::uint32_t iterations);
 
-    struct Matrix {
-        Buffer offsets, columns, values;
-        std::uint32_t rows = 0;
-    };
     struct Level {
-        Matrix a, prolong, restrict_;
-        Buffer smoother;
+        TexelMatrix a, prolong, restrict_;
+        Image a_scaled;  // A's entries times their column's smoother, for the presmoothing
     };
-    Matrix upload(const CsrMatrix& m, const std::string& name);
 
     Context& ctx_;
     std::uint32_t rows_ = 0;
     double rz_rhs_ = 0.0;
     std::vector<Level> levels_;
-    Matrix finest_;  // the operator when there is no smoothed level (else levels_[0].a)
+    TexelMatrix finest_;  // the operator when there is no smoothed level (else levels_[0].a)
     Buffer coarsest_inverse_;
     std::uint32_t coarsest_rows_ = 0;
-    Buffer x_, r_, p_, q_;
+    Image x_, r_, p_, q_;
     Buffer rz_[2], pq_;  // rz_[0] holds r.z between calls (the loop body runs two iterations)
     bool timestamps_ = false;
     double last_gpu_ms_ = 0.0;

@@ -118,14 +118,21 @@ std::vector<double> dense_inverse(const Sparse& a) {
     return out;
 }
 
-// x = S b, r = b - A x: the first Jacobi step from zero and its residual.
+// x = S b, r = b - A x: the first Jacobi step from zero and its residual, A x summed as
+// (a_ij s_j) b_j, as mg_presmooth does with its pre-multiplied entries.
 void presmooth(const MultigridLevel& level, const std::vector<glm::dvec2>& b, std::vector<glm::dvec2>& x,
                std::vector<glm::dvec2>& r) {
     const std::size_t n = b.size();
+    const CsrMatrix& a = level.a;
     x.resize(n);
     r.resize(n);
     for (std::size_t i = 0; i < n; ++i) x[i] = level.smoother[i] * b[i];
-    for (std::size_t i = 0; i < n; ++i) r[i] = b[i] - row_times(level.a, x, i);
+    for (std::size_t i = 0; i < n; ++i) {
+        glm::dvec2 sum(0.0);
+        for (std::uint32_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+            sum += (a.values[k] * level.smoother[a.columns[k]]) * b[a.columns[k]];
+        r[i] = b[i] - sum;
+    }
 }
 
 std::vector<glm::dvec2> cycle(const PlaneMultigrid& mg, std::size_t l, const std::vector<glm::dvec2>& b) {

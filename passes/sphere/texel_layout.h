@@ -1,0 +1,103 @@
+#pragma once
+// How the planar solves keep their vectors and sparse matrices on the GPU: in RGBA32UI storage
+// images, one 128-bit texel an element, kTexelRowWidth texels a row (shaders/sphere/texels.glsl is
+// the shader side).
+//
+// Why images and not storage buffers: lavapipe (Mesa 22.3) compiles a storage-buffer load whose
+// address differs between lanes into a loop over the 8 lanes with a branch and a bounds check for
+// each, and an image load into a plain gather. A sparse matrix-vector product of armadillo_loop1's
+// Laplacian (104K rows, 728K entries) took 2.4-4.4 ms from buffers and 1.2 ms from images,
+// bit-identical (measured on the 2-core machines). GPUs load a whole texel as cheaply as 16 bytes
+// of a buffer.
+//
+// Layouts: a vector of dvec2 has element i in texel i (x bits in .xy, y bits in .zw); a matrix in
+// compressed rows is two images, its rows (begin, end, and one double per row: the smoother
+// omega / a_ii on multigrid levels, else 0) and its entries (column, 0, value).
+#include "plane_multigrid.h"
+
+#include "gimg/engine/context.h"
+#include "gimg/engine/error.h"
+
+#include <glm/vec2.hpp>
+#include <glm/vec4.hpp>
+
+#include <cstdint>
+#include <cstring>
+#include <string>
+#include <vector>
+
+namespace gimg::passes::detail {
+
+inline constexpr std::uint32_t kTexelRowShift = 12;  // texels.glsl's kRowShift
+inline constexpr std::uint32_t kTexelRowWidth = 1u << kTexelRowShift;
+
+// An image of at least `count` texels (at least one row, so empty vectors still bind).
+inline ImageDesc texel_image_desc(std::size_t count, const std::string& name) {
+    const std::size_t rows = std::max<std::size_t>(1, (count + kTexelRowWidth - 1) / kTexelRowWidth);
+    return {kTexelRowWidth, std::uint32_t(rows), Format::RGBA32U, name};
+}
+
+// Throws gimg::Error (InvalidArgument) when `count` texels need more image rows than the device has.
+inline void check_texel_count(const Context& ctx, std::size_t count, const std::string& what) {
+    const std::size_t rows = (count + kTexelRowWidth - 1) / kTexelRowWidth;
+    if (rows > ctx.device_info().max_image_dimension_2d)
+        throw Error(ErrorKind::InvalidArgument, what + ": " + std::to_string(count) + " elements need " + std::to_string(rows) +
+                                                    " image rows of " + std::to_string(kTexelRowWidth) + "; the device has " +
+                                                    std::to_string(ctx.device_info().max_image_dimension_2d));
+}
+
+inline glm::uvec4 texel_of(std::uint32_t a, std::uint32_t b, double value) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &value, sizeof bits);
+    return {a, b, std::uint32_t(bits), std::uint32_t(bits >> 32)};
+}
+
+inline glm::uvec4 texel_of(const glm::dvec2& v) {
+    std::uint64_t x, y;
+    std::memcpy(&x, &v.x, sizeof x);
+    std::memcpy(&y, &v.y, sizeof y);
+    return {std::uint32_t(x), std::uint32_t(x >> 32), std::uint32_t(y), std::uint32_t(y >> 32)};
+}
+
+// A device image holding `texels`, padded to whole rows.
+inline Image upload_texels(Context& ctx, std::vector<glm::uvec4> texels, const std::string& name) {
+    check_texel_count(ctx, texels.size(), name);
+    Image image = ctx.create_image(texel_image_desc(texels.size(), name));
+    texels.resize(std::size_t(image.width()) * image.height(), glm::uvec4(0));
+    ctx.upload(image, texels.data(), texels.size() * sizeof(glm::uvec4));
+    return image;
+}
+
+inline Image upload_vector_texels(Context& ctx, const std::vector<glm::dvec2>& v, const std::string& name) {
+    std::vector<glm::uvec4> texels(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) texels[i] = texel_of(v[i]);
+    return upload_texels(ctx, std::move(texels), name);
+}
+
+inline std::vector<glm::dvec2> download_vector_texels(Context& ctx, Image& image, std::size_t n) {
+    const std::vector<std::byte> bytes = ctx.download(image);
+    std::vector<glm::dvec2> v(n);
+    std::memcpy(v.data(), bytes.data(), n * sizeof(glm::dvec2));  // texel i holds x then y, as a dvec2
+    return v;
+}
+
+// The two images of a matrix in compressed rows; `row_values` (one per row, or empty for zeros)
+// rides in the rows image, `scale` (one per column, or empty) multiplies each entry by its
+// column's value.
+struct TexelMatrix {
+    Image rows, entries;
+    std::uint32_t row_count = 0;
+};
+
+inline TexelMatrix upload_matrix_texels(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values,
+                                        const std::vector<double>& scale, const std::string& name) {
+    std::vector<glm::uvec4> rows(m.rows()), entries(m.values.size());
+    for (std::size_t i = 0; i < m.rows(); ++i)
+        rows[i] = texel_of(m.offsets[i], m.offsets[i + 1], row_values.empty() ? 0.0 : row_values[i]);
+    for (std::size_t k = 0; k < entries.size(); ++k)
+        entries[k] = texel_of(m.columns[k], 0u, scale.empty() ? m.values[k] : m.values[k] * scale[m.columns[k]]);
+    return {upload_texels(ctx, std::move(rows), name + " rows"), upload_texels(ctx, std::move(entries), name + " entries"),
+            std::uint32_t(m.rows())};
+}
+
+}  // namespace gimg::passes::detail
