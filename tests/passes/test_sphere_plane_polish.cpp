@@ -7,7 +7,9 @@
 #include "sphere/linear/dirichlet_solve.h"
 #include "sphere/linear/stereographic.h"
 #include "sphere/plane_cg.h"
+#include "sphere/texel_layout.h"
 
+#include "gimg/engine/error.h"
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/shapes.h"
 #include "gimg/passes/sphere.h"
@@ -69,6 +71,45 @@ TEST_F(SpherePlanePolish, GpuIterationsFollowTheCpuTwin) {
     EXPECT_LT(worst, 1e-10 * largest(cpu.x));
     EXPECT_NEAR(gpu_residual, cpu.relative_residual(), 1e-6 * cpu.relative_residual());
     EXPECT_LT(cpu.relative_residual(), 1e-3 * start_residual) << start_residual;  // it does converge
+}
+
+TEST_F(SpherePlanePolish, GpuIterationsFollowTheCpuTwinAcrossImageRows) {
+    // The solves' vectors and matrices are images of 4,096 texels a row (texel_layout.h): with
+    // 10,242 vertices every vector and the finest matrix span several rows, so an element the
+    // shaders address in the wrong row shows up here. The undeformed icosphere is the "relaxed
+    // map" of the lumpy one (flip-free by construction; no relaxation to wait for).
+    geo::Mesh mesh = geo::make_icosphere(1.0, 5);
+    std::vector<glm::dvec3> sphere(mesh.positions.size());
+    for (std::size_t i = 0; i < sphere.size(); ++i) sphere[i] = glm::normalize(mesh.positions[i]);
+    for (auto& p : mesh.positions) p = glm::dvec3(p.x, 2.0 * p.y, p.z) * (1.0 + 0.2 * p.x * p.y);
+    const PlaneProblem problem = make_plane_problem(build_sphere_level(mesh), sphere);
+    const PlaneMultigrid mg = build_plane_multigrid(problem);
+    ASSERT_GT(problem.rows(), 2 * kTexelRowWidth);
+    ASSERT_GT(mg.finest().values.size(), 16 * kTexelRowWidth);
+    ASSERT_GE(mg.levels.size(), 2u);
+    PlaneCgState cpu = start_plane_cg(problem, mg);
+    plane_cg_cpu(mg, cpu, 4);
+    GpuPlaneCg gpu(ctx(), problem, mg);
+    const double gpu_residual = gpu.run(4);
+    const std::vector<glm::dvec2> x = gpu.solution();
+    ASSERT_EQ(x.size(), cpu.x.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) worst = std::max(worst, glm::length(x[i] - cpu.x[i]));
+    EXPECT_LT(worst, 1e-10 * largest(cpu.x));
+    EXPECT_NEAR(gpu_residual, cpu.relative_residual(), 1e-6 * cpu.relative_residual());
+}
+
+TEST_F(SpherePlanePolish, RefusesVectorsLargerThanTheDevicesImages) {
+    // A clear error instead of a truncated image: rows x 4,096 texels is the most one image holds.
+    const std::size_t most = std::size_t(ctx().device_info().max_image_dimension_2d) * kTexelRowWidth;
+    EXPECT_NO_THROW(check_texel_count(ctx(), most, "vector"));
+    try {
+        check_texel_count(ctx(), most + 1, "vector");
+        FAIL() << "no error for " << most + 1 << " texels";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::InvalidArgument);
+        EXPECT_NE(std::string(e.what()).find("image rows"), std::string::npos) << e.what();
+    }
 }
 
 TEST_F(SpherePlanePolish, ConvergesToTheDirectSolutionOfTheDirichletProblem) {
