@@ -82,15 +82,12 @@ GpuPlaneCg::GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMul
     for (std::size_t l = 0; l < mg.levels.size(); ++l) {
         const std::string name = "plane mg level " + std::to_string(l);
         const MultigridLevel& level = mg.levels[l];
-        TexelMatrix a = upload_matrix_texels(ctx, level.a, level.smoother, {}, name + " A");
-        std::vector<glm::uvec4> scaled(level.a.values.size());
-        for (std::size_t k = 0; k < scaled.size(); ++k)
-            scaled[k] = texel_of(level.a.columns[k], 0u, level.a.values[k] * level.smoother[level.a.columns[k]]);
-        levels_.push_back({std::move(a), upload_matrix_texels(ctx, level.prolong, {}, {}, name + " P"),
-                           upload_matrix_texels(ctx, level.restrict_, {}, {}, name + " R"),
-                           upload_texels(ctx, std::move(scaled), name + " A S entries")});
+        levels_.push_back({upload_matrix_texels(ctx, level.a, level.smoother, name + " A"),
+                           upload_matrix_texels(ctx, level.prolong, {}, name + " P"),
+                           upload_matrix_texels(ctx, level.restrict_, {}, name + " R"),
+                           upload_texels(ctx, entry_texels(level.a, level.smoother), name + " A S entries")});
     }
-    if (levels_.empty()) finest_ = upload_matrix_texels(ctx, mg.coarsest, {}, {}, "plane mg coarsest A");
+    if (levels_.empty()) finest_ = upload_matrix_texels(ctx, mg.coarsest, {}, "plane mg coarsest A");
     coarsest_inverse_ = upload_vector(ctx, mg.coarsest_inverse, "plane mg coarsest inverse");
     coarsest_rows_ = std::uint32_t(mg.coarsest_rows());
     x_ = upload_vector_texels(ctx, start.x, "plane cg x");

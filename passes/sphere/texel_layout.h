@@ -81,22 +81,28 @@ inline std::vector<glm::dvec2> download_vector_texels(Context& ctx, Image& image
     return v;
 }
 
+// A matrix's entries as texels (column, 0, value), each value times its column's `scale` when one
+// is given (one per column; empty for none).
+inline std::vector<glm::uvec4> entry_texels(const CsrMatrix& m, const std::vector<double>& scale) {
+    std::vector<glm::uvec4> entries(m.values.size());
+    for (std::size_t k = 0; k < entries.size(); ++k)
+        entries[k] = texel_of(m.columns[k], 0u, scale.empty() ? m.values[k] : m.values[k] * scale[m.columns[k]]);
+    return entries;
+}
+
 // The two images of a matrix in compressed rows; `row_values` (one per row, or empty for zeros)
-// rides in the rows image, `scale` (one per column, or empty) multiplies each entry by its
-// column's value.
+// rides in the rows image.
 struct TexelMatrix {
     Image rows, entries;
     std::uint32_t row_count = 0;
 };
 
 inline TexelMatrix upload_matrix_texels(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values,
-                                        const std::vector<double>& scale, const std::string& name) {
-    std::vector<glm::uvec4> rows(m.rows()), entries(m.values.size());
+                                        const std::string& name) {
+    std::vector<glm::uvec4> rows(m.rows());
     for (std::size_t i = 0; i < m.rows(); ++i)
         rows[i] = texel_of(m.offsets[i], m.offsets[i + 1], row_values.empty() ? 0.0 : row_values[i]);
-    for (std::size_t k = 0; k < entries.size(); ++k)
-        entries[k] = texel_of(m.columns[k], 0u, scale.empty() ? m.values[k] : m.values[k] * scale[m.columns[k]]);
-    return {upload_texels(ctx, std::move(rows), name + " rows"), upload_texels(ctx, std::move(entries), name + " entries"),
+    return {upload_texels(ctx, std::move(rows), name + " rows"), upload_texels(ctx, entry_texels(m, {}), name + " entries"),
             std::uint32_t(m.rows())};
 }
 
