@@ -6,10 +6,10 @@
 // One iteration: q = A p and p.q (a pass and a reduction, primitives/reduce_f64, a fixed tree);
 // x += alpha p, r -= alpha q; z = V-cycle(r) with r.z from its last pass, and a reduction; then
 // p = z + beta p. The scalars alpha and beta never leave the GPU: each pass reads the reduced sums
-// it needs. Only r.z comes back, once per call, for the convergence test. Vectors and matrices
-// live in storage images, not buffers (texel_layout.h says why: 2-3x faster on lavapipe). (Summing the partials
+// it needs. Only r.z comes back, once per call, for the convergence test. (Summing the partials
 // inside the next pass instead, to save the reduction dispatches, was 1.3-1.5x slower on
-// lavapipe: its workgroup barriers cost more than the dispatches.)
+// lavapipe: its workgroup barriers cost more than the dispatches.) Vectors and matrices live in
+// storage images, not buffers (texel_layout.h says why: 2-3x faster on lavapipe).
 #include "plane_multigrid.h"
 #include "plane_problem.h"
 #include "texel_layout.h"
