@@ -4,6 +4,8 @@
 #include "gimg/engine/error.h"
 #include "gimg/engine/graph.h"
 
+#include "../texel_rows.h"
+
 #include "cylinder/classify_comp.h"
 #include "cylinder/classify_float_comp.h"
 #include "cylinder/cylinder_layout.h"
@@ -11,6 +13,8 @@
 #include "cylinder/zbuffer_float_frag.h"
 #include "cylinder/zbuffer_frag.h"
 #include "cylinder/zbuffer_vert.h"
+
+#include <glm/vec4.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -74,7 +78,9 @@ struct CylinderZBuffer::State {
     std::vector<MeshRange> meshes;
     bool geometry_dirty = true;
 
-    Buffer positions_buf, triangles_buf, directions_buf, jobs_buf, rects_buf, args_buf;
+    Buffer jobs_buf, rects_buf, args_buf;
+    // One texel a vertex, face and image column (texel_rows.h: lavapipe gathers from images).
+    Image positions_img, triangles_img, directions_img;
     Image atlas;
     std::uint32_t job_capacity = 0, rect_capacity = 0, tiles_per_row = 1;
     std::optional<Plan> plan;
@@ -88,24 +94,30 @@ struct CylinderZBuffer::State {
         : ctx(c), width(w), height(h), small_pixels(options.small_pixels) {
         use_double = options.double_precision && ctx.device_info().shader_float64;
         timestamps = options.timestamps && ctx.device_info().timestamp_period_ns > 0.0;
+        // Texel u: cos and sin of theta_u, as two doubles or two floats (the shaders' REAL2_OF_TEXEL).
+        std::vector<glm::uvec4> texels(w, glm::uvec4(0));
         const auto dirs = cylinder_directions(w);
-        if (use_double) {
-            directions_buf = ctx.create_buffer({w * 16ull, "cylinder directions"});
-            ctx.upload(directions_buf, dirs.data(), w * 16ull);
-        } else {
-            std::vector<float> f(2 * w);
-            for (std::uint32_t u = 0; u < w; ++u) f[2 * u] = float(dirs[u][0]), f[2 * u + 1] = float(dirs[u][1]);
-            directions_buf = ctx.create_buffer({w * 8ull, "cylinder directions"});
-            ctx.upload(directions_buf, f.data(), w * 8ull);
+        for (std::uint32_t u = 0; u < w; ++u) {
+            if (use_double) {
+                std::memcpy(&texels[u], dirs[u].data(), 16);
+            } else {
+                const float f[2] = {float(dirs[u][0]), float(dirs[u][1])};
+                std::memcpy(&texels[u], f, 8);
+            }
         }
+        directions_img = detail::upload_texel_rows(ctx, std::move(texels), Format::RGBA32U, "cylinder directions");
         args_buf = ctx.create_buffer({16, "cylinder draw arguments"});
     }
 
     void upload_geometry() {
-        positions_buf = ctx.create_buffer({std::max<std::size_t>(positions.size(), 4) * 4, "cylinder positions"});
-        triangles_buf = ctx.create_buffer({std::max<std::size_t>(triangles.size(), 4) * 4, "cylinder triangles"});
-        if (!positions.empty()) ctx.upload(positions_buf, positions.data(), positions.size() * 4);
-        if (!triangles.empty()) ctx.upload(triangles_buf, triangles.data(), triangles.size() * 4);
+        std::vector<glm::vec4> points(positions.size() / 3);
+        for (std::size_t v = 0; v < points.size(); ++v)
+            points[v] = {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 0.0f};
+        std::vector<glm::uvec4> faces(triangles.size() / 3);
+        for (std::size_t f = 0; f < faces.size(); ++f)
+            faces[f] = {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2], 0u};
+        positions_img = detail::upload_texel_rows(ctx, std::move(points), Format::RGBA32F, "cylinder positions");
+        triangles_img = detail::upload_texel_rows(ctx, std::move(faces), Format::RGBA32U, "cylinder triangles");
         geometry_dirty = false;
         plan.reset();
     }
@@ -136,9 +148,10 @@ struct CylinderZBuffer::State {
 
     void build_plan() {
         Graph g(ctx);
-        auto pos = g.import_buffer(positions_buf), tri = g.import_buffer(triangles_buf);
+        auto pos = g.import_image(positions_img), tri = g.import_image(triangles_img);
         auto jobs = g.import_buffer(jobs_buf), rects = g.import_buffer(rects_buf);
-        auto args = g.import_buffer(args_buf), dirs = g.import_buffer(directions_buf);
+        auto args = g.import_buffer(args_buf);
+        auto dirs = g.import_image(directions_img);
         auto image = g.import_image(atlas);
         auto depth = g.create_image({atlas.width(), atlas.height(), Format::D32F, "cylinder depth"});
         auto small = g.create_buffer({VkDeviceSize(atlas.width()) * atlas.height() * 4, "cylinder small-piece keys"});

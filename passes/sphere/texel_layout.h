@@ -3,25 +3,19 @@
 // images, one 128-bit texel an element, kTexelRowWidth texels a row (shaders/sphere/texels.glsl is
 // the shader side).
 //
-// Why images and not storage buffers: lavapipe (Mesa 22.3) compiles a storage-buffer load whose
-// address differs between lanes into a loop over the 8 lanes with a branch and a bounds check for
-// each, and an image load into a plain gather. A sparse matrix-vector product of armadillo_loop1's
-// Laplacian (104K rows, 728K entries) took 2.4-4.4 ms from buffers and 1.2 ms from images,
-// bit-identical (measured on the 2-core machines). GPUs load a whole texel as cheaply as 16 bytes
-// of a buffer.
+// Why images and not storage buffers: passes/texel_rows.h.
 //
 // Layouts: a vector of dvec2 has element i in texel i (x bits in .xy, y bits in .zw); a matrix in
 // compressed rows is two images, its rows (begin, end, and one double per row: the smoother
 // omega / a_ii on multigrid levels, else 0) and its entries (column, 0, value).
 #include "plane_multigrid.h"
+#include "../texel_rows.h"
 
 #include "gimg/engine/context.h"
-#include "gimg/engine/error.h"
 
 #include <glm/vec2.hpp>
 #include <glm/vec4.hpp>
 
-#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <string>
@@ -29,22 +23,9 @@
 
 namespace gimg::passes::detail {
 
-inline constexpr std::uint32_t kTexelRowShift = 12;  // texels.glsl's kRowShift
-inline constexpr std::uint32_t kTexelRowWidth = 1u << kTexelRowShift;
-
-// An image of at least `count` texels (at least one row, so empty vectors still bind).
+// An RGBA32UI image of at least `count` texels.
 inline ImageDesc texel_image_desc(std::size_t count, const std::string& name) {
-    const std::size_t rows = std::max<std::size_t>(1, (count + kTexelRowWidth - 1) / kTexelRowWidth);
-    return {kTexelRowWidth, std::uint32_t(rows), Format::RGBA32U, name};
-}
-
-// Throws gimg::Error (InvalidArgument) when `count` texels need more image rows than the device has.
-inline void check_texel_count(const Context& ctx, std::size_t count, const std::string& what) {
-    const std::size_t rows = (count + kTexelRowWidth - 1) / kTexelRowWidth;
-    if (rows > ctx.device_info().max_image_dimension_2d)
-        throw Error(ErrorKind::InvalidArgument, what + ": " + std::to_string(count) + " elements need " + std::to_string(rows) +
-                                                    " image rows of " + std::to_string(kTexelRowWidth) + "; the device has " +
-                                                    std::to_string(ctx.device_info().max_image_dimension_2d));
+    return texel_rows_desc(count, Format::RGBA32U, name);
 }
 
 inline glm::uvec4 texel_of(std::uint32_t a, std::uint32_t b, double value) {
@@ -62,11 +43,7 @@ inline glm::uvec4 texel_of(const glm::dvec2& v) {
 
 // A device image holding `texels`, padded to whole rows.
 inline Image upload_texels(Context& ctx, std::vector<glm::uvec4> texels, const std::string& name) {
-    check_texel_count(ctx, texels.size(), name);
-    Image image = ctx.create_image(texel_image_desc(texels.size(), name));
-    texels.resize(std::size_t(image.width()) * image.height(), glm::uvec4(0));
-    ctx.upload(image, texels.data(), texels.size() * sizeof(glm::uvec4));
-    return image;
+    return upload_texel_rows(ctx, std::move(texels), Format::RGBA32U, name);
 }
 
 inline Image upload_vector_texels(Context& ctx, const std::vector<glm::dvec2>& v, const std::string& name) {

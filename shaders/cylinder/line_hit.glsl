@@ -3,8 +3,10 @@
 // intersect pixel (u, v)'s line - perpendicular to the axis at y_v in direction theta_u, walked
 // from the wall (t = 1) through the axis to t = -1 - with the triangle, using the ray caster's own
 // test (Moller-Trumbore, no epsilon) and its own tabulated directions. A hit counts only if the
-// triangle faces the wall the line starts from. The includer declares positions[], triangles[]
-// and directions[] (REAL2: cos, sin of theta_u) and defines REAL, REAL2, REAL3, REAL4.
+// triangle faces the wall the line starts from. The includer declares the images positions and
+// triangles (common/texel_rows.glsl: texel v holds (x, y, z, 0), texel f a face's three corners)
+// and directions (texel u: cos and sin of theta_u as REAL bits), and defines REAL, REAL2, REAL3,
+// REAL4 and REAL2_OF_TEXEL.
 
 // A model-space point in the cylinder frame, in REAL precision.
 REAL3 cylinder_point(const CylinderJob jb, vec3 model) {
@@ -14,15 +16,15 @@ REAL3 cylinder_point(const CylinderJob jb, vec3 model) {
 
 // Corner k of `face` in the cylinder frame, in REAL precision.
 REAL3 cylinder_corner(const CylinderJob jb, uint face, uint k) {
-    const uint idx = jb.vertex_offset + triangles[3 * face + k];
-    return cylinder_point(jb, vec3(positions[3 * idx], positions[3 * idx + 1], positions[3 * idx + 2]));
+    const uint idx = jb.vertex_offset + imageLoad(triangles, texel(face))[k];
+    return cylinder_point(jb, imageLoad(positions, texel(idx)).xyz);
 }
 
 // The triangle a, a + e1, a + e2 against pixel (u, v) of an image `height` rows high.
 bool line_hit(REAL3 a, REAL3 e1, REAL3 e2, uvec2 pixel, uint height, out REAL t) {
     t = REAL(0.0);
     const REAL y = REAL(1.0) - (REAL(pixel.y) + REAL(0.5)) / REAL(height);
-    const REAL2 cs = directions[pixel.x];
+    const REAL2 cs = REAL2_OF_TEXEL(imageLoad(directions, texel(pixel.x)));
     const REAL3 dir = REAL3(cs.x, 0.0, cs.y);
     // Facing the starting wall: the normal has a positive component along the line's direction.
     if (dot(cross(e1, e2), dir) <= REAL(0.0)) return false;

@@ -4,11 +4,12 @@
 #extension GL_GOOGLE_include_directive : require
 #include "cylinder/cylinder_layout.h"
 #include "cylinder/cylinder_job.h"
+#include "common/texel_rows.glsl"
 
 layout(std430, binding = 1) readonly buffer Jobs { CylinderJob jobs[]; };
-layout(std430, binding = 2) readonly buffer Positions { float positions[]; };
-layout(std430, binding = 3) readonly buffer Triangles { uint triangles[]; };
-layout(std430, binding = 4) readonly buffer Directions { REAL2 directions[]; };
+layout(binding = 2, rgba32f) uniform readonly image2D positions;
+layout(binding = 3, rgba32ui) uniform readonly uimage2D triangles;
+layout(binding = 4, rgba32ui) uniform readonly uimage2D directions;
 layout(push_constant) uniform Push { vec2 atlas_size; uvec2 image_size; };
 
 layout(location = 0) flat in uint face;

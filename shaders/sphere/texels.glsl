@@ -1,8 +1,7 @@
 // The planar solves' vectors and sparse matrices in RGBA32UI storage images, one texel an element
-// (passes/sphere/texel_layout.h says why and how): element i is texel (i mod 4096, i / 4096).
-const uint kRowShift = 12u;
+// (passes/sphere/texel_layout.h says how).
+#include "common/texel_rows.glsl"
 
-ivec2 texel(uint i) { return ivec2(i & ((1u << kRowShift) - 1u), i >> kRowShift); }
 dvec2 dvec2_of(uvec4 t) { return dvec2(packDouble2x32(t.xy), packDouble2x32(t.zw)); }
 uvec4 texel_of(dvec2 v) { return uvec4(unpackDouble2x32(v.x), unpackDouble2x32(v.y)); }
 // A matrix entry or row texel's double.
