@@ -69,7 +69,7 @@ void main() {
     const uvec4 corners = imageLoad(triangles, texel(face));
     vec3 model[3], v[3];
     for (uint k = 0; k < 3; ++k) {
-        model[k] = imageLoad(positions, texel(job.vertex_offset + corners[k])).xyz;
+        model[k] = model_corner(job, corners, k);
         v[k] = to_cylinder(job, model[k]);
     }
     const vec3 normal = cross(v[1] - v[0], v[2] - v[0]);

@@ -14,10 +14,9 @@ REAL3 cylinder_point(const CylinderJob jb, vec3 model) {
     return REAL3(dot(REAL4(jb.rows[0]), p), dot(REAL4(jb.rows[1]), p), dot(REAL4(jb.rows[2]), p));
 }
 
-// Corner k of `face` in the cylinder frame, in REAL precision.
-REAL3 cylinder_corner(const CylinderJob jb, uint face, uint k) {
-    const uint idx = jb.vertex_offset + imageLoad(triangles, texel(face))[k];
-    return cylinder_point(jb, imageLoad(positions, texel(idx)).xyz);
+// Corner k of a face, given the face's texel of triangles, in model space.
+vec3 model_corner(const CylinderJob jb, uvec4 corners, uint k) {
+    return imageLoad(positions, texel(jb.vertex_offset + corners[k])).xyz;
 }
 
 // The triangle a, a + e1, a + e2 against pixel (u, v) of an image `height` rows high.

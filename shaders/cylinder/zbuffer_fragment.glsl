@@ -24,9 +24,10 @@ void main() {
     const uvec2 atlas_pixel = uvec2(gl_FragCoord.xy);
     if (any(lessThan(atlas_pixel, rect_lo)) || any(greaterThanEqual(atlas_pixel, rect_hi))) discard;
     const CylinderJob jb = jobs[job];
-    const REAL3 a = cylinder_corner(jb, face, 0);
+    const uvec4 corners = imageLoad(triangles, texel(face));
+    const REAL3 a = cylinder_point(jb, model_corner(jb, corners, 0));
     REAL t;
-    if (!line_hit(a, cylinder_corner(jb, face, 1) - a, cylinder_corner(jb, face, 2) - a,
+    if (!line_hit(a, cylinder_point(jb, model_corner(jb, corners, 1)) - a, cylinder_point(jb, model_corner(jb, corners, 2)) - a,
                   atlas_pixel - uvec2(jb.tile_x, jb.tile_y), image_size.y, t)) discard;
     distance = float(t);
     gl_FragDepth = float(REAL(0.5) * (REAL(1.0) - t));
