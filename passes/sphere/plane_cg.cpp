@@ -44,6 +44,15 @@ struct RowsAndSwitch {
 
 }  // namespace
 
+std::uint32_t iterations_to_reach(double tolerance, double before, double after, std::uint32_t iterations,
+                                  std::uint32_t per_check) {
+    const double rate = std::pow(after / before, 1.0 / double(iterations));
+    if (!(rate > 0.0 && rate < 1.0) || !(after > tolerance)) return per_check;
+    const double needed = std::ceil(std::log(tolerance / after) / std::log(rate));
+    const auto even = std::uint32_t(2.0 * std::ceil(std::min(needed, double(per_check)) / 2.0));
+    return std::clamp<std::uint32_t>(even, 2, std::max<std::uint32_t>(per_check, 2));
+}
+
 PlaneCgState start_plane_cg(const PlaneProblem& problem, const PlaneMultigrid& mg) {
     PlaneCgState state;
     const std::size_t m = problem.rows();
@@ -79,6 +88,7 @@ GpuPlaneCg::GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMul
     : ctx_(ctx), rows_(std::uint32_t(problem.rows())) {
     const PlaneCgState start = start_plane_cg(problem, mg);
     rz_rhs_ = start.rz_rhs;
+    start_residual_ = start.relative_residual();
     for (std::size_t l = 0; l < mg.levels.size(); ++l) {
         const std::string name = "plane mg level " + std::to_string(l);
         const MultigridLevel& level = mg.levels[l];
@@ -250,9 +260,13 @@ PlaneSolve solve_plane_gpu(Context& ctx, const PlaneProblem& problem, const Plan
     GpuPlaneCg cg(ctx, problem, mg);
     cg.set_timestamps(timestamps);
     PlaneSolve solve;
+    solve.residual = cg.start_residual();
+    std::uint32_t chunk = per_check;
     while (solve.iterations < max_iterations && std::isfinite(solve.residual) && solve.residual > tolerance) {
-        solve.residual = cg.run(per_check);
-        solve.iterations += per_check;
+        const double before = solve.residual;
+        solve.residual = cg.run(chunk);
+        solve.iterations += chunk;
+        chunk = iterations_to_reach(tolerance, before, solve.residual, chunk, per_check);
         solve.gpu_ms += cg.last_gpu_ms();
         if (progress) progress(solve.iterations, solve.residual);
     }

@@ -54,6 +54,7 @@ public:
     // Runs `iterations` (even) iterations; returns the state's relative residual after them.
     double run(std::uint32_t iterations);
     std::vector<glm::dvec2> solution();
+    double start_residual() const { return start_residual_; }  // before the first run
     double last_gpu_ms() const { return last_gpu_ms_; }
     void set_timestamps(bool on) { timestamps_ = on; }
 
@@ -68,6 +69,7 @@ private:
     Context& ctx_;
     std::uint32_t rows_ = 0;
     double rz_rhs_ = 0.0;
+    double start_residual_ = 1.0;
     std::vector<Level> levels_;
     TexelMatrix finest_;  // the operator when there is no smoothed level (else levels_[0].a)
     Buffer coarsest_inverse_;
@@ -87,9 +89,18 @@ struct PlaneSolve {
     bool converged(double tolerance) const { return residual <= tolerance; }
 };
 
-// GpuPlaneCg from the problem's start until the relative residual is at most `tolerance` (checked
-// every `per_check` iterations, even), it breaks down, or `max_iterations` are spent. `progress`
-// (may be empty) hears the iterations and the residual after every check.
+// The iterations (even, 2 to per_check) until the next check: as many as the rate of the last
+// `iterations`, which took the residual from `before` to `after`, needs to reach `tolerance`;
+// per_check when the rate says nothing (no progress, or already there). Conjugate gradients
+// converge at least as fast as their past rate on these problems, so the guess rarely falls short.
+std::uint32_t iterations_to_reach(double tolerance, double before, double after, std::uint32_t iterations,
+                                  std::uint32_t per_check);
+
+// GpuPlaneCg from the problem's start until the relative residual is at most `tolerance`, it
+// breaks down, or `max_iterations` are spent; checked after `per_check` iterations (even), then
+// after as many as iterations_to_reach() says (a whole check past the tolerance cost armadillo_loop1
+// 4-8 iterations a solve). `progress` (may be empty) hears the iterations and the residual after
+// every check.
 PlaneSolve solve_plane_gpu(Context& ctx, const PlaneProblem& problem, const PlaneMultigrid& mg, double tolerance,
                            std::uint32_t per_check, std::size_t max_iterations, bool timestamps,
                            const std::function<void(std::size_t, double)>& progress = {});

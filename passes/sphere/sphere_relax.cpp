@@ -47,8 +47,7 @@ RelaxCheck relax_and_check_cpu(const SphereLevel& level, std::vector<glm::dvec3>
     for (std::uint32_t i = 0; i < iterations; ++i) relax_sweep_cpu(level, y, uniform_weights);
     RelaxCheck check;
     check.relaxed = level_stats_cpu(level, y);
-    glm::dvec3 a = recentre_scale * check.relaxed.centroid;
-    if (glm::length(a) > 0.5) a *= 0.5 / glm::length(a);
+    const glm::dvec3 a = recentring_point(check.relaxed.centroid, recentre_scale);
     std::vector<glm::dvec3> moved(y.size());
     for (std::size_t v = 0; v < y.size(); ++v) moved[v] = moebius_move(y[v], a);
     check.recentred = level_stats_cpu(level, moved);
@@ -56,6 +55,30 @@ RelaxCheck relax_and_check_cpu(const SphereLevel& level, std::vector<glm::dvec3>
                           check.recentred.flips <= check.relaxed.flips;
     if (check.recentre_kept) y = std::move(moved);
     return check;
+}
+
+CentreRun centre_mass_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, double tolerance, std::size_t max_steps) {
+    CentreRun run;
+    run.stats = level_stats_cpu(level, y);
+    std::vector<glm::dvec3> moved = y;
+    glm::dvec3 centroid = run.stats.centroid;
+    while (run.steps < max_steps && glm::length(centroid) > tolerance) {
+        const glm::dvec3 a = recentring_point(centroid, kRecentreScale);
+        centroid = glm::dvec3(0.0);
+        for (glm::dvec3& p : moved) {
+            p = moebius_move(p, a);
+            centroid += p;
+        }
+        centroid /= double(moved.size());
+        ++run.steps;
+    }
+    if (run.steps == 0) return run;
+    const LevelStats after = level_stats_cpu(level, moved);
+    run.kept = after.flips <= run.stats.flips && after.kernel_failures <= run.stats.kernel_failures;
+    if (!run.kept) return run;
+    y = std::move(moved);
+    run.stats = after;
+    return run;
 }
 
 GpuSphereRelaxation::GpuSphereRelaxation(Context& ctx, const SphereLevel& level, const std::vector<glm::dvec3>& y)

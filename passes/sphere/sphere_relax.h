@@ -13,6 +13,8 @@
 #include "gimg/engine/context.h"
 #include "gimg/engine/plan.h"
 
+#include <glm/geometric.hpp>
+
 #include <map>
 #include <memory>
 #include <tuple>
@@ -27,6 +29,30 @@ struct RelaxCheck {
 
 // The first Moebius move is a = 3/4 c: to first order the one that centres evenly spread points.
 inline constexpr double kRecentreScale = 0.75;
+
+// The a of one recentring step from the mass centre c: scale c, at most 1/2 long (big drifts go in
+// several steps). shaders/sphere/recentre.comp computes the same.
+inline glm::dvec3 recentring_point(const glm::dvec3& c, double scale) {
+    glm::dvec3 a = scale * c;
+    if (glm::length(a) > 0.5) a *= 0.5 / glm::length(a);
+    return a;
+}
+
+struct CentreRun {
+    std::size_t steps = 0;  // Moebius steps made
+    bool kept = true;       // false: they would have flipped triangles, and y is unchanged
+    LevelStats stats;       // of y as it is now
+};
+
+// The recentring step repeated on the CPU, points only, until the mass centre is within
+// `tolerance` of the origin or `max_steps` are made. The steps compose to one Moebius
+// transformation, which flips a triangle or not whatever the path, so flips are judged once at
+// the end: kept when no more triangles are flipped or fail the kernel test than before. The
+// relaxation's checks make one step each and judge each with a fan pass; from a map crowded to
+// one side (the planar polish's: mass centre 0.91 from the origin on armadillo_loop1) they need
+// about 20 checks.
+CentreRun centre_mass_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, double tolerance = 1e-6,
+                          std::size_t max_steps = 64);
 
 RelaxCheck relax_and_check_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, std::uint32_t iterations,
                                bool uniform_weights, double recentre_scale = kRecentreScale);

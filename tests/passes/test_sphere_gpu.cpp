@@ -245,16 +245,17 @@ TEST_F(SphereGpu, StagesFollowTheHierarchyAndProgressIsReported) {
     };
     o.timestamps = true;
     const passes::SphereResult r = passes::sphere_gpu(ctx(), e, o);
-    // progressive mesh, base map, 200, 400, 642 vertices, the plane polish's setup, solve and
-    // relaxation
-    ASSERT_EQ(r.stages.size(), 8u);
+    // progressive mesh, base map, 200, 400, 642 vertices, the plane polish's setup, solve,
+    // centring and relaxation
+    ASSERT_EQ(r.stages.size(), 9u);
     EXPECT_EQ(r.stages[2].vertices, 200u);
     EXPECT_EQ(r.stages[4].vertices, 642u);
     EXPECT_TRUE(r.stages[5].name.starts_with("plane polish: problem and multigrid setup")) << r.stages[5].name;
     EXPECT_TRUE(r.stages[6].name.starts_with("plane polish: conjugate gradients")) << r.stages[6].name;
-    EXPECT_EQ(r.stages[7].name, "plane polish: relaxation");
+    EXPECT_EQ(r.stages[7].name, "plane polish: Moebius centring");
+    EXPECT_EQ(r.stages[8].name, "plane polish: relaxation");
     for (std::size_t i = 2; i < r.stages.size(); ++i) {
-        if (i == 5) continue;  // the setup has no iterations
+        if (i == 5 || i == 7) continue;  // the setup has no iterations; the centring may need none
         EXPECT_GT(r.stages[i].iterations, 0u) << r.stages[i].name;
     }
     EXPECT_TRUE(r.note.empty()) << r.note;  // the polish was kept: the map is the last stage's
@@ -268,16 +269,19 @@ TEST_F(SphereGpu, StagesOfTheDirectRoute) {
     passes::GpuSphereOptions o;
     o.timestamps = true;
     const passes::SphereResult r = passes::sphere_gpu(ctx(), e, o);
-    // the harmonic start, the plane polish's setup, solve and relaxation; no hierarchy
-    ASSERT_EQ(r.stages.size(), 4u);
+    // the harmonic start, the plane polish's setup, solve, centring and relaxation; no hierarchy
+    ASSERT_EQ(r.stages.size(), 5u);
     EXPECT_EQ(r.stages[0].name, "harmonic start: pinned-triangle map by conjugate gradients (639 free vertices)");
     EXPECT_TRUE(r.stages[1].name.starts_with("plane polish: problem and multigrid setup")) << r.stages[1].name;
     EXPECT_TRUE(r.stages[2].name.starts_with("plane polish: conjugate gradients")) << r.stages[2].name;
-    EXPECT_EQ(r.stages[3].name, "plane polish: relaxation");
+    EXPECT_EQ(r.stages[3].name, "plane polish: Moebius centring");
+    EXPECT_EQ(r.stages[4].name, "plane polish: relaxation");
     EXPECT_GT(r.stages[0].iterations, 0u);
     EXPECT_GT(r.stages[2].iterations, 0u);
+    // The solve pinned a cap and the projection crowds the map towards it: the centring moves it.
+    EXPECT_GT(r.stages[3].iterations, 0u);
     // The polish lowers the start's energy (distorted around the pinned triangle).
-    EXPECT_LT(r.stages[3].energy, r.stages[0].energy);
+    EXPECT_LT(r.stages[4].energy, r.stages[0].energy);
     EXPECT_NEAR(r.stages.back().energy, passes::sphere_metrics(e, r.positions).conformal_energy, 1e-9);
     EXPECT_TRUE(r.note.empty()) << r.note;
     EXPECT_GT(r.gpu_ms, 0.0);

@@ -2,6 +2,7 @@
 // is proper, the GPU sweeps equal the CPU reference, and no sweep adds a flipped triangle.
 #include "sphere/sphere_level.h"
 #include "sphere/sphere_relax.h"
+#include "sphere/sphere_steps.h"
 
 #include "gpu_test.h"
 
@@ -150,4 +151,33 @@ TEST_F(SphereRelax, GpuSweepsEqualTheCpuReference) {
         EXPECT_LT(worst, 1e-12);
         EXPECT_LT(glm::length(got.recentred.centroid), glm::length(got.relaxed.centroid) + 1e-15);
     }
+}
+
+TEST(SphereLevel, CentringUndoesAMoebiusPush) {
+    // An icosphere's vertices have their mass centre at the origin; a Moebius push crowds them
+    // to one side. Centring brings the centre back, and since the centred Moebius image of a point
+    // set is unique up to a rotation, the icosphere's own edge lengths come back with it.
+    const geo::Mesh mesh = geo::make_icosphere(1.0, 3);
+    const SphereLevel level = passes::detail::build_sphere_level(mesh);
+    std::vector<glm::dvec3> y;
+    for (const glm::dvec3& p : mesh.positions) y.push_back(passes::detail::moebius_move(glm::normalize(p), {0.2, -0.3, 0.6}));
+    const double pushed = glm::length(passes::detail::level_stats_cpu(level, y).centroid);
+    ASSERT_GT(pushed, 0.5);
+    const passes::detail::CentreRun run = passes::detail::centre_mass_cpu(level, y);
+    EXPECT_TRUE(run.kept);
+    EXPECT_GT(run.steps, 0u);
+    EXPECT_LT(glm::length(run.stats.centroid), 1e-6);
+    EXPECT_EQ(run.stats.flips, 0u);
+    double worst = 0.0;
+    for (const glm::uvec3& t : mesh.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+            const double original = glm::length(glm::normalize(mesh.positions[a]) - glm::normalize(mesh.positions[b]));
+            worst = std::max(worst, std::abs(glm::length(y[a] - y[b]) - original) / original);
+        }
+    EXPECT_LT(worst, 1e-4);
+    // Already centred: nothing to do.
+    const passes::detail::CentreRun again = passes::detail::centre_mass_cpu(level, y);
+    EXPECT_EQ(again.steps, 0u);
+    EXPECT_TRUE(again.kept);
 }

@@ -1,0 +1,30 @@
+#pragma once
+// Vertices renumbered so that neighbours on the surface get nearby numbers. Solvers that gather
+// each vertex's neighbours (sparse matrix products, relaxation sweeps) then find them in the same
+// cache lines: meshes refined by subdivision number the new vertices after all the old ones, so a
+// vertex's neighbours lie a quarter of the mesh apart (armadillo_loop1: 22,000 indices on
+// average), and every gather misses the cache.
+#include "gimg/geometry/mesh.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace gimg::geo {
+
+// order[k] = the old index of the vertex that becomes vertex k: the vertices sorted along a Morton
+// (Z-order) curve through the mesh's bounding box, 21 bits an axis; ties keep their old order.
+std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh);
+
+// The same mesh with vertex k = old vertex order[k] (positions, texture coordinates and normals
+// moved with it, triangles renumbered). `order` must be a permutation of the vertices.
+Mesh reorder_vertices(const Mesh& mesh, const std::vector<std::uint32_t>& order);
+
+// Per-vertex values of the reordered mesh back in the original numbering: out[order[k]] = v[k].
+template <class T>
+std::vector<T> original_vertex_order(const std::vector<T>& v, const std::vector<std::uint32_t>& order) {
+    std::vector<T> out(v.size());
+    for (std::size_t k = 0; k < v.size(); ++k) out[order[k]] = v[k];
+    return out;
+}
+
+}  // namespace gimg::geo

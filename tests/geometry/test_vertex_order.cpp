@@ -1,0 +1,74 @@
+// Spatial vertex renumbering: the same surface, neighbours close in number.
+#include "gimg/geometry/shapes.h"
+#include "gimg/geometry/vertex_order.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+using namespace gimg::geo;
+
+namespace {
+
+// Mean |i - j| over the triangles' edges.
+double mean_edge_index_distance(const Mesh& m) {
+    double sum = 0.0;
+    for (const glm::uvec3& t : m.triangles)
+        sum += std::abs(double(t.x) - t.y) + std::abs(double(t.y) - t.z) + std::abs(double(t.z) - t.x);
+    return sum / (3.0 * double(m.face_count()));
+}
+
+}  // namespace
+
+TEST(VertexOrder, IsAPermutation) {
+    const Mesh m = make_icosphere(1.0, 4);
+    std::vector<std::uint32_t> order = spatial_vertex_order(m);
+    ASSERT_EQ(order.size(), m.vertex_count());
+    std::sort(order.begin(), order.end());
+    std::vector<std::uint32_t> identity(m.vertex_count());
+    std::iota(identity.begin(), identity.end(), 0u);
+    EXPECT_EQ(order, identity);
+}
+
+TEST(VertexOrder, KeepsTheSurfaceAndItsAttributes) {
+    Mesh m = make_icosphere(1.0, 3);
+    m.texcoords.resize(m.vertex_count());
+    m.normals.resize(m.vertex_count());
+    for (std::size_t v = 0; v < m.vertex_count(); ++v) {
+        m.texcoords[v] = {double(v), -double(v)};
+        m.normals[v] = m.positions[v];
+    }
+    const std::vector<std::uint32_t> order = spatial_vertex_order(m);
+    const Mesh r = reorder_vertices(m, order);
+    ASSERT_EQ(r.vertex_count(), m.vertex_count());
+    ASSERT_EQ(r.face_count(), m.face_count());
+    // Triangle f has the same corners, in the same order, as before.
+    for (std::size_t f = 0; f < m.face_count(); ++f)
+        for (int c = 0; c < 3; ++c) {
+            EXPECT_EQ(r.positions[r.triangles[f][c]], m.positions[m.triangles[f][c]]);
+            EXPECT_EQ(r.texcoords[r.triangles[f][c]], m.texcoords[m.triangles[f][c]]);
+            EXPECT_EQ(r.normals[r.triangles[f][c]], m.normals[m.triangles[f][c]]);
+        }
+    // Values of the reordered mesh return to the original numbering.
+    EXPECT_EQ(original_vertex_order(r.positions, order), m.positions);
+}
+
+TEST(VertexOrder, BringsNeighboursTogether) {
+    // An icosphere numbers each subdivision's new vertices after the old ones, like
+    // armadillo_loop1: neighbours far apart in number.
+    const Mesh m = make_icosphere(1.0, 6);
+    const Mesh r = reorder_vertices(m, spatial_vertex_order(m));
+    const double before = mean_edge_index_distance(m), after = mean_edge_index_distance(r);
+    EXPECT_GT(before, 5000.0);
+    EXPECT_LT(after, before / 10.0);
+}
+
+TEST(VertexOrder, FlatAndEmptyMeshes) {
+    EXPECT_TRUE(spatial_vertex_order(Mesh{}).empty());
+    const Mesh grid = make_grid(4, 3);  // z = 0 everywhere: one axis has no extent
+    const std::vector<std::uint32_t> order = spatial_vertex_order(grid);
+    EXPECT_EQ(order.size(), grid.vertex_count());
+    EXPECT_EQ(reorder_vertices(grid, order).face_count(), grid.face_count());
+}
