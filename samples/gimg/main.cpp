@@ -14,6 +14,9 @@ int main(int argc, char** argv) {
                  "Vulkan render graph"};
     app.require_subcommand(1);
     app.set_help_all_flag("--help-all", "Print help for every command");
+    // Global options also after the command (`gimg sphere m.off --out d --quiet`): the
+    // commands, made after this, inherit it and pass options they do not know up here.
+    app.fallthrough();
     GlobalOptions global;
     app.add_flag("-v,--verbose", global.verbose, "Print the chosen Vulkan device and progress");
     app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
