@@ -37,7 +37,8 @@ struct EdgeTable {
     std::size_t edge_count() const { return edge_begin.size() - 1; }
 };
 
-// `collapsed[f]`: face f repeats a vertex.
+// `collapsed[f]`: face f repeats a vertex. Every index must name a vertex (analyze_topology checks
+// them first).
 EdgeTable build_edge_table(const Mesh& mesh, const std::vector<std::uint8_t>& collapsed);
 
 // Per vertex, its surface faces and which fan each belongs to (faces joined through the edges
