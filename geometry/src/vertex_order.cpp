@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <type_traits>
 #include <utility>
 
 namespace gimg::geo {
@@ -42,19 +43,20 @@ std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh) {
 }
 
 Mesh reorder_vertices(const Mesh& mesh, const std::vector<std::uint32_t>& order) {
+    // out[k] = values[order[k]]; empty (absent) attributes stay empty.
+    auto gathered = [&order](const auto& values) {
+        std::remove_cvref_t<decltype(values)> out;
+        if (values.size() != order.size()) return out;
+        out.reserve(order.size());
+        for (std::uint32_t old : order) out.push_back(values[old]);
+        return out;
+    };
     std::vector<std::uint32_t> new_index(mesh.vertex_count());
     for (std::uint32_t k = 0; k < order.size(); ++k) new_index[order[k]] = k;
     Mesh out;
-    out.positions.resize(order.size());
-    for (std::size_t k = 0; k < order.size(); ++k) out.positions[k] = mesh.positions[order[k]];
-    if (mesh.has_texcoords()) {
-        out.texcoords.resize(order.size());
-        for (std::size_t k = 0; k < order.size(); ++k) out.texcoords[k] = mesh.texcoords[order[k]];
-    }
-    if (mesh.has_normals()) {
-        out.normals.resize(order.size());
-        for (std::size_t k = 0; k < order.size(); ++k) out.normals[k] = mesh.normals[order[k]];
-    }
+    out.positions = gathered(mesh.positions);
+    out.texcoords = gathered(mesh.texcoords);
+    out.normals = gathered(mesh.normals);
     out.triangles.reserve(mesh.face_count());
     for (const glm::uvec3& t : mesh.triangles) out.triangles.push_back({new_index[t.x], new_index[t.y], new_index[t.z]});
     return out;

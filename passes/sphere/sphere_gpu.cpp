@@ -191,16 +191,16 @@ PolishRun polish_in_plane(Context& ctx, const detail::SphereLevel& level, std::v
     if (!std::isfinite(solve.residual))
         return {false, "conjugate gradients broke down (the problem or its preconditioner is not positive definite)"};
     if (!solve.converged(kCgTolerance)) return {false, "conjugate gradients stopped at residual " + std::to_string(solve.residual)};
-    double polished_energy = polished_stats.energy;
-    if (polished_stats.flips > 0) {
+    detail::LevelStats stats = polished_stats;  // of `polished` as it is now
+    if (stats.flips > 0) {
         // Negative cotangent weights (obtuse triangles) folded a few triangles: repair them locally.
         const auto untangle_start = Clock::now();
         const detail::UntangleResult untangled = detail::untangle_sphere_map(level, polished);
-        polished_energy = detail::level_stats_cpu(level, polished).energy;
+        stats = detail::level_stats_cpu(level, polished);
         result.stages.push_back({"plane polish: untangling (" + std::to_string(untangled.flips_before) + " flipped triangles, " +
                                      std::to_string(untangled.flips_after) + " left, " + std::to_string(untangled.moves) +
                                      " moves)",
-                                 level.vertex_count(), untangled.moves, seconds_since(untangle_start), polished_energy});
+                                 level.vertex_count(), untangled.moves, seconds_since(untangle_start), stats.energy});
         if (untangled.flips_after > 0)
             return {false, std::to_string(untangled.flips_after) + " flipped triangles the untangling could not repair"};
     }
@@ -209,10 +209,10 @@ PolishRun polish_in_plane(Context& ctx, const detail::SphereLevel& level, std::v
     // centre 0.91 from the origin). Centred first, the relaxation settles in 1-2 checks of 8
     // sweeps instead of 5-6 (bunny, armadillo_loop1), with the same angles or better.
     const auto centre_start = Clock::now();
-    const detail::CentreRun centred = detail::centre_mass_cpu(level, polished);
-    if (centred.kept) polished_energy = centred.stats.energy;
+    const detail::CentreRun centred = detail::centre_mass_cpu(level, polished, stats);
+    stats = centred.stats;
     result.stages.push_back({std::string("plane polish: Moebius centring") + (centred.kept ? "" : " (not kept: it would flip triangles)"),
-                             level.vertex_count(), centred.steps, seconds_since(centre_start), polished_energy});
+                             level.vertex_count(), centred.steps, seconds_since(centre_start), stats.energy});
 
     const auto relax_start = Clock::now();
     detail::GpuSphereRelaxation relax(ctx, level, polished);
@@ -220,7 +220,7 @@ PolishRun polish_in_plane(Context& ctx, const detail::SphereLevel& level, std::v
     const std::string name = "plane polish: relaxation";
     GpuSphereOptions relax_options = options;
     relax_options.iterations_per_check = std::min(options.iterations_per_check, kPolishSweepsPerCheck);
-    const SettleRun settled = settle(relax, level.vertex_count(), relax_options, 0, polished_energy, name, t0, result.gpu_ms);
+    const SettleRun settled = settle(relax, level.vertex_count(), relax_options, 0, stats.energy, name, t0, result.gpu_ms);
     result.stages.push_back({name, level.vertex_count(), settled.iterations, seconds_since(relax_start), settled.energy});
     if (settled.flips) return {false, std::to_string(settled.flips) + " flipped triangles"};
     if (!(settled.energy <= energy * 1.001)) return {false, "energy " + std::to_string(settled.energy) + " against " + std::to_string(energy)};

@@ -57,9 +57,10 @@ RelaxCheck relax_and_check_cpu(const SphereLevel& level, std::vector<glm::dvec3>
     return check;
 }
 
-CentreRun centre_mass_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, double tolerance, std::size_t max_steps) {
+CentreRun centre_mass_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, const LevelStats& now, double tolerance,
+                          std::size_t max_steps) {
     CentreRun run;
-    run.stats = level_stats_cpu(level, y);
+    run.stats = now;
     std::vector<glm::dvec3> moved = y;
     glm::dvec3 centroid = run.stats.centroid;
     while (run.steps < max_steps && glm::length(centroid) > tolerance) {

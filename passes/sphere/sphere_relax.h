@@ -51,8 +51,9 @@ struct CentreRun {
 // relaxation's checks make one step each and judge each with a fan pass; from a map crowded to
 // one side (the planar polish's: mass centre 0.91 from the origin on armadillo_loop1) they need
 // about 20 checks.
-CentreRun centre_mass_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, double tolerance = 1e-6,
-                          std::size_t max_steps = 64);
+// `now` is level_stats_cpu(level, y), which the caller has at hand.
+CentreRun centre_mass_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, const LevelStats& now,
+                          double tolerance = 1e-6, std::size_t max_steps = 64);
 
 RelaxCheck relax_and_check_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, std::uint32_t iterations,
                                bool uniform_weights, double recentre_scale = kRecentreScale);
