@@ -1,15 +1,18 @@
-// The GPU cylindrical Z-buffer: classify + split (compute), curved raster (graphics), one graph.
+// The GPU cylindrical Z-buffer: classify + split + small pieces (compute), large pieces (the
+// graphics pipeline's curved raster, or a compute pass on CPU devices), one graph.
 #include "gimg/passes/cylinder.h"
 
 #include "gimg/engine/error.h"
 #include "gimg/engine/graph.h"
+#include "gimg/geometry/vertex_order.h"
 
 #include "../texel_rows.h"
 
 #include "cylinder/classify_comp.h"
 #include "cylinder/classify_float_comp.h"
 #include "cylinder/cylinder_layout.h"
-#include "cylinder/merge_comp.h"
+#include "cylinder/large_pieces_comp.h"
+#include "cylinder/large_pieces_float_comp.h"
 #include "cylinder/zbuffer_float_frag.h"
 #include "cylinder/zbuffer_frag.h"
 #include "cylinder/zbuffer_vert.h"
@@ -17,6 +20,7 @@
 #include <glm/vec4.hpp>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -27,7 +31,8 @@ namespace {
 
 const Spirv kClassify = GIMG_SPIRV(gimg_spv_cylinder_classify_comp);
 const Spirv kClassifyFloat = GIMG_SPIRV(gimg_spv_cylinder_classify_float_comp);
-const Spirv kMerge = GIMG_SPIRV(gimg_spv_cylinder_merge_comp);
+const Spirv kLargePieces = GIMG_SPIRV(gimg_spv_cylinder_large_pieces_comp);
+const Spirv kLargePiecesFloat = GIMG_SPIRV(gimg_spv_cylinder_large_pieces_float_comp);
 const RasterState kDepthMax{.cull = CullMode::None, .depth_test = true, .depth_write = true,
                             .depth_compare = CompareOp::Less};
 const RasterProgram kZBuffer{GIMG_SPIRV(gimg_spv_cylinder_zbuffer_vert), GIMG_SPIRV(gimg_spv_cylinder_zbuffer_frag),
@@ -41,6 +46,16 @@ struct JobGpu {
     std::uint32_t first_face, face_count, face_prefix, vertex_offset, tile_x, tile_y, pad0, pad1;
 };
 static_assert(sizeof(JobGpu) == 80);
+constexpr std::uint32_t kTexelsPerJob = sizeof(JobGpu) / 16;  // classify_body.glsl's load_job
+
+// Mirrors shaders/cylinder/piece_args.glsl.
+struct PieceArgs {
+    std::uint32_t vertex_count, instance_count, first_vertex, first_instance;  // VkDrawIndirectCommand
+    std::uint32_t groups_x, groups_y, groups_z;                                // VkDispatchIndirectCommand
+    std::uint32_t rect_count;
+};
+static_assert(sizeof(PieceArgs) == 32);
+constexpr VkDeviceSize kDispatchArgsOffset = offsetof(PieceArgs, groups_x);
 
 struct ClassifyPush {
     std::uint32_t total_faces, job_count, width, height, max_rects, small_pixels, atlas_width;
@@ -49,9 +64,15 @@ struct DrawPush {
     float atlas_size[2];
     std::uint32_t image_size[2];
 };
-struct MergePush {
-    std::uint32_t atlas_width, atlas_height;
-};
+
+// The distance an ordered key of the classify pass stands for (shaders/cylinder/distance_key.glsl).
+float key_distance(std::uint32_t key) {
+    return std::bit_cast<float>((key & 0x80000000u) != 0 ? key & 0x7fffffffu : ~key);
+}
+
+// The faces' Morton curve runs through 128^3 cells: two radix passes instead of six (add_mesh of
+// dragon's 871K faces 46-50 -> 33-36 ms), and a cell still holds only a few pixels' worth of faces.
+constexpr int kFaceOrderBitsPerAxis = 7;
 
 struct MeshRange {
     std::uint32_t vertex_offset, first_face, face_count;
@@ -72,28 +93,40 @@ struct CylinderZBuffer::State {
     Context& ctx;
     std::uint32_t width, height, small_pixels;
     bool use_double, timestamps;
+    bool graphics;  // large pieces through the graphics pipeline (else large_pieces.comp)
 
     std::vector<float> positions;
     std::vector<std::uint32_t> triangles;
     std::vector<MeshRange> meshes;
     bool geometry_dirty = true;
 
-    Buffer jobs_buf, rects_buf, args_buf;
+    // The batch's jobs: written by the host into jobs_upload, copied by the plan into jobs_buf (for
+    // the graphics pipeline) and jobs_img (five texels a job, for the compute passes).
+    Buffer jobs_upload, jobs_buf, rects_buf, args_buf;
+    Image jobs_img;
+    // Per atlas pixel, the largest t the compute passes found, as an ordered key (distance_key.glsl).
+    Buffer keys_buf;
+    // Where the plan copies the atlas, the keys and the arguments for the host, which merges atlas
+    // and keys as it unpacks the images (on lavapipe a merge pass of its own cost about 0.35 ms an
+    // image).
+    Buffer atlas_readback, keys_readback, args_readback;
     // One texel a vertex, face and image column (texel_rows.h: lavapipe gathers from images).
     Image positions_img, triangles_img, directions_img;
-    Image atlas;
-    std::uint32_t job_capacity = 0, rect_capacity = 0, tiles_per_row = 1;
+    Image atlas;  // the graphics pipeline's t per pixel (only with `graphics`)
+    std::uint32_t job_capacity = 0, rect_capacity = 0, tiles_per_row = 1, atlas_width = 0, atlas_height = 0;
     std::optional<Plan> plan;
 
     // Read by the record callbacks at every execution.
     ClassifyPush classify{};
     DrawPush draw{};
-    MergePush merge{};
 
     State(Context& c, std::uint32_t w, std::uint32_t h, const CylinderZBufferOptions& options)
         : ctx(c), width(w), height(h), small_pixels(options.small_pixels) {
         use_double = options.double_precision && ctx.device_info().shader_float64;
         timestamps = options.timestamps && ctx.device_info().timestamp_period_ns > 0.0;
+        graphics = options.large_pieces == CylinderLargePieces::Graphics ||
+                   (options.large_pieces == CylinderLargePieces::Auto &&
+                    ctx.device_info().type != VK_PHYSICAL_DEVICE_TYPE_CPU);
         // Texel u: cos and sin of theta_u, as two doubles or two floats (the shaders' REAL2_OF_TEXEL).
         std::vector<glm::uvec4> texels(w, glm::uvec4(0));
         const auto dirs = cylinder_directions(w);
@@ -106,7 +139,9 @@ struct CylinderZBuffer::State {
             }
         }
         directions_img = detail::upload_texel_rows(ctx, std::move(texels), Format::RGBA32U, "cylinder directions");
-        args_buf = ctx.create_buffer({16, "cylinder draw arguments"});
+        args_buf = ctx.create_buffer({sizeof(PieceArgs), "cylinder large-piece arguments"});
+        args_readback = ctx.create_buffer({sizeof(PieceArgs), "cylinder large-piece arguments readback"},
+                                          MemoryUsage::Readback);
     }
 
     void upload_geometry() {
@@ -140,63 +175,108 @@ struct CylinderZBuffer::State {
         if (rect_bytes > ctx.device_info().max_storage_buffer_range)
             throw Error(ErrorKind::InvalidArgument, "too many faces in one batch for this device (" +
                                                         std::to_string(faces) + "); project fewer at a time");
+        jobs_img = ctx.create_image(detail::texel_rows_desc(std::size_t(job_capacity) * kTexelsPerJob, Format::RGBA32U,
+                                                            "cylinder job texels"));
+        jobs_upload = ctx.create_buffer({jobs_img.byte_size(), "cylinder jobs upload"}, MemoryUsage::Upload);
         jobs_buf = ctx.create_buffer({VkDeviceSize(job_capacity) * sizeof(JobGpu), "cylinder jobs"});
         rects_buf = ctx.create_buffer({rect_bytes, "cylinder rectangles"});
-        atlas = ctx.create_image({columns * width, rows * height, Format::R32F, "cylinder atlas"});
+        atlas_width = columns * width;
+        atlas_height = rows * height;
+        const VkDeviceSize atlas_bytes = VkDeviceSize(atlas_width) * atlas_height * 4;
+        keys_buf = ctx.create_buffer({atlas_bytes, "cylinder distance keys"});
+        keys_readback = ctx.create_buffer({atlas_bytes, "cylinder distance keys readback"}, MemoryUsage::Readback);
+        if (graphics) {
+            atlas = ctx.create_image({atlas_width, atlas_height, Format::R32F, "cylinder atlas"});
+            atlas_readback = ctx.create_buffer({atlas_bytes, "cylinder atlas readback"}, MemoryUsage::Readback);
+        }
         build_plan();
     }
 
     void build_plan() {
         Graph g(ctx);
         auto pos = g.import_image(positions_img), tri = g.import_image(triangles_img);
-        auto jobs = g.import_buffer(jobs_buf), rects = g.import_buffer(rects_buf);
-        auto args = g.import_buffer(args_buf);
+        auto jobs_in = g.import_buffer(jobs_upload), jobs = g.import_buffer(jobs_buf);
+        auto job_texels = g.import_image(jobs_img);
+        auto rects = g.import_buffer(rects_buf), args = g.import_buffer(args_buf);
         auto dirs = g.import_image(directions_img);
-        auto image = g.import_image(atlas);
-        auto depth = g.create_image({atlas.width(), atlas.height(), Format::D32F, "cylinder depth"});
-        auto small = g.create_buffer({VkDeviceSize(atlas.width()) * atlas.height() * 4, "cylinder small-piece keys"});
+        auto keys = g.import_buffer(keys_buf);
+        auto keys_out = g.import_buffer(keys_readback), args_out = g.import_buffer(args_readback);
         g.add_compute_pass("reset", [&](PassBuilder& b) {
+            b.read(jobs_in, Access::TransferSrc);
+            jobs = b.write(jobs, Access::TransferDst);
+            job_texels = b.write(job_texels, Access::TransferDst);
             args = b.write(args, Access::TransferDst);
-            small = b.write(small, Access::TransferDst);
-        }, [args, small](Cmd& c) {
-            const std::uint32_t init[4] = {0, 1, 0, 0};
-            c.update(args, init, sizeof init);
-            c.fill(small, 0);
+            keys = b.write(keys, Access::TransferDst);
+        }, [this, jobs_in, jobs, job_texels, args, keys](Cmd& c) {
+            c.copy(jobs_in, jobs, jobs_buf.size());
+            c.copy(jobs_in, job_texels);
+            const PieceArgs init{0, 1, 0, 0, 0, 1, 1, 0};
+            c.update(args, &init, sizeof init);
+            c.fill(keys, 0);
         });
         g.add_compute_pass("classify, split, small pieces", [&](PassBuilder& b) {
             b.read(pos, Access::ComputeRead);
             b.read(tri, Access::ComputeRead);
-            b.read(jobs, Access::ComputeRead);
+            b.read(job_texels, Access::ComputeRead);
             b.read(dirs, Access::ComputeRead);
             rects = b.write(rects, Access::ComputeWrite);
             args = b.write(args, Access::ComputeReadWrite);
-            small = b.write(small, Access::ComputeReadWrite);
-        }, [this, pos, tri, jobs, rects, args, dirs, small](Cmd& c) {
+            keys = b.write(keys, Access::ComputeReadWrite);
+        }, [this, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
             const std::uint32_t groups = (classify.total_faces + GIMG_CYL_CLASSIFY_GROUP - 1) / GIMG_CYL_CLASSIFY_GROUP;
             const std::uint32_t gx = std::min(groups, 65535u), gy = (groups + gx - 1) / std::max(gx, 1u);
-            c.dispatch(use_double ? kClassify : kClassifyFloat, {gx, gy, 1}, {pos, tri, jobs, rects, args, dirs, small},
-                       classify);
+            c.dispatch(use_double ? kClassify : kClassifyFloat, {gx, gy, 1},
+                       {pos, tri, job_texels, rects, args, dirs, keys}, classify);
         });
-        g.add_raster_pass("cylindrical z-buffer", [&](PassBuilder& b) {
-            b.read(rects, Access::VertexRead);
-            b.read(jobs, Access::VertexRead);
-            b.read(jobs, Access::FragmentRead);
-            b.read(pos, Access::FragmentRead);
-            b.read(tri, Access::FragmentRead);
-            b.read(dirs, Access::FragmentRead);
-            b.read(args, Access::IndirectArgs);
-            image = b.color(image, ClearValue::color(float(GIMG_CYL_EMPTY)));
-            depth = b.depth(depth, ClearValue::depth(1.0f));
-        }, [this, rects, jobs, pos, tri, dirs, args](Cmd& c) {
-            c.draw_indirect(use_double ? kZBuffer : kZBufferFloat, args, 0, 1, {rects, jobs, pos, tri, dirs}, draw);
+        std::optional<ImageHandle> image;
+        std::optional<BufferHandle> atlas_out;
+        if (graphics) {
+            image = g.import_image(atlas);
+            atlas_out = g.import_buffer(atlas_readback);
+            auto depth = g.create_image({atlas_width, atlas_height, Format::D32F, "cylinder depth"});
+            g.add_raster_pass("cylindrical z-buffer", [&](PassBuilder& b) {
+                b.read(rects, Access::VertexRead);
+                b.read(jobs, Access::VertexRead);
+                b.read(jobs, Access::FragmentRead);
+                b.read(pos, Access::FragmentRead);
+                b.read(tri, Access::FragmentRead);
+                b.read(dirs, Access::FragmentRead);
+                b.read(args, Access::IndirectArgs);
+                image = b.color(*image, ClearValue::color(float(GIMG_CYL_EMPTY)));
+                depth = b.depth(depth, ClearValue::depth(1.0f));
+            }, [this, rects, jobs, pos, tri, dirs, args](Cmd& c) {
+                c.draw_indirect(use_double ? kZBuffer : kZBufferFloat, args, 0, 1, {rects, jobs, pos, tri, dirs}, draw);
+            });
+        } else {
+            g.add_compute_pass("large pieces", [&](PassBuilder& b) {
+                b.read(pos, Access::ComputeRead);
+                b.read(tri, Access::ComputeRead);
+                b.read(job_texels, Access::ComputeRead);
+                b.read(rects, Access::ComputeRead);
+                b.read(args, Access::IndirectArgs);
+                b.read(args, Access::ComputeRead);
+                b.read(dirs, Access::ComputeRead);
+                keys = b.write(keys, Access::ComputeReadWrite);
+            }, [this, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
+                c.dispatch_indirect(use_double ? kLargePieces : kLargePiecesFloat, args, kDispatchArgsOffset,
+                                    {pos, tri, job_texels, rects, args, dirs, keys}, classify);
+            });
+        }
+        g.add_compute_pass("read back", [&](PassBuilder& b) {
+            if (image) b.read(*image, Access::TransferSrc);
+            b.read(keys, Access::TransferSrc);
+            b.read(args, Access::TransferSrc);
+            if (atlas_out) atlas_out = b.write(*atlas_out, Access::TransferDst);
+            keys_out = b.write(keys_out, Access::TransferDst);
+            args_out = b.write(args_out, Access::TransferDst);
+        }, [image, keys, args, atlas_out, keys_out, args_out](Cmd& c) {
+            if (image) c.copy(*image, *atlas_out);
+            c.copy(keys, keys_out);
+            c.copy(args, args_out);
         });
-        g.add_compute_pass("merge small pieces", [&](PassBuilder& b) {
-            b.read(small, Access::ComputeRead);
-            image = b.write(image, Access::ComputeReadWrite);
-        }, [this, image, small](Cmd& c) {
-            c.dispatch_threads(kMerge, {merge.atlas_width, merge.atlas_height, 1}, {image, small}, merge);
-        });
-        g.export_image(image, Access::TransferSrc);
+        if (atlas_out) g.export_buffer(*atlas_out, Access::HostRead);
+        g.export_buffer(keys_out, Access::HostRead);
+        g.export_buffer(args_out, Access::HostRead);
         plan = g.compile();
     }
 };
@@ -211,6 +291,8 @@ CylinderZBuffer::CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_
 CylinderZBuffer::~CylinderZBuffer() = default;
 
 bool CylinderZBuffer::double_precision() const { return state_->use_double; }
+
+bool CylinderZBuffer::graphics_pipeline() const { return state_->graphics; }
 
 std::vector<PassTiming> CylinderZBuffer::last_pass_timings() const {
     if (!state_->plan || !state_->timestamps) return {};
@@ -227,7 +309,21 @@ std::uint32_t CylinderZBuffer::add_mesh(const CylinderMesh& mesh) {
     s.meshes.push_back({std::uint32_t(s.positions.size() / 3), std::uint32_t(s.triangles.size() / 3),
                         std::uint32_t(mesh.face_count())});
     s.positions.insert(s.positions.end(), mesh.positions.begin(), mesh.positions.end());
-    s.triangles.insert(s.triangles.end(), mesh.triangles.begin(), mesh.triangles.end());
+    // Faces along a Morton curve through their centres: the faces a subgroup classifies together
+    // then lie side by side, so their pixels share cache lines and their pixel counts are alike
+    // (lanes wait less for the subgroup's largest face). On bunny at 540x270, 6.0 -> 5.4 ms an image
+    // on lavapipe. The image does not depend on the order.
+    std::vector<glm::dvec3> centres(mesh.face_count(), glm::dvec3(0.0));
+    for (std::size_t f = 0; f < centres.size(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t v = mesh.triangles[3 * f + k];
+            centres[f] += glm::dvec3(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]) / 3.0;
+        }
+    const std::vector<std::uint32_t> order = geo::morton_order(centres, kFaceOrderBitsPerAxis);
+    const std::size_t first = s.triangles.size();
+    s.triangles.resize(first + mesh.triangles.size());
+    for (std::size_t k = 0; k < order.size(); ++k)
+        std::copy_n(mesh.triangles.begin() + 3 * std::size_t(order[k]), 3, s.triangles.begin() + first + 3 * k);
     s.geometry_dirty = true;
     return std::uint32_t(s.meshes.size() - 1);
 }
@@ -287,26 +383,34 @@ std::vector<CylinderImage> CylinderZBuffer::project_batch(std::span<const Job> j
         g.pad0 = g.pad1 = 0;
         prefix += m.face_count;
     }
-    s.ctx.upload(s.jobs_buf, gpu.data(), gpu.size() * sizeof(JobGpu));
+    s.ctx.upload(s.jobs_upload, gpu.data(), gpu.size() * sizeof(JobGpu));
     s.classify = {std::uint32_t(total), std::uint32_t(jobs.size()), s.width,         s.height,
-                  s.rect_capacity,       s.small_pixels,              s.atlas.width()};
-    s.merge = {s.atlas.width(), s.atlas.height()};
-    s.draw = {{float(s.atlas.width()), float(s.atlas.height())}, {s.width, s.height}};
+                  s.rect_capacity,       s.small_pixels,              s.atlas_width};
+    s.draw = {{float(s.atlas_width), float(s.atlas_height)}, {s.width, s.height}};
     s.plan->execute({.wait = true, .timestamps = s.timestamps});
     last_gpu_ms_ = s.timestamps ? s.plan->total_gpu_ms() : 0.0;
 
-    std::uint32_t args[4] = {0, 0, 0, 0};
-    s.ctx.download(s.args_buf, args, sizeof args);
-    last_rects_ = args[0] / 3;
-    std::vector<std::byte> bytes = s.ctx.download(s.atlas);
-    const float* atlas = reinterpret_cast<const float*>(bytes.data());
+    PieceArgs args{};
+    s.ctx.download(s.args_readback, &args, sizeof args);
+    last_rects_ = args.rect_count;
+    const std::size_t atlas_pixels = std::size_t(s.atlas_width) * s.atlas_height;
+    std::vector<std::uint32_t> keys(atlas_pixels);
+    s.ctx.download(s.keys_readback, keys.data(), atlas_pixels * 4);
+    std::vector<float> atlas;
+    if (s.graphics) {
+        atlas.resize(atlas_pixels);
+        s.ctx.download(s.atlas_readback, atlas.data(), atlas_pixels * 4);
+    }
     std::vector<CylinderImage> out;
     out.reserve(jobs.size());
     for (std::size_t k = 0; k < jobs.size(); ++k) {
         CylinderImage img(s.width, s.height);
         for (std::uint32_t v = 0; v < s.height; ++v)
             for (std::uint32_t u = 0; u < s.width; ++u) {
-                const float d = atlas[std::size_t(gpu[k].tile_y + v) * s.atlas.width() + gpu[k].tile_x + u];
+                const std::size_t i = std::size_t(gpu[k].tile_y + v) * s.atlas_width + gpu[k].tile_x + u;
+                // The larger of the compute passes' t (key 0: none) and the graphics pipeline's (empty: -4).
+                float d = keys[i] != 0 ? key_distance(keys[i]) : float(GIMG_CYL_EMPTY);
+                if (s.graphics) d = std::max(d, atlas[i]);
                 const bool hit = d >= -1.0f;
                 img.covered[img.index(u, v)] = hit;
                 img.distance[img.index(u, v)] = hit ? d : 0.0f;

@@ -31,7 +31,15 @@ struct BenchOptions {
     int runs = 5;
     std::uint32_t batch_images = 256;
     std::uint32_t small_pixels = passes::CylinderZBufferOptions{}.small_pixels;
+    std::string large_pieces = "auto";
     std::string json;
+
+    passes::CylinderZBufferOptions zbuffer(bool timestamps = false) const {
+        const auto large = large_pieces == "graphics" ? passes::CylinderLargePieces::Graphics
+                           : large_pieces == "compute" ? passes::CylinderLargePieces::Compute
+                                                       : passes::CylinderLargePieces::Auto;
+        return {.small_pixels = small_pixels, .large_pieces = large, .timestamps = timestamps};
+    }
 };
 
 // The default set: armadillo and bunny from ../shared/meshes, the fetched large ones.
@@ -68,23 +76,24 @@ struct Row {
     std::size_t faces;
     std::uint32_t width, height;
     double zbuffer_gpu_ms, zbuffer_ms, zbuffer_new_mesh_ms;
-    double zbuffer_graphics_only_ms;  // every piece through the graphics pipeline (small_pixels 0)
+    double zbuffer_graphics_only_ms;  // every piece through the graphics pipeline
     double raycast_bvh_ms, raycast_ms, scanline_ms, scanline_1t_ms;
     double embree_bvh_ms = 0.0, embree_ms = 0.0;
 };
 
 Row bench_one(Context& ctx, const std::string& path, const geo::Mesh& mesh, const passes::CylinderMesh& cyl,
-              std::uint32_t w, std::uint32_t h, int runs, std::uint32_t small_pixels) {
+              std::uint32_t w, std::uint32_t h, int runs, const BenchOptions& o) {
     Row r{std::filesystem::path(path).filename().string(), mesh.face_count(), w, h, 0, 0, 0, 0, 0, 0, 0, 0};
     std::vector<double> gpu, wall, fresh, graphics_only, bvh, ray, scan, scan1, ebvh, eray;
-    passes::CylinderZBuffer all_graphics(ctx, w, h, {.small_pixels = 0});
+    passes::CylinderZBuffer all_graphics(ctx, w, h,
+                                         {.small_pixels = 0, .large_pieces = passes::CylinderLargePieces::Graphics});
     all_graphics.add_mesh(cyl);
     // GPU time from a timestamped twin: the wall-clock runs go without timestamps, which cost
     // lavapipe 0.5 ms a projection.
-    passes::CylinderZBuffer timed(ctx, w, h, {.small_pixels = small_pixels, .timestamps = true});
+    passes::CylinderZBuffer timed(ctx, w, h, o.zbuffer(true));
     timed.add_mesh(cyl);
     {
-        passes::CylinderZBuffer warm(ctx, w, h, {.small_pixels = small_pixels});  // pipelines compile once per process
+        passes::CylinderZBuffer warm(ctx, w, h, o.zbuffer());  // pipelines compile once per process
         warm.project(warm.add_mesh(cyl));
         all_graphics.project(0);
         timed.project(0);
@@ -92,7 +101,7 @@ Row bench_one(Context& ctx, const std::string& path, const geo::Mesh& mesh, cons
     for (int k = 0; k < runs; ++k) {
         std::unique_ptr<passes::CylinderZBuffer> z;
         fresh.push_back(time_ms([&] {
-            z = std::make_unique<passes::CylinderZBuffer>(ctx, w, h, passes::CylinderZBufferOptions{.small_pixels = small_pixels});
+            z = std::make_unique<passes::CylinderZBuffer>(ctx, w, h, o.zbuffer());
             z->project(z->add_mesh(cyl));
         }));
         wall.push_back(time_ms([&] { z->project(0); }));
@@ -131,8 +140,14 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
     j["runs"] = runs;
     j["embree"] = embree_available();
     j["small_pixels"] = o.small_pixels;
-    std::printf("gimg bench cylinder on %s; medians of %d runs; times in ms; pieces of <= %u pixels in compute\n",
-                ctx->device_info().summary().c_str(), runs, o.small_pixels);
+    const bool graphics = passes::CylinderZBuffer(*ctx, 1, 1, o.zbuffer()).graphics_pipeline();
+    // lavapipe's timestamps see the graphics pipeline only, not compute work: no GPU time on CPU devices.
+    const bool gpu_times = ctx->device_info().type != VK_PHYSICAL_DEVICE_TYPE_CPU;
+    j["large_pieces"] = graphics ? "graphics" : "compute";
+    std::printf("gimg bench cylinder on %s; medians of %d runs; times in ms; zbuffer: pieces of <= %u pixels in the "
+                "classify pass, larger ones %s\n",
+                ctx->device_info().summary().c_str(), runs, o.small_pixels,
+                graphics ? "through the graphics pipeline" : "in the large-piece compute pass");
     std::printf("%-22s %8s %9s | %9s %9s %9s %9s | %9s %9s | %9s %9s | %9s %9s | %7s %7s %7s\n", "mesh", "faces",
                 "size", "zbuf GPU", "zbuf wall", "zbuf new", "gfx only", "ray BVH", "ray img", "scan", "scan 1t",
                 "embree BVH", "embree img", "ray/zb", "scan/zb", "emb/zb");
@@ -141,7 +156,7 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
         const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, passes::fit_cylinder_frame(mesh));
         for (const std::string& size_text : o.sizes) {
             const auto size = size_text == "auto" ? passes::auto_cylinder_size(mesh.face_count()) : parse_size(size_text);
-            const Row r = bench_one(*ctx, path, mesh, cyl, size[0], size[1], runs, o.small_pixels);
+            const Row r = bench_one(*ctx, path, mesh, cyl, size[0], size[1], runs, o);
             const double zb = r.zbuffer_ms;
             char embree[64] = "        -         - ";
             char embree_ratio[16] = "      -";
@@ -149,15 +164,18 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
                 std::snprintf(embree, sizeof embree, "%9.2f %9.2f", r.embree_bvh_ms, r.embree_ms);
                 std::snprintf(embree_ratio, sizeof embree_ratio, "%7.2f", r.embree_ms / zb);
             }
-            std::printf("%-22s %8zu %4ux%-4u | %9.2f %9.2f %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %s | %7.2f %7.2f %s\n",
-                        r.mesh.c_str(), r.faces, r.width, r.height, r.zbuffer_gpu_ms, r.zbuffer_ms, r.zbuffer_new_mesh_ms,
+            char gpu_ms[16] = "        -";
+            if (gpu_times) std::snprintf(gpu_ms, sizeof gpu_ms, "%9.2f", r.zbuffer_gpu_ms);
+            std::printf("%-22s %8zu %4ux%-4u | %s %9.2f %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %s | %7.2f %7.2f %s\n",
+                        r.mesh.c_str(), r.faces, r.width, r.height, gpu_ms, r.zbuffer_ms, r.zbuffer_new_mesh_ms,
                         r.zbuffer_graphics_only_ms, r.raycast_bvh_ms, r.raycast_ms, r.scanline_ms, r.scanline_1t_ms, embree, r.raycast_ms / zb,
                         r.scanline_ms / zb, embree_ratio);
             j["projections"].push_back({{"mesh", r.mesh},
                                         {"faces", r.faces},
                                         {"width", r.width},
                                         {"height", r.height},
-                                        {"zbuffer_gpu_ms", r.zbuffer_gpu_ms},
+                                        {"zbuffer_gpu_ms",
+                                         gpu_times ? nlohmann::json(r.zbuffer_gpu_ms) : nlohmann::json()},
                                         {"zbuffer_ms", r.zbuffer_ms},
                                         {"zbuffer_new_mesh_ms", r.zbuffer_new_mesh_ms},
                                         {"zbuffer_graphics_only_ms", r.zbuffer_graphics_only_ms},
@@ -178,9 +196,9 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
     // Batch: many rotations of ~10K-face meshes at 144x144 in one graph execution.
     const auto batch = o.batch_meshes.empty() ? default_batch_meshes() : o.batch_meshes;
     if (!batch.empty() && o.batch_images > 0) {
-        passes::CylinderZBuffer z(*ctx, 144, 144, {.small_pixels = o.small_pixels});
+        passes::CylinderZBuffer z(*ctx, 144, 144, o.zbuffer());
         // GPU time from a timestamped twin, as for single images.
-        passes::CylinderZBuffer timed(*ctx, 144, 144, {.small_pixels = o.small_pixels, .timestamps = true});
+        passes::CylinderZBuffer timed(*ctx, 144, 144, o.zbuffer(true));
         std::vector<passes::CylinderZBuffer::Job> jobs;
         std::vector<std::uint32_t> ids;
         for (const auto& path : batch) {
@@ -199,10 +217,13 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
             gpu.push_back(timed.last_gpu_ms());
         }
         const double per_second = 1000.0 * o.batch_images / median(wall);
-        std::printf("batch: %u images of 144x144 from %zu meshes of ~10K faces per execution: %.1f ms wall (%.1f ms GPU), "
-                    "%.0f images/s\n", o.batch_images, batch.size(), median(wall), median(gpu), per_second);
+        char gpu_ms[32] = "";
+        if (gpu_times) std::snprintf(gpu_ms, sizeof gpu_ms, " (%.1f ms GPU)", median(gpu));
+        std::printf("batch: %u images of 144x144 from %zu meshes of ~10K faces per execution: %.1f ms wall%s, "
+                    "%.0f images/s\n", o.batch_images, batch.size(), median(wall), gpu_ms, per_second);
         j["batch"] = {{"images", o.batch_images}, {"width", 144}, {"height", 144}, {"meshes", batch},
-                      {"wall_ms", median(wall)}, {"gpu_ms", median(gpu)}, {"images_per_second", per_second}};
+                      {"wall_ms", median(wall)}, {"gpu_ms", gpu_times ? nlohmann::json(median(gpu)) : nlohmann::json()},
+                      {"images_per_second", per_second}};
     }
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
@@ -263,8 +284,12 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
     cyl->add_option("--batch-images", opts->batch_images, "Images per batch execution at 144x144 (0: skip)");
     cyl->add_option("--batch-mesh", opts->batch_meshes, "Meshes for the batch case (default: ~10K-face shared meshes)");
     cyl->add_option("--small-pixels", opts->small_pixels,
-                    "zbuffer: pieces of at most this many pixels are decided in compute (0: all through the graphics "
-                    "pipeline; default 64)");
+                    "zbuffer: pieces of at most this many pixels are decided in the classify pass (0: none; "
+                    "default 64)");
+    cyl->add_option("--large-pieces", opts->large_pieces,
+                    "zbuffer: larger pieces through the graphics pipeline or a compute pass (default auto: compute on "
+                    "CPU devices, graphics on GPUs)")
+        ->check(CLI::IsMember({"auto", "graphics", "compute"}));
     cyl->add_option("--json", opts->json, "Write the figures as JSON");
     cyl->callback([opts, &global] { run_bench(*opts, global); });
     auto ropts = std::make_shared<ReconstructBenchOptions>();

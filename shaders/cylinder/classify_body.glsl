@@ -8,7 +8,8 @@
 // fragment stage's own exact test (line_hit.glsl) and an atomicMax on ordered keys: a CPU
 // rasteriser (lavapipe) spends about half a microsecond setting up each primitive, far more than
 // testing a few pixels costs, and GPUs too rasterise pieces of a pixel or two poorly. Larger
-// rectangles are appended for the graphics pipeline, whose fragment stage decides their pixels.
+// rectangles are appended for the large-piece pass: the graphics pipeline, whose fragment stage
+// decides their pixels, or large_pieces.comp, a workgroup sharing out each one's pixels.
 //
 // Written for how lavapipe runs compute (Mesa 22.3, 8 lanes a vector): both sides of every branch
 // execute under a lane mask, a loop runs until its slowest lane is done, and a storage-buffer load
@@ -27,15 +28,16 @@
 layout(local_size_x = GIMG_CYL_CLASSIFY_GROUP) in;
 layout(binding = 0, rgba32f) uniform readonly image2D positions;    // texel v: (x, y, z, 0)
 layout(binding = 1, rgba32ui) uniform readonly uimage2D triangles;  // texel f: (a, b, c, 0)
-layout(std430, binding = 2) readonly buffer Jobs { CylinderJob jobs[]; };
+layout(binding = 2, rgba32ui) uniform readonly uimage2D job_texels;  // job k: texels 5k .. 5k + 4 (CylinderJob)
 layout(std430, binding = 3) writeonly buffer Rects { uvec4 rects[]; };  // face, job, u0|u1<<16, v0|v1<<16
-layout(std430, binding = 4) buffer Args { uint vertex_count; uint instance_count; uint first_vertex; uint first_instance; } args;
 layout(binding = 5, rgba32ui) uniform readonly uimage2D directions;  // texel u: cos, sin of theta_u (line_hit.glsl)
 layout(std430, binding = 6) buffer Small { uint small[]; };  // per atlas pixel: key of the largest t, 0: none
 layout(push_constant) uniform Push {
     uint total_faces; uint job_count; uint width; uint height; uint max_rects; uint small_pixels; uint atlas_width;
 };
 
+#include "cylinder/piece_args.glsl"
+#include "cylinder/job_texels.glsl"
 #include "cylinder/line_hit.glsl"
 
 const float kTwoPi = 6.28318530717958647692;
@@ -45,7 +47,7 @@ uint job_of(uint i) {  // the last job whose face_prefix <= i
     uint lo = 0, hi = job_count - 1;
     while (lo < hi) {
         const uint mid = (lo + hi + 1) / 2;
-        if (jobs[mid].face_prefix <= i) lo = mid; else hi = mid - 1;
+        if (job_face_prefix(mid) <= i) lo = mid; else hi = mid - 1;
     }
     return lo;
 }
@@ -64,7 +66,7 @@ void main() {
     const uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * GIMG_CYL_CLASSIFY_GROUP;
     if (i >= total_faces) return;
     const uint j = job_of(i);
-    const CylinderJob job = jobs[j];
+    const CylinderJob job = load_job(j);
     const uint face = job.first_face + (i - job.face_prefix);
     const uvec4 corners = imageLoad(triangles, texel(face));
     vec3 model[3], v[3];
@@ -102,11 +104,12 @@ void main() {
 
     // Up to four rectangles: two pieces (an exception triangle split along s = 0 into a front piece,
     // s >= 0, and a back piece, s <= 0; otherwise the whole triangle on its side), each emitted on
-    // both sides of the seam at theta = 0 when its span crosses it. Small ones are kept in order in
-    // small0..small3 (selects, not an array indexed by a per-lane count: lavapipe turns that into
-    // memory traffic lane by lane); large ones go to the graphics pipeline at once.
+    // both sides of the seam at theta = 0 when its span crosses it. They are kept in order in
+    // small0..small3 and large0..large3 (selects, not arrays indexed by a per-lane count: lavapipe
+    // turns those into memory traffic lane by lane).
     ivec4 small0 = ivec4(0, -1, 0, -1), small1 = small0, small2 = small0, small3 = small0;
-    uint small_count = 0;
+    ivec4 large0 = small0, large1 = small0, large2 = small0, large3 = small0;
+    uint small_count = 0, large_count = 0;
     for (int side = 0; side < pieces; ++side) {
         const float sign = side == 0 ? 1.0 : -1.0;
         const bool back = exception ? side == 1 : any_back;
@@ -151,9 +154,11 @@ void main() {
             const ivec4 r = pixel_rect(lo - copy * kTwoPi, hi - copy * kTwoPi, ylo, yhi);
             if (r.x > r.y || r.z > r.w) continue;
             if (uint(r.y - r.x + 1) * uint(r.w - r.z + 1) > small_pixels) {
-                const uint slot = atomicAdd(args.vertex_count, 3u) / 3u;  // one triangle per rectangle
-                if (slot < max_rects)  // always: at most GIMG_CYL_RECTS_PER_FACE per face
-                    rects[slot] = uvec4(face, j, uint(r.x) | (uint(r.y) << 16), uint(r.z) | (uint(r.w) << 16));
+                large0 = large_count == 0 ? r : large0;
+                large1 = large_count == 1 ? r : large1;
+                large2 = large_count == 2 ? r : large2;
+                large3 = large_count == 3 ? r : large3;
+                ++large_count;
                 continue;
             }
             small0 = small_count == 0 ? r : small0;
@@ -162,6 +167,21 @@ void main() {
             small3 = small_count == 3 ? r : small3;
             ++small_count;
         }
+    }
+
+    // Large rectangles go to the large-piece pass (graphics pipeline or compute) through a loop that
+    // no lane enters unless it has one: lavapipe skips a loop all lanes leave at once, where an if
+    // would run its atomics' loop over the lanes in every subgroup.
+    for (uint k = 0; k < large_count; ++k) {
+        const uint slot = atomicAdd(args.rect_count, 1u);
+        atomicAdd(args.vertex_count, 3u);  // one triangle a rectangle
+        if (slot < GIMG_CYL_MAX_GROUPS) atomicAdd(args.groups_x, 1u);
+        if (slot < max_rects)  // always: at most GIMG_CYL_RECTS_PER_FACE per face
+            rects[slot] = uvec4(face, j, uint(large0.x) | (uint(large0.y) << 16),
+                                uint(large0.z) | (uint(large0.w) << 16));
+        large0 = large1;
+        large1 = large2;
+        large2 = large3;
     }
 
     const REAL3 a = cylinder_point(job, model[0]);

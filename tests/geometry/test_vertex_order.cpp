@@ -72,3 +72,13 @@ TEST(VertexOrder, FlatAndEmptyMeshes) {
     EXPECT_EQ(order.size(), grid.vertex_count());
     EXPECT_EQ(reorder_vertices(grid, order).face_count(), grid.face_count());
 }
+
+TEST(VertexOrder, MortonOrderOfTheCubesCornersIsTheZCurve) {
+    // Corner (x, y, z) of the unit cube is number x + 2y + 4z along the curve (x the lowest bit),
+    // whatever order the points come in; a repeated point keeps its place after the first.
+    std::vector<glm::dvec3> points;
+    for (int k : {6, 1, 7, 0, 3, 5, 2, 4}) points.push_back(glm::dvec3(k & 1, (k >> 1) & 1, (k >> 2) & 1));
+    points.push_back({1.0, 1.0, 1.0});
+    const std::vector<std::uint32_t> order = morton_order(points);
+    EXPECT_EQ(order, (std::vector<std::uint32_t>{3, 1, 6, 4, 7, 5, 0, 2, 8}));
+}

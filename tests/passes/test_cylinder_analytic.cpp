@@ -12,14 +12,21 @@ using namespace gimg;
 
 namespace {
 
-// The z-buffer four ways: its default split between the compute pass (small pieces) and the
-// graphics pipeline (large ones), every piece through the graphics pipeline, every piece in
-// compute, and the default split in float32 (devices without shaderFloat64).
-enum class Method { ZBuffer, ZBufferGraphics, ZBufferCompute, ZBufferFloat, Raycast, Scanline };
+// The z-buffer six ways: its default split between the classify pass (small pieces) and the
+// large-piece pass (the device's default: compute on lavapipe), the same split with large pieces
+// through the graphics pipeline (GPUs' default), every piece through the graphics pipeline, every
+// piece in the classify pass, every piece in the large-piece compute pass, and the default split
+// in float32 (devices without shaderFloat64).
+enum class Method {
+    ZBuffer, ZBufferSplit, ZBufferGraphics, ZBufferCompute, ZBufferLarge, ZBufferFloat, Raycast, Scanline
+};
 
 passes::CylinderZBufferOptions zbuffer_options(Method m) {
     passes::CylinderZBufferOptions o;
-    if (m == Method::ZBufferGraphics) o.small_pixels = 0;
+    if (m == Method::ZBufferSplit || m == Method::ZBufferGraphics)
+        o.large_pieces = passes::CylinderLargePieces::Graphics;
+    if (m == Method::ZBufferGraphics || m == Method::ZBufferLarge) o.small_pixels = 0;
+    if (m == Method::ZBufferLarge) o.large_pieces = passes::CylinderLargePieces::Compute;
     if (m == Method::ZBufferCompute) o.small_pixels = UINT32_MAX;
     if (m == Method::ZBufferFloat) o.double_precision = false;
     return o;
@@ -28,6 +35,8 @@ passes::CylinderZBufferOptions zbuffer_options(Method m) {
 std::string method_name(Method m) {
     switch (m) {
     case Method::ZBuffer: return "zbuffer";
+    case Method::ZBufferSplit: return "zbuffer_split";
+    case Method::ZBufferLarge: return "zbuffer_large";
     case Method::ZBufferGraphics: return "zbuffer_graphics";
     case Method::ZBufferCompute: return "zbuffer_compute";
     case Method::ZBufferFloat: return "zbuffer_float";
@@ -73,8 +82,9 @@ TEST_P(CylinderAnalytic, CylindricalShellAcrossTheSeam) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, CylinderAnalytic,
-                         ::testing::Values(Method::ZBuffer, Method::ZBufferGraphics, Method::ZBufferCompute,
-                                           Method::ZBufferFloat, Method::Raycast, Method::Scanline),
+                         ::testing::Values(Method::ZBuffer, Method::ZBufferSplit, Method::ZBufferGraphics,
+                                           Method::ZBufferCompute, Method::ZBufferLarge, Method::ZBufferFloat,
+                                           Method::Raycast, Method::Scanline),
                          [](const ::testing::TestParamInfo<Method>& p) { return method_name(p.param); });
 
 // Where there is no closed form: the definition evaluated literally (cylinder_exact.h).
@@ -134,6 +144,7 @@ TEST_P(CylinderDefinition, RandomTriangleSoupThroughATransformMatchesTheDefiniti
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, CylinderDefinition,
-                         ::testing::Values(Method::ZBuffer, Method::ZBufferGraphics, Method::ZBufferCompute,
-                                           Method::ZBufferFloat, Method::Raycast),
+                         ::testing::Values(Method::ZBuffer, Method::ZBufferSplit, Method::ZBufferGraphics,
+                                           Method::ZBufferCompute, Method::ZBufferLarge, Method::ZBufferFloat,
+                                           Method::Raycast),
                          [](const ::testing::TestParamInfo<Method>& p) { return method_name(p.param); });

@@ -22,29 +22,36 @@ passes::CylinderTransform rotation_about_z(double degrees) {
 }  // namespace
 
 TEST_F(CylinderBatch, RotationsAndMeshesInOneExecutionEqualSingleProjections) {
-    const std::uint32_t W = 96, H = 48;
-    passes::CylinderZBuffer z(ctx(), W, H);
-    const auto torus = z.add_mesh(gimg::test::to_cylinder_mesh(
-        geo::make_torus(0.3, 0.1, 24, 12)));  // centred at the origin: moved by the transforms
-    const auto box = z.add_mesh(gimg::test::to_cylinder_mesh(geo::make_box({0.5, 0.3, 0.2}, 2)));
-    std::vector<passes::CylinderZBuffer::Job> jobs;
-    for (int k = 0; k < 40; ++k) {
-        auto t = rotation_about_z(9.0 * k);
-        t[7] += 0.5f;  // lift into the cylinder
-        jobs.push_back({k % 3 == 2 ? box : torus, t});
+    // The default split, large pieces through the graphics pipeline, every piece through the
+    // large-piece compute pass (whose rectangles name their image).
+    using passes::CylinderLargePieces;
+    for (const passes::CylinderZBufferOptions& options :
+         {passes::CylinderZBufferOptions{}, passes::CylinderZBufferOptions{.large_pieces = CylinderLargePieces::Graphics},
+          passes::CylinderZBufferOptions{.small_pixels = 0, .large_pieces = CylinderLargePieces::Compute}}) {
+        const std::uint32_t W = 96, H = 48;
+        passes::CylinderZBuffer z(ctx(), W, H, options);
+        const auto torus = z.add_mesh(gimg::test::to_cylinder_mesh(
+            geo::make_torus(0.3, 0.1, 24, 12)));  // centred at the origin: moved by the transforms
+        const auto box = z.add_mesh(gimg::test::to_cylinder_mesh(geo::make_box({0.5, 0.3, 0.2}, 2)));
+        std::vector<passes::CylinderZBuffer::Job> jobs;
+        for (int k = 0; k < 40; ++k) {
+            auto t = rotation_about_z(9.0 * k);
+            t[7] += 0.5f;  // lift into the cylinder
+            jobs.push_back({k % 3 == 2 ? box : torus, t});
+        }
+        const auto batch = z.project(jobs);
+        ASSERT_EQ(batch.size(), jobs.size());
+        std::size_t covered = 0;
+        for (std::size_t k = 0; k < jobs.size(); ++k) {
+            const auto single = z.project(jobs[k].mesh, jobs[k].transform);
+            ASSERT_EQ(batch[k].covered, single.covered) << "image " << k;
+            ASSERT_EQ(batch[k].distance, single.distance) << "image " << k;
+            for (auto c : single.covered) covered += c;
+        }
+        EXPECT_GT(covered, 40u * 300u);
+        // Different rotations give different pictures.
+        EXPECT_NE(batch[0].covered, batch[1].covered);
     }
-    const auto batch = z.project(jobs);
-    ASSERT_EQ(batch.size(), jobs.size());
-    std::size_t covered = 0;
-    for (std::size_t k = 0; k < jobs.size(); ++k) {
-        const auto single = z.project(jobs[k].mesh, jobs[k].transform);
-        ASSERT_EQ(batch[k].covered, single.covered) << "image " << k;
-        ASSERT_EQ(batch[k].distance, single.distance) << "image " << k;
-        for (auto c : single.covered) covered += c;
-    }
-    EXPECT_GT(covered, 40u * 300u);
-    // Different rotations give different pictures.
-    EXPECT_NE(batch[0].covered, batch[1].covered);
 }
 
 TEST_F(CylinderBatch, BatchesLargerThanOneExecutionAreSplitAndStayEqual) {

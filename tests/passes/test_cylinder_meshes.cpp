@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -72,20 +73,35 @@ TEST_P(CylinderMeshes, ZBufferAndScanlineEqualRaycast) {
     const MeshCase c = load_case(path);
     const passes::CylinderMesh& cyl = c.cyl;
     for (const Size& size : c.sizes) {
+        using passes::CylinderLargePieces;
         passes::CylinderZBuffer z(ctx(), size[0], size[1]);
         const auto gpu = z.project(z.add_mesh(cyl));
-        passes::CylinderZBuffer graphics(ctx(), size[0], size[1], {.small_pixels = 0});
+        // The default split with large pieces through the graphics pipeline (what GPUs run), every
+        // piece there, every piece in the classify pass, every piece in the large-piece compute pass.
+        passes::CylinderZBuffer split(ctx(), size[0], size[1], {.large_pieces = CylinderLargePieces::Graphics});
+        const auto gpu_split = split.project(split.add_mesh(cyl));
+        passes::CylinderZBuffer graphics(ctx(), size[0], size[1],
+                                         {.small_pixels = 0, .large_pieces = CylinderLargePieces::Graphics});
         const auto gpu_graphics = graphics.project(graphics.add_mesh(cyl));
         passes::CylinderZBuffer compute(ctx(), size[0], size[1], {.small_pixels = UINT32_MAX});
         const auto gpu_compute = compute.project(compute.add_mesh(cyl));
+        passes::CylinderZBuffer large(ctx(), size[0], size[1], {.small_pixels = 0, .large_pieces = CylinderLargePieces::Compute});
+        const auto gpu_large = large.project(large.add_mesh(cyl));
         // Each split really took the path it names: pieces drawn, none, fewer than all.
+        EXPECT_TRUE(split.graphics_pipeline());
+        EXPECT_TRUE(graphics.graphics_pipeline());
+        EXPECT_FALSE(large.graphics_pipeline());
         EXPECT_GT(graphics.last_rect_count(), 0u);
+        EXPECT_EQ(large.last_rect_count(), graphics.last_rect_count());
         EXPECT_EQ(compute.last_rect_count(), 0u);
         EXPECT_LT(z.last_rect_count(), graphics.last_rect_count());
+        EXPECT_EQ(split.last_rect_count(), z.last_rect_count());
         const auto scan = passes::cylinder_scanline(cyl, size[0], size[1]);
         const auto cpu = passes::cylinder_raycast(cyl, size[0], size[1]);
-        for (const auto& [name, image] : {std::pair{"zbuffer", &gpu}, std::pair{"zbuffer graphics only", &gpu_graphics},
-                                          std::pair{"zbuffer compute only", &gpu_compute}, std::pair{"scanline", &scan}})
+        for (const auto& [name, image] :
+             {std::pair{"zbuffer", &gpu}, std::pair{"zbuffer split through the graphics pipeline", &gpu_split},
+              std::pair{"zbuffer graphics only", &gpu_graphics}, std::pair{"zbuffer compute only", &gpu_compute},
+              std::pair{"zbuffer large-piece pass only", &gpu_large}, std::pair{"scanline", &scan}})
             expect_agreement(std::string(GetParam()) + " " + name, size, *image, cpu, 1e-5);
     }
 }
@@ -98,11 +114,14 @@ TEST_P(CylinderMeshes, ZBufferInFloatAgreesWithRaycast) {
     const MeshCase c = load_case(path);
     for (const Size& size : c.sizes) {
         const auto cpu = passes::cylinder_raycast(c.cyl, size[0], size[1]);
-        for (const std::uint32_t small : {0u, UINT32_MAX}) {
-            passes::CylinderZBuffer z(ctx(), size[0], size[1], {.small_pixels = small, .double_precision = false});
+        using passes::CylinderLargePieces;
+        for (const auto& [name, small, large] : {std::tuple{" float graphics", 0u, CylinderLargePieces::Graphics},
+                                                 std::tuple{" float compute", UINT32_MAX, CylinderLargePieces::Auto},
+                                                 std::tuple{" float large-piece pass", 0u, CylinderLargePieces::Compute}}) {
+            passes::CylinderZBuffer z(ctx(), size[0], size[1],
+                                      {.small_pixels = small, .large_pieces = large, .double_precision = false});
             ASSERT_FALSE(z.double_precision());
-            expect_agreement(std::string(GetParam()) + (small ? " float compute" : " float graphics"), size,
-                             z.project(z.add_mesh(c.cyl)), cpu, 5e-5);
+            expect_agreement(std::string(GetParam()) + name, size, z.project(z.add_mesh(c.cyl)), cpu, 5e-5);
         }
     }
 }

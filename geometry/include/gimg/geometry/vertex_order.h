@@ -7,12 +7,17 @@
 #include "gimg/geometry/mesh.h"
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 namespace gimg::geo {
 
-// order[k] = the old index of the vertex that becomes vertex k: the vertices sorted along a Morton
-// (Z-order) curve through the mesh's bounding box, 21 bits an axis; ties keep their old order.
+// order[k] = the index of the point that comes k-th along a Morton (Z-order) curve through the
+// points' bounding box, cut into 2^bits_per_axis cells an axis (1 to 21); points in one cell keep
+// their order. Fewer bits sort faster (a radix pass per 11 bits of key).
+std::vector<std::uint32_t> morton_order(std::span<const glm::dvec3> points, int bits_per_axis = 21);
+
+// order[k] = the old index of the vertex that becomes vertex k: morton_order of the positions.
 std::vector<std::uint32_t> spatial_vertex_order(const Mesh& mesh);
 
 // The same mesh with vertex k = old vertex order[k] (positions, texture coordinates and normals
