@@ -203,12 +203,12 @@ struct CylinderZBuffer::State {
         auto keys_out = g.import_buffer(keys_readback), args_out = g.import_buffer(args_readback);
         g.add_compute_pass("reset", [&](PassBuilder& b) {
             b.read(jobs_in, Access::TransferSrc);
-            jobs = b.write(jobs, Access::TransferDst);
+            if (graphics) jobs = b.write(jobs, Access::TransferDst);  // only the graphics pipeline reads it
             job_texels = b.write(job_texels, Access::TransferDst);
             args = b.write(args, Access::TransferDst);
             keys = b.write(keys, Access::TransferDst);
         }, [this, jobs_in, jobs, job_texels, args, keys](Cmd& c) {
-            c.copy(jobs_in, jobs, jobs_buf.size());
+            if (graphics) c.copy(jobs_in, jobs, jobs_buf.size());
             c.copy(jobs_in, job_texels);
             const PieceArgs init{0, 1, 0, 0, 0, 1, 1, 0};
             c.update(args, &init, sizeof init);
