@@ -48,7 +48,7 @@ struct JobGpu {
 static_assert(sizeof(JobGpu) == 80);
 constexpr std::uint32_t kTexelsPerJob = sizeof(JobGpu) / 16;  // classify_body.glsl's load_job
 
-// Mirrors shaders/cylinder/piece_args.glsl.
+// Mirrors the Args block of shaders/cylinder/piece_passes.glsl.
 struct PieceArgs {
     std::uint32_t vertex_count, instance_count, first_vertex, first_instance;  // VkDrawIndirectCommand
     std::uint32_t groups_x, groups_y, groups_z;                                // VkDispatchIndirectCommand

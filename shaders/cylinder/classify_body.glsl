@@ -20,25 +20,9 @@
 //
 // Included by classify.comp (double) and classify_float.comp (float), REAL, REAL2, REAL3, REAL4 defined.
 #extension GL_GOOGLE_include_directive : require
-#include "cylinder/cylinder_layout.h"
-#include "cylinder/cylinder_job.h"
-#include "cylinder/distance_key.glsl"
-#include "common/texel_rows.glsl"
+#include "cylinder/piece_passes.glsl"
 
 layout(local_size_x = GIMG_CYL_CLASSIFY_GROUP) in;
-layout(binding = 0, rgba32f) uniform readonly image2D positions;    // texel v: (x, y, z, 0)
-layout(binding = 1, rgba32ui) uniform readonly uimage2D triangles;  // texel f: (a, b, c, 0)
-layout(binding = 2, rgba32ui) uniform readonly uimage2D job_texels;  // job k: texels 5k .. 5k + 4 (CylinderJob)
-layout(std430, binding = 3) writeonly buffer Rects { uvec4 rects[]; };  // face, job, u0|u1<<16, v0|v1<<16
-layout(binding = 5, rgba32ui) uniform readonly uimage2D directions;  // texel u: cos, sin of theta_u (line_hit.glsl)
-layout(std430, binding = 6) buffer Small { uint small[]; };  // per atlas pixel: key of the largest t, 0: none
-layout(push_constant) uniform Push {
-    uint total_faces; uint job_count; uint width; uint height; uint max_rects; uint small_pixels; uint atlas_width;
-};
-
-#include "cylinder/piece_args.glsl"
-#include "cylinder/job_texels.glsl"
-#include "cylinder/line_hit.glsl"
 
 const float kTwoPi = 6.28318530717958647692;
 const float kPi = 3.14159265358979323846;

@@ -10,27 +10,10 @@
 // Included by large_pieces.comp (double) and large_pieces_float.comp (float), REAL, REAL2, REAL3,
 // REAL4 and REAL2_OF_TEXEL defined.
 #extension GL_GOOGLE_include_directive : require
-#include "cylinder/cylinder_layout.h"
-#include "cylinder/cylinder_job.h"
-#include "cylinder/distance_key.glsl"
-#include "common/texel_rows.glsl"
+#define PIECES_READ_ONLY
+#include "cylinder/piece_passes.glsl"
 
 layout(local_size_x = GIMG_CYL_LARGE_GROUP) in;
-// The classify pass's bindings, so that both run from one binding list.
-layout(binding = 0, rgba32f) uniform readonly image2D positions;
-layout(binding = 1, rgba32ui) uniform readonly uimage2D triangles;
-layout(binding = 2, rgba32ui) uniform readonly uimage2D job_texels;
-layout(std430, binding = 3) readonly buffer Rects { uvec4 rects[]; };  // face, job, u0|u1<<16, v0|v1<<16
-layout(binding = 5, rgba32ui) uniform readonly uimage2D directions;
-layout(std430, binding = 6) buffer Small { uint small[]; };
-layout(push_constant) uniform Push {
-    uint total_faces; uint job_count; uint width; uint height; uint max_rects; uint small_pixels; uint atlas_width;
-};
-
-#define PIECE_ARGS_ACCESS readonly
-#include "cylinder/piece_args.glsl"
-#include "cylinder/job_texels.glsl"
-#include "cylinder/line_hit.glsl"
 
 void main() {
     // One dispatch holds at most GIMG_CYL_MAX_GROUPS workgroups; each takes every that-many-th piece.
