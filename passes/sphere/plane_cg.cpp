@@ -11,11 +11,15 @@
 #include "sphere/cg_direction_comp.h"
 #include "sphere/cg_step_comp.h"
 #include "sphere/mg_coarsest_comp.h"
-#include "sphere/mg_postsmooth_comp.h"
-#include "sphere/mg_presmooth_comp.h"
+#include "sphere/mg_postsmooth_first_comp.h"
+#include "sphere/mg_postsmooth_second_comp.h"
+#include "sphere/mg_presmooth_first_comp.h"
+#include "sphere/mg_presmooth_second_comp.h"
 #include "sphere/mg_transfer_comp.h"
 
 #include <glm/geometric.hpp>
+
+#include <algorithm>
 
 namespace gimg::passes::detail {
 
@@ -24,10 +28,12 @@ namespace {
 const Spirv kApply = GIMG_SPIRV(gimg_spv_sphere_cg_apply_comp);
 const Spirv kStep = GIMG_SPIRV(gimg_spv_sphere_cg_step_comp);
 const Spirv kDirection = GIMG_SPIRV(gimg_spv_sphere_cg_direction_comp);
-const Spirv kPresmooth = GIMG_SPIRV(gimg_spv_sphere_mg_presmooth_comp);
+const Spirv kPresmoothFirst = GIMG_SPIRV(gimg_spv_sphere_mg_presmooth_first_comp);
+const Spirv kPresmoothSecond = GIMG_SPIRV(gimg_spv_sphere_mg_presmooth_second_comp);
 const Spirv kTransfer = GIMG_SPIRV(gimg_spv_sphere_mg_transfer_comp);
 const Spirv kCoarsest = GIMG_SPIRV(gimg_spv_sphere_mg_coarsest_comp);
-const Spirv kPostsmooth = GIMG_SPIRV(gimg_spv_sphere_mg_postsmooth_comp);
+const Spirv kPostsmoothFirst = GIMG_SPIRV(gimg_spv_sphere_mg_postsmooth_first_comp);
+const Spirv kPostsmoothSecond = GIMG_SPIRV(gimg_spv_sphere_mg_postsmooth_second_comp);
 
 double dot_sum(const std::vector<glm::dvec2>& a, const std::vector<glm::dvec2>& b) {
     double sum = 0.0;
@@ -36,11 +42,22 @@ double dot_sum(const std::vector<glm::dvec2>& a, const std::vector<glm::dvec2>& 
 }
 
 // Push constants of the cycle's passes: the level's rows and the pass's switch (mg_transfer:
-// accumulate; mg_postsmooth and mg_coarsest: write r.z's terms).
+// accumulate; mg_postsmooth_second and mg_coarsest: write r.z's terms).
 struct RowsAndSwitch {
     std::uint32_t rows;
     std::uint32_t on;
 };
+
+// The smoothing passes' push constants (shaders/sphere/chebyshev.glsl).
+struct SmootherPush {
+    std::uint32_t rows;
+    std::uint32_t write_terms;
+    double theta_inverse, c0, c1, k;
+};
+
+SmootherPush smoother_push(std::uint32_t rows, bool write_terms, const ChebyshevSmoother& s) {
+    return {rows, write_terms ? 1u : 0u, s.theta_inverse, s.c0, s.c1, s.k};
+}
 
 }  // namespace
 
@@ -61,7 +78,10 @@ PlaneCgState start_plane_cg(const PlaneProblem& problem, const PlaneMultigrid& m
     for (std::size_t i = 0; i < m; ++i) state.r[i] = problem.rhs[i] - row_times(mg.finest(), state.x, i);
     state.p = apply_multigrid_cpu(mg, state.r);
     state.rz = dot_sum(state.r, state.p);
-    state.rz_rhs = dot_sum(problem.rhs, apply_multigrid_cpu(mg, problem.rhs));
+    // From zero (the harmonic start's free vertices) r is b: one cycle on the CPU, not two
+    // (about 10 ms each on armadillo_loop1).
+    const bool from_zero = std::all_of(state.x.begin(), state.x.end(), [](const glm::dvec2& v) { return v == glm::dvec2(0.0); });
+    state.rz_rhs = from_zero ? state.rz : dot_sum(problem.rhs, apply_multigrid_cpu(mg, problem.rhs));
     return state;
 }
 
@@ -92,10 +112,11 @@ GpuPlaneCg::GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMul
     for (std::size_t l = 0; l < mg.levels.size(); ++l) {
         const std::string name = "plane mg level " + std::to_string(l);
         const MultigridLevel& level = mg.levels[l];
-        levels_.push_back({upload_matrix_texels(ctx, level.a, level.smoother, name + " A"),
+        levels_.push_back({upload_matrix_texels(ctx, level.a, level.inverse_diagonal, name + " A"),
                            upload_matrix_texels(ctx, level.prolong, {}, name + " P"),
                            upload_matrix_texels(ctx, level.restrict_, {}, name + " R"),
-                           upload_texels(ctx, entry_texels(level.a, level.smoother), name + " A S entries")});
+                           upload_texels(ctx, entry_texels(level.a, level.inverse_diagonal), name + " A D^-1 entries"),
+                           level.smoother});
     }
     if (levels_.empty()) finest_ = upload_matrix_texels(ctx, mg.coarsest, {}, "plane mg coarsest A");
     coarsest_inverse_ = upload_vector(ctx, mg.coarsest_inverse, "plane mg coarsest inverse");
@@ -120,20 +141,23 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
     };
     auto import = [&](TexelMatrix& m) { return MatrixHandles{g.import_image(m.rows), g.import_image(m.entries), m.row_count}; };
     auto vector = [&](std::uint32_t rows, const std::string& name) { return g.create_image(texel_image_desc(rows, name)); };
-    // Per level: its operator (and its entries times the smoother), transfers, and the cycle's
-    // vectors. Level 0's right-hand side is the conjugate gradients' r and its result their z.
+    // Per level: its operator (and its entries divided by their column's diagonal), transfers,
+    // and the cycle's vectors (plane_multigrid.h names them). Level 0's right-hand side is the
+    // conjugate gradients' r and its result their z.
     struct LevelHandles {
         MatrixHandles a, prolong, restrict_;
-        ImageHandle a_scaled, b, x, r, out;
+        ImageHandle ad_entries, b, mix, x, r, x1, out;
+        ChebyshevSmoother smoother;
     };
     std::vector<LevelHandles> levels;
     for (std::size_t l = 0; l < levels_.size(); ++l) {
         Level& level = levels_[l];
         const std::string name = "plane mg " + std::to_string(l);
         const std::uint32_t n = level.a.row_count;
-        levels.push_back({import(level.a), import(level.prolong), import(level.restrict_), g.import_image(level.a_scaled),
-                          l ? vector(n, name + " b") : ImageHandle{}, vector(n, name + " x"), vector(n, name + " r"),
-                          l ? vector(n, name + " out") : ImageHandle{}});
+        levels.push_back({import(level.a), import(level.prolong), import(level.restrict_), g.import_image(level.ad_entries),
+                          l ? vector(n, name + " b") : ImageHandle{}, vector(n, name + " mix"), vector(n, name + " x"),
+                          vector(n, name + " r"), vector(n, name + " x1"), l ? vector(n, name + " out") : ImageHandle{},
+                          level.smoother});
     }
     const MatrixHandles finest = levels.empty() ? import(finest_) : levels.front().a;
     auto coarsest_inverse = g.import_buffer(coarsest_inverse_);
@@ -157,12 +181,19 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
             const ImageHandle b = l ? level.b : r;
             ImageHandle& coarse_b = l + 1 < depth ? levels[l + 1].b : coarsest_b;
             const std::string name = "plane mg " + std::to_string(l);
-            g.add_compute_pass(name + " presmooth" + suffix, [&](PassBuilder& pb) {
-                for (ImageHandle h : {level.a.rows, level.a_scaled, b}) pb.read(h, Access::ComputeRead);
+            const SmootherPush push = smoother_push(level.a.count, false, level.smoother);
+            g.add_compute_pass(name + " presmooth 1" + suffix, [&](PassBuilder& pb) {
+                for (ImageHandle h : {level.a.rows, level.ad_entries, b}) pb.read(h, Access::ComputeRead);
+                level.mix = pb.write(level.mix, Access::ComputeWrite);
+            }, [=, a = level.a, ad = level.ad_entries, mix = level.mix](Cmd& cmd) {
+                cmd.dispatch_threads(kPresmoothFirst, {a.count}, {a.rows, ad, b, mix}, push);
+            });
+            g.add_compute_pass(name + " presmooth 2" + suffix, [&](PassBuilder& pb) {
+                for (ImageHandle h : {level.a.rows, level.ad_entries, b, level.mix}) pb.read(h, Access::ComputeRead);
                 level.x = pb.write(level.x, Access::ComputeWrite);
                 level.r = pb.write(level.r, Access::ComputeWrite);
-            }, [=, a = level.a, s = level.a_scaled, lx = level.x, lr = level.r](Cmd& cmd) {
-                cmd.dispatch_threads(kPresmooth, {a.count}, {a.rows, s, b, lx, lr}, a.count);
+            }, [=, a = level.a, ad = level.ad_entries, mix = level.mix, lx = level.x, lr = level.r](Cmd& cmd) {
+                cmd.dispatch_threads(kPresmoothSecond, {a.count}, {a.rows, ad, b, mix, lx, lr}, push);
             });
             g.add_compute_pass(name + " restrict" + suffix, [&](PassBuilder& pb) {
                 for (ImageHandle h : {level.restrict_.rows, level.restrict_.entries, level.r}) pb.read(h, Access::ComputeRead);
@@ -195,15 +226,22 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
             }, [=, m = level.prolong, y = level.x](Cmd& cmd) {
                 cmd.dispatch_threads(kTransfer, {m.count}, {m.rows, m.entries, coarse_x, y}, RowsAndSwitch{m.count, 1});
             });
+            g.add_compute_pass(name + " postsmooth 1" + suffix, [&](PassBuilder& pb) {
+                for (ImageHandle h : {level.a.rows, level.a.entries, b, level.x}) pb.read(h, Access::ComputeRead);
+                level.x1 = pb.write(level.x1, Access::ComputeWrite);
+            }, [=, a = level.a, lx = level.x, x1 = level.x1, push = smoother_push(level.a.count, false, level.smoother)](Cmd& cmd) {
+                cmd.dispatch_threads(kPostsmoothFirst, {a.count}, {a.rows, a.entries, b, lx, x1}, push);
+            });
             ImageHandle& out = l ? level.out : z;
             // Only the finest level writes r.z's terms; the others bind them unwritten.
-            g.add_compute_pass(name + " postsmooth" + suffix, [&](PassBuilder& pb) {
-                for (ImageHandle h : {level.a.rows, level.a.entries, b, level.x}) pb.read(h, Access::ComputeRead);
+            g.add_compute_pass(name + " postsmooth 2" + suffix, [&](PassBuilder& pb) {
+                for (ImageHandle h : {level.a.rows, level.a.entries, b, level.x, level.x1}) pb.read(h, Access::ComputeRead);
                 out = pb.write(out, Access::ComputeWrite);
                 if (l == 0) terms = pb.write(terms, Access::ComputeWrite);
                 else pb.read(terms, Access::ComputeRead);
-            }, [=, a = level.a, lx = level.x, o = out, t = terms](Cmd& cmd) {
-                cmd.dispatch_threads(kPostsmooth, {a.count}, {a.rows, a.entries, b, lx, o, t}, RowsAndSwitch{a.count, l == 0 ? 1u : 0u});
+            }, [=, a = level.a, lx = level.x, x1 = level.x1, o = out, t = terms,
+                push = smoother_push(level.a.count, l == 0, level.smoother)](Cmd& cmd) {
+                cmd.dispatch_threads(kPostsmoothSecond, {a.count}, {a.rows, a.entries, b, lx, x1, o, t}, push);
             });
         }
     };

@@ -62,8 +62,9 @@ private:
     Plan& plan_for(std::uint32_t iterations);
 
     struct Level {
-        TexelMatrix a, prolong, restrict_;
-        Image a_scaled;  // A's entries times their column's smoother, for the presmoothing
+        TexelMatrix a, prolong, restrict_;  // a's rows carry 1 / a_ii
+        Image ad_entries;                   // A's entries divided by their column's diagonal, for the presmoothing
+        ChebyshevSmoother smoother;
     };
 
     Context& ctx_;

@@ -6,8 +6,8 @@
 // Why images and not storage buffers: passes/texel_rows.h.
 //
 // Layouts: a vector of dvec2 has element i in texel i (x bits in .xy, y bits in .zw); a matrix in
-// compressed rows is two images, its rows (begin, end, and one double per row: the smoother
-// omega / a_ii on multigrid levels, else 0) and its entries (column, 0, value).
+// compressed rows is two images, its rows (begin, end, and one double per row: 1 / a_ii on
+// multigrid levels, else 0) and its entries (column, 0, value).
 #include "plane_multigrid.h"
 #include "../texel_rows.h"
 
