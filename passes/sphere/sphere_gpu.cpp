@@ -274,7 +274,8 @@ PolishRun direct_route(Context& ctx, const geo::Mesh& mesh, const detail::Sphere
     return {true, ""};
 }
 
-// Both routes on a mesh already checked; `level` is the mesh's (for the direct route).
+// Both routes on a mesh already checked; `mesh_level` is its level (for the direct route; empty
+// when the direct route is off).
 SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::SphereLevel& mesh_level,
                            const GpuSphereOptions& options) {
     const auto t0 = Clock::now();
