@@ -1,8 +1,10 @@
 #include "gimg/passes/primitives.h"
 
+#include "gimg/engine/context.h"
 #include "gimg/engine/error.h"
 
 #include "primitives/reduce_f64_comp.h"
+#include "primitives/reduce_f64_subgroup_comp.h"
 #include "primitives/reduce_sum_comp.h"
 #include "primitives/scan_add_offsets_comp.h"
 #include "primitives/scan_blocks_comp.h"
@@ -15,6 +17,7 @@ const Spirv kScanBlocks = GIMG_SPIRV(gimg_spv_primitives_scan_blocks_comp);
 const Spirv kScanAddOffsets = GIMG_SPIRV(gimg_spv_primitives_scan_add_offsets_comp);
 const Spirv kReduceSum = GIMG_SPIRV(gimg_spv_primitives_reduce_sum_comp);
 const Spirv kReduceF64 = GIMG_SPIRV(gimg_spv_primitives_reduce_f64_comp);
+const Spirv kReduceF64Subgroup = GIMG_SPIRV(gimg_spv_primitives_reduce_f64_subgroup_comp);
 
 std::uint32_t blocks_of(std::uint32_t count) { return (count + GIMG_SCAN_BLOCK - 1) / GIMG_SCAN_BLOCK; }
 
@@ -64,8 +67,13 @@ BufferHandle add_reduce_sum(Graph& graph, BufferHandle in, BufferHandle out, std
 }
 
 BufferHandle add_reduce_sum_f64(Graph& graph, BufferHandle in, BufferHandle out, std::uint32_t count,
-                                std::uint32_t width, const std::string& name) {
+                                std::uint32_t width, const std::string& name, ReduceF64Method method) {
     require_elements(count, name);
+    const DeviceInfo* device = graph.device_info();
+    const bool subgroups = device && device->subgroup_arithmetic;
+    if (method == ReduceF64Method::subgroup && !subgroups)
+        throw Error(ErrorKind::Unsupported, name + ": the device has no subgroup arithmetic in compute shaders");
+    const Spirv& shader = method == ReduceF64Method::tree || !subgroups ? kReduceF64 : kReduceF64Subgroup;
     struct Push {
         std::uint32_t count, width;
     };
@@ -77,7 +85,7 @@ BufferHandle add_reduce_sum_f64(Graph& graph, BufferHandle in, BufferHandle out,
         graph.add_compute_pass(pass, [&](PassBuilder& b) {
             b.read(in, Access::ComputeRead);
             dst = b.write(dst, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch(kReduceF64, {blocks}, {in, dst}, Push{count, width}); });
+        }, [=](Cmd& c) { c.dispatch(shader, {blocks}, {in, dst}, Push{count, width}); });
         if (blocks == 1) return dst;
         in = dst;
         count = blocks;

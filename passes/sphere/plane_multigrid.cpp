@@ -38,10 +38,23 @@ constexpr double kChebyshevHigh = 1.2;
 // A sparse row as (column, value) pairs in any order.
 using Row = std::vector<std::pair<Eigen::Index, double>>;
 
+// Sorts a row by column, keeping the given order among equal columns: by insertion, since rows
+// hold a handful of entries (std::stable_sort asked the heap for a buffer for every row:
+// sparse_of_problem and smoothed_prolongator took 16 ms of armadillo_loop1's 55 ms setup with it,
+// 11.5 ms without).
+void sort_row(Row& row) {
+    for (std::size_t k = 1; k < row.size(); ++k) {
+        const auto entry = row[k];
+        std::size_t j = k;
+        for (; j > 0 && row[j - 1].first > entry.first; --j) row[j] = row[j - 1];
+        row[j] = entry;
+    }
+}
+
 // Appends row i (the next) to `m`, filled in order with startVec / insertBack: sorted by column,
 // a repeated column summed (in the order given), exact zeros left out when `drop_zeros`.
 void append_row(Sparse& m, Eigen::Index i, Row& row, bool drop_zeros) {
-    std::stable_sort(row.begin(), row.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    sort_row(row);
     m.startVec(i);
     for (std::size_t k = 0; k < row.size();) {
         double value = 0.0;

@@ -85,18 +85,25 @@ TEST_F(Primitives, OddSizesAcrossBlockAndLevelBoundaries) {
 
 namespace {
 
-std::vector<double> reduce_f64_on_gpu(Context& ctx, const std::vector<double>& values, std::uint32_t width) {
+std::vector<double> reduce_f64_on_gpu(Context& ctx, const std::vector<double>& values, std::uint32_t width,
+                                      passes::ReduceF64Method method) {
     const auto count = std::uint32_t(values.size() / width);
     Buffer in_buf = ctx.create_buffer({VkDeviceSize(values.size()) * 8, "values"});
     ctx.upload(in_buf, std::span<const double>(values));
     Buffer out_buf = ctx.create_buffer({VkDeviceSize(width) * 8, "sums"}, MemoryUsage::Readback);
     Graph g(ctx);
     auto in = g.import_buffer(in_buf);
-    auto out = passes::add_reduce_sum_f64(g, in, g.import_buffer(out_buf), count, width);
+    auto out = passes::add_reduce_sum_f64(g, in, g.import_buffer(out_buf), count, width, "sum f64", method);
     g.export_buffer(out, Access::HostRead);
     g.compile().execute();
     const auto sums = out_buf.mapped_as<double>();
     return {sums.begin(), sums.begin() + width};
+}
+
+// Both ways of summing a block the device has: the tree everywhere, subgroup arithmetic where there is.
+std::vector<passes::ReduceF64Method> reduce_methods(const Context& ctx) {
+    if (!ctx.device_info().subgroup_arithmetic) return {passes::ReduceF64Method::tree};
+    return {passes::ReduceF64Method::tree, passes::ReduceF64Method::subgroup};
 }
 
 }  // namespace
@@ -104,18 +111,27 @@ std::vector<double> reduce_f64_on_gpu(Context& ctx, const std::vector<double>& v
 // Multiples of 1/8 below 2^20 sum exactly in double, so the GPU must equal the CPU bit for bit.
 TEST_F(Primitives, DoubleReductionOfInterleavedComponentsIsExact) {
     if (!ctx().device_info().shader_float64) GTEST_SKIP() << "device has no shaderFloat64";
-    for (std::uint32_t width : {1u, 3u}) {
-        for (std::uint32_t n : {1u, 1023u, 1025u, 300000u}) {
-            SCOPED_TRACE(testing::Message() << "width " << width << " count " << n);
-            std::vector<double> values(std::size_t(n) * width);
-            std::vector<double> expected(width, 0.0);
-            for (std::size_t i = 0; i < values.size(); ++i) {
-                values[i] = double(hash(std::uint32_t(i)) % 1000) * 0.125 - 60.0;
-                expected[i % width] += values[i];
+    for (passes::ReduceF64Method method : reduce_methods(ctx())) {
+        for (std::uint32_t width : {1u, 3u}) {
+            for (std::uint32_t n : {1u, 1023u, 1025u, 300000u}) {
+                SCOPED_TRACE(testing::Message() << "method " << int(method) << " width " << width << " count " << n);
+                std::vector<double> values(std::size_t(n) * width);
+                std::vector<double> expected(width, 0.0);
+                for (std::size_t i = 0; i < values.size(); ++i) {
+                    values[i] = double(hash(std::uint32_t(i)) % 1000) * 0.125 - 60.0;
+                    expected[i % width] += values[i];
+                }
+                EXPECT_EQ(reduce_f64_on_gpu(ctx(), values, width, method), expected);
             }
-            EXPECT_EQ(reduce_f64_on_gpu(ctx(), values, width), expected);
         }
     }
+}
+
+// Lavapipe, where CI runs, has subgroup arithmetic: the fast path is the one tested there.
+TEST_F(Primitives, LavapipeTakesTheSubgroupReduction) {
+    if (!ctx().device_info().is_lavapipe) GTEST_SKIP() << "not lavapipe";
+    EXPECT_TRUE(ctx().device_info().subgroup_arithmetic);
+    EXPECT_EQ(reduce_methods(ctx()).size(), 2u);
 }
 
 // Values that do not sum exactly: the fixed tree gives the same bits on every run, within
@@ -127,8 +143,11 @@ TEST_F(Primitives, DoubleReductionIsDeterministicAndAccurate) {
     for (std::uint32_t i = 0; i < n; ++i) values[i] = std::sin(0.001 * i) * 1e-3 + 1.0 / (1.0 + i);
     long double reference = 0.0L;
     for (double v : values) reference += v;
-    const auto first = reduce_f64_on_gpu(ctx(), values, 1);
-    const auto second = reduce_f64_on_gpu(ctx(), values, 1);
-    EXPECT_EQ(first, second);
-    EXPECT_NEAR(first[0], double(reference), 1e-12 * std::abs(double(reference)));
+    for (passes::ReduceF64Method method : reduce_methods(ctx())) {
+        SCOPED_TRACE(int(method));
+        const auto first = reduce_f64_on_gpu(ctx(), values, 1, method);
+        const auto second = reduce_f64_on_gpu(ctx(), values, 1, method);
+        EXPECT_EQ(first, second);
+        EXPECT_NEAR(first[0], double(reference), 1e-12 * std::abs(double(reference)));
+    }
 }

@@ -99,6 +99,30 @@ TEST_F(SpherePlanePolish, GpuIterationsFollowTheCpuTwinAcrossImageRows) {
     EXPECT_NEAR(gpu_residual, cpu.relative_residual(), 1e-6 * cpu.relative_residual());
 }
 
+TEST_F(SpherePlanePolish, GpuIterationsFollowTheCpuTwinWithTheDenseLevelAlone) {
+    // 162 vertices: no smoothed level, so the dense solve is the whole preconditioner and writes
+    // r.z's terms itself. The undeformed icosphere is the "relaxed map" of the lumpy one.
+    geo::Mesh mesh = geo::make_icosphere(1.0, 2);
+    std::vector<glm::dvec3> sphere(mesh.positions.size());
+    for (std::size_t i = 0; i < sphere.size(); ++i) sphere[i] = glm::normalize(mesh.positions[i]);
+    for (auto& p : mesh.positions) p = glm::dvec3(p.x, 2.0 * p.y, p.z) * (1.0 + 0.2 * p.x * p.y);
+    const PlaneProblem problem = make_plane_problem(build_sphere_level(mesh), sphere);
+    const PlaneMultigrid mg = build_plane_multigrid(problem);
+    ASSERT_TRUE(mg.levels.empty());
+    PlaneCgState cpu = start_plane_cg(problem, mg);
+    plane_cg_cpu(mg, cpu, 2);
+    GpuPlaneCg gpu(ctx(), problem, mg);
+    const double gpu_residual = gpu.run(2);
+    const std::vector<glm::dvec2> x = gpu.solution();
+    ASSERT_EQ(x.size(), cpu.x.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < x.size(); ++i) worst = std::max(worst, glm::length(x[i] - cpu.x[i]));
+    EXPECT_LT(worst, 1e-10 * largest(cpu.x));
+    // An exact preconditioner: one iteration solves the problem, the second finds nothing left.
+    EXPECT_LT(gpu_residual, 1e-10);
+    EXPECT_LT(cpu.relative_residual(), 1e-10);
+}
+
 TEST_F(SpherePlanePolish, RefusesVectorsLargerThanTheDevicesImages) {
     // A clear error instead of a truncated image: rows x 4,096 texels is the most one image holds.
     const std::size_t most = std::size_t(ctx().device_info().max_image_dimension_2d) * kTexelRowWidth;

@@ -30,6 +30,7 @@
 namespace gimg {
 
 class Context;
+struct DeviceInfo;
 
 class PassBuilder;
 namespace detail {
@@ -99,6 +100,9 @@ public:
 
     // Plans the graph. The graph is empty afterwards; the plan holds the passes.
     Plan compile();
+
+    // The device the graph executes on; null for a graph with no device.
+    const DeviceInfo* device_info() const;
 
 private:
     Context* ctx_ = nullptr;

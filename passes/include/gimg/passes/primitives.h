@@ -20,10 +20,16 @@ BufferHandle add_inclusive_scan(Graph& graph, BufferHandle in, BufferHandle out,
 BufferHandle add_reduce_sum(Graph& graph, BufferHandle in, BufferHandle out, std::uint32_t count,
                             const std::string& name = "sum");
 
-// out[c] = sum over i < count of in[i * width + c] for c < width, in double, by a fixed tree (the
-// same result on every run, unlike float atomics). Needs shaderFloat64. Returns the new version of
-// `out` (at least 8 * width bytes).
+// How add_reduce_sum_f64 sums a block: `automatic` takes subgroup arithmetic where the graph's
+// device has it (4x faster on lavapipe), else the shared-memory tree.
+enum class ReduceF64Method { automatic, tree, subgroup };
+
+// out[c] = sum over i < count of in[i * width + c] for c < width, in double, in a fixed order (the
+// same result on every run on one device, unlike float atomics). Needs shaderFloat64; `subgroup`
+// needs DeviceInfo::subgroup_arithmetic (gimg::Error otherwise). Returns the new version of `out`
+// (at least 8 * width bytes).
 BufferHandle add_reduce_sum_f64(Graph& graph, BufferHandle in, BufferHandle out, std::uint32_t count,
-                                std::uint32_t width, const std::string& name = "sum f64");
+                                std::uint32_t width, const std::string& name = "sum f64",
+                                ReduceF64Method method = ReduceF64Method::automatic);
 
 }  // namespace gimg::passes
