@@ -51,6 +51,38 @@ double largest(const std::vector<glm::dvec2>& x) {
     return m;
 }
 
+// The planar problem of a lumpy icosphere with `subdivisions`, whose "relaxed map" is the undeformed
+// icosphere (flip-free by construction; no relaxation to wait for).
+PlaneProblem lumpy_icosphere_problem(int subdivisions) {
+    geo::Mesh mesh = geo::make_icosphere(1.0, subdivisions);
+    std::vector<glm::dvec3> sphere(mesh.positions.size());
+    for (std::size_t i = 0; i < sphere.size(); ++i) sphere[i] = glm::normalize(mesh.positions[i]);
+    for (auto& p : mesh.positions) p = glm::dvec3(p.x, 2.0 * p.y, p.z) * (1.0 + 0.2 * p.x * p.y);
+    return make_plane_problem(build_sphere_level(mesh), sphere);
+}
+
+struct TwinRun {
+    PlaneCgState cpu;           // after the iterations
+    double gpu_residual = 1.0;  // after the same iterations
+};
+
+// `iterations` conjugate gradient iterations on the CPU and on the GPU from the same start: the
+// GPU's solution must be the CPU's to 1e-10 of its size, its residual the CPU's to 1e-6 of it
+// (or both below 1e-15: rounding, as after an exact solve).
+TwinRun run_twins(Context& ctx, const PlaneProblem& problem, const PlaneMultigrid& mg, std::uint32_t iterations) {
+    TwinRun run{start_plane_cg(problem, mg)};
+    plane_cg_cpu(mg, run.cpu, iterations);
+    GpuPlaneCg gpu(ctx, problem, mg);
+    run.gpu_residual = gpu.run(iterations);
+    const std::vector<glm::dvec2> x = gpu.solution();
+    EXPECT_EQ(x.size(), run.cpu.x.size());
+    double worst = 0.0;
+    for (std::size_t i = 0; i < std::min(x.size(), run.cpu.x.size()); ++i) worst = std::max(worst, glm::length(x[i] - run.cpu.x[i]));
+    EXPECT_LT(worst, 1e-10 * largest(run.cpu.x));
+    EXPECT_NEAR(run.gpu_residual, run.cpu.relative_residual(), 1e-6 * run.cpu.relative_residual() + 1e-15);
+    return run;
+}
+
 }  // namespace
 
 TEST_F(SpherePlanePolish, GpuIterationsFollowTheCpuTwin) {
@@ -60,67 +92,33 @@ TEST_F(SpherePlanePolish, GpuIterationsFollowTheCpuTwin) {
     ASSERT_EQ(problem.rows(), mesh.vertex_count() - 7);  // 1% of 642 vertices, rounded up, pinned
     const PlaneMultigrid mg = build_plane_multigrid(problem);
     ASSERT_EQ(mg.levels.size(), 1u);  // 635 rows: one smoothed level above the dense one
-    PlaneCgState cpu = start_plane_cg(problem, mg);
-    const double start_residual = cpu.relative_residual();
-    plane_cg_cpu(mg, cpu, 8);
-    GpuPlaneCg gpu(ctx(), problem, mg);
-    const double gpu_residual = gpu.run(8);
-    const std::vector<glm::dvec2> x = gpu.solution();
-    double worst = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) worst = std::max(worst, glm::length(x[i] - cpu.x[i]));
-    EXPECT_LT(worst, 1e-10 * largest(cpu.x));
-    EXPECT_NEAR(gpu_residual, cpu.relative_residual(), 1e-6 * cpu.relative_residual());
-    EXPECT_LT(cpu.relative_residual(), 1e-3 * start_residual) << start_residual;  // it does converge
+    const double start_residual = start_plane_cg(problem, mg).relative_residual();
+    const TwinRun run = run_twins(ctx(), problem, mg, 8);
+    EXPECT_LT(run.cpu.relative_residual(), 1e-3 * start_residual) << start_residual;  // it does converge
 }
 
 TEST_F(SpherePlanePolish, GpuIterationsFollowTheCpuTwinAcrossImageRows) {
     // The solves' vectors and matrices are images of 4,096 texels a row (texel_layout.h): with
     // 10,242 vertices every vector and the finest matrix span several rows, so an element the
-    // shaders address in the wrong row shows up here. The undeformed icosphere is the "relaxed
-    // map" of the lumpy one (flip-free by construction; no relaxation to wait for).
-    geo::Mesh mesh = geo::make_icosphere(1.0, 5);
-    std::vector<glm::dvec3> sphere(mesh.positions.size());
-    for (std::size_t i = 0; i < sphere.size(); ++i) sphere[i] = glm::normalize(mesh.positions[i]);
-    for (auto& p : mesh.positions) p = glm::dvec3(p.x, 2.0 * p.y, p.z) * (1.0 + 0.2 * p.x * p.y);
-    const PlaneProblem problem = make_plane_problem(build_sphere_level(mesh), sphere);
+    // shaders address in the wrong row shows up here.
+    const PlaneProblem problem = lumpy_icosphere_problem(5);
     const PlaneMultigrid mg = build_plane_multigrid(problem);
     ASSERT_GT(problem.rows(), 2 * kTexelRowWidth);
     ASSERT_GT(mg.finest().values.size(), 16 * kTexelRowWidth);
     ASSERT_GE(mg.levels.size(), 2u);
-    PlaneCgState cpu = start_plane_cg(problem, mg);
-    plane_cg_cpu(mg, cpu, 4);
-    GpuPlaneCg gpu(ctx(), problem, mg);
-    const double gpu_residual = gpu.run(4);
-    const std::vector<glm::dvec2> x = gpu.solution();
-    ASSERT_EQ(x.size(), cpu.x.size());
-    double worst = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) worst = std::max(worst, glm::length(x[i] - cpu.x[i]));
-    EXPECT_LT(worst, 1e-10 * largest(cpu.x));
-    EXPECT_NEAR(gpu_residual, cpu.relative_residual(), 1e-6 * cpu.relative_residual());
+    run_twins(ctx(), problem, mg, 4);
 }
 
 TEST_F(SpherePlanePolish, GpuIterationsFollowTheCpuTwinWithTheDenseLevelAlone) {
     // 162 vertices: no smoothed level, so the dense solve is the whole preconditioner and writes
-    // r.z's terms itself. The undeformed icosphere is the "relaxed map" of the lumpy one.
-    geo::Mesh mesh = geo::make_icosphere(1.0, 2);
-    std::vector<glm::dvec3> sphere(mesh.positions.size());
-    for (std::size_t i = 0; i < sphere.size(); ++i) sphere[i] = glm::normalize(mesh.positions[i]);
-    for (auto& p : mesh.positions) p = glm::dvec3(p.x, 2.0 * p.y, p.z) * (1.0 + 0.2 * p.x * p.y);
-    const PlaneProblem problem = make_plane_problem(build_sphere_level(mesh), sphere);
+    // r.z's terms itself.
+    const PlaneProblem problem = lumpy_icosphere_problem(2);
     const PlaneMultigrid mg = build_plane_multigrid(problem);
     ASSERT_TRUE(mg.levels.empty());
-    PlaneCgState cpu = start_plane_cg(problem, mg);
-    plane_cg_cpu(mg, cpu, 2);
-    GpuPlaneCg gpu(ctx(), problem, mg);
-    const double gpu_residual = gpu.run(2);
-    const std::vector<glm::dvec2> x = gpu.solution();
-    ASSERT_EQ(x.size(), cpu.x.size());
-    double worst = 0.0;
-    for (std::size_t i = 0; i < x.size(); ++i) worst = std::max(worst, glm::length(x[i] - cpu.x[i]));
-    EXPECT_LT(worst, 1e-10 * largest(cpu.x));
+    const TwinRun run = run_twins(ctx(), problem, mg, 2);
     // An exact preconditioner: one iteration solves the problem, the second finds nothing left.
-    EXPECT_LT(gpu_residual, 1e-10);
-    EXPECT_LT(cpu.relative_residual(), 1e-10);
+    EXPECT_LT(run.gpu_residual, 1e-10);
+    EXPECT_LT(run.cpu.relative_residual(), 1e-10);
 }
 
 TEST_F(SpherePlanePolish, RefusesVectorsLargerThanTheDevicesImages) {
