@@ -26,7 +26,8 @@ constexpr std::size_t kMaxIterations = 2000;
 }  // namespace
 
 HarmonicStart harmonic_start_gpu(Context& ctx, const geo::Mesh& mesh, const SphereLevel& level, double tolerance,
-                                 bool timestamps, const std::function<void(std::size_t, double)>& progress) {
+                                 bool timestamps, const std::function<void(std::size_t, double)>& progress,
+                                 const std::function<void()>& before_gpu) {
     HarmonicStart start;
     const std::size_t n = mesh.vertex_count();
     const std::uint32_t big = linear_sphere::most_regular_face(mesh);
@@ -51,6 +52,7 @@ HarmonicStart harmonic_start_gpu(Context& ctx, const geo::Mesh& mesh, const Sphe
         start.why = e.what();
         return start;
     }
+    if (before_gpu) before_gpu();
     const PlaneSolve solve = solve_plane_gpu(ctx, problem, mg, tolerance, kIterationsPerCheck, kMaxIterations, timestamps, progress);
     start.iterations = solve.iterations;
     start.residual = solve.residual;

@@ -29,9 +29,12 @@ struct HarmonicStart {
 };
 
 // `level` must be build_sphere_level(mesh) (the same vertex ids). `tolerance`: the conjugate
-// gradients' relative residual.
+// gradients' relative residual. `before_gpu` (may be empty) is called once the CPU setup (the
+// problem and its multigrid hierarchy) is done, before the first GPU work; it is not called when
+// the setup already says why the start cannot be made.
 HarmonicStart harmonic_start_gpu(Context& ctx, const geo::Mesh& mesh, const SphereLevel& level, double tolerance,
-                                 bool timestamps, const std::function<void(std::size_t, double)>& progress = {});
+                                 bool timestamps, const std::function<void(std::size_t, double)>& progress = {},
+                                 const std::function<void()>& before_gpu = {});
 
 // Sum of the signed solid angles of the triangles of `y`: 4 pi for a map that covers the sphere
 // once; a multiple of it for one that wraps around more than once with no triangle flipped.

@@ -254,11 +254,12 @@ constexpr double kStartTolerance = 1e-5;
 // The direct route (harmonic_start.h): Choi, Lam and Lui's pinned-triangle map as the start, the
 // polish around its accurate pole. Kept when the polish is (no flips, energy at most 0.1% above
 // the start's) and the map covers the sphere exactly once; the map is then in result.positions.
+// `before_gpu` runs once the start's CPU setup is done (sphere_gpu waits there for its input check).
 PolishRun direct_route(Context& ctx, const geo::Mesh& mesh, const detail::SphereLevel& level, const GpuSphereOptions& options,
-                       Clock::time_point t0, SphereResult& result) {
+                       const std::function<void()>& before_gpu, Clock::time_point t0, SphereResult& result) {
     const auto start_clock = Clock::now();
     detail::HarmonicStart start = detail::harmonic_start_gpu(ctx, mesh, level, kStartTolerance, options.timestamps,
-                                                             cg_progress("harmonic start", 0.0, options, t0));
+                                                             cg_progress("harmonic start", 0.0, options, t0), before_gpu);
     result.gpu_ms += start.gpu_ms;
     const double start_energy = start.why.empty() ? detail::level_stats_cpu(level, start.y).energy : std::nan("");
     result.stages.push_back({"harmonic start: pinned-triangle map by conjugate gradients (" + std::to_string(start.free_vertices) +
@@ -274,19 +275,21 @@ PolishRun direct_route(Context& ctx, const geo::Mesh& mesh, const detail::Sphere
     return {true, ""};
 }
 
-// Both routes on a mesh already checked; `mesh_level` is its level (for the direct route; empty
-// when the direct route is off).
+// Both routes; `mesh_level` is the mesh's level (for the direct route; empty when the direct route
+// is off). `wait_for_check` returns once the mesh is known to be good (it throws when it is not):
+// called before any GPU work, and before the hierarchy, whose CPU setup assumes good input.
 SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::SphereLevel& mesh_level,
-                           const GpuSphereOptions& options) {
+                           const GpuSphereOptions& options, const std::function<void()>& wait_for_check) {
     const auto t0 = Clock::now();
     SphereResult result;
     std::vector<std::string> warnings;  // what leaves the map in doubt: converged = false
     std::vector<std::string> remarks;   // what happened on the way and was put right
     if (options.plane_polish && options.direct) {
-        const PolishRun direct = direct_route(ctx, mesh, mesh_level, options, t0, result);
+        const PolishRun direct = direct_route(ctx, mesh, mesh_level, options, wait_for_check, t0, result);
         if (direct.kept) return result;
         remarks.push_back("direct route not kept (" + direct.why + "), the hierarchy made the map");
     }
+    wait_for_check();
     result.positions.assign(mesh.vertex_count(), glm::dvec3(0.0));
 
     const auto pm_start = Clock::now();  // not t0: a direct route that was not kept came first
@@ -375,9 +378,10 @@ SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::Sp
 
 SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOptions& options) {
     // The input check (topology, components, genus: 50-60 ms on armadillo_loop1) runs on a second
-    // thread while this one renumbers the vertices and lays out the level (35-40 ms), which only
-    // needs indices in range and finite points; a mesh without them is checked first, alone. The
-    // check's message comes first whenever it has one: it names the caller's vertices.
+    // thread while this one renumbers the vertices, lays out the level (35-40 ms) and sets up the
+    // direct route's start (its problem and multigrid hierarchy), which only need indices in range
+    // and finite points; a mesh without them is checked first, alone. The GPU waits for the check,
+    // and its message comes first whenever it has one: it names the caller's vertices.
     if (!indices_in_range(mesh) || !all_points_finite(mesh)) check_sphere_input(mesh);
     auto checked = std::async(std::launch::async, [&mesh] { check_sphere_input(mesh); });
     std::vector<std::uint32_t> order;
@@ -397,8 +401,20 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
         checked.get();  // the input's message first, when it has one
         throw;
     }
-    checked.get();
-    SphereResult result = map_to_sphere(ctx, renumbered, level, options);
+    bool check_done = false;
+    const std::function<void()> wait_for_check = [&] {
+        if (check_done) return;
+        check_done = true;
+        checked.get();
+    };
+    SphereResult result;
+    try {
+        result = map_to_sphere(ctx, renumbered, level, options, wait_for_check);
+    } catch (...) {
+        wait_for_check();  // the input's message first, when it has one
+        throw;
+    }
+    wait_for_check();
     result.positions = geo::original_vertex_order(result.positions, order);
     return result;
 }

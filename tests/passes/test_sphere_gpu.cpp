@@ -303,9 +303,16 @@ std::string refusal(Context& ctx, const geo::Mesh& mesh, const passes::GpuSphere
 }  // namespace
 
 TEST_F(SphereGpu, RefusesWhatItCannotMap) {
-    // The input check runs beside the level's layout, which objects to an open mesh too: the
-    // check's message must be the one that comes out.
+    // The input check runs beside the level's layout and the start's setup, which object to an
+    // open mesh too: the check's message must be the one that comes out.
     EXPECT_NE(refusal(ctx(), geo::make_torus(2.0, 0.5, 12, 8)).find("genus 1"), std::string::npos);
+    // Two spheres: the start's Laplacian is singular on the one without the pinned triangle.
+    geo::Mesh two = geo::make_icosphere(1.0, 3);
+    const geo::Mesh other = geo::make_icosphere(1.0, 3);
+    const auto offset = std::uint32_t(two.vertex_count());
+    for (const glm::dvec3& p : other.positions) two.positions.push_back(p + glm::dvec3(3.0, 0.0, 0.0));
+    for (const glm::uvec3& t : other.triangles) two.triangles.push_back(t + offset);
+    EXPECT_NE(refusal(ctx(), two).find("2 separate pieces"), std::string::npos);
     EXPECT_NE(refusal(ctx(), geo::make_grid(4, 4)).find("boundary loop"), std::string::npos);
     geo::Mesh broken = geo::make_icosphere(1.0, 2);
     broken.positions[5].y = std::nan("");
