@@ -129,11 +129,11 @@ void PassBuilder::keep() { graph_->passes[pass_].keep = true; }
 
 Graph::Graph(Context& ctx) : ctx_(&ctx), data_(std::make_unique<GraphData>()) {}
 Graph::Graph() : data_(std::make_unique<GraphData>()) {}
-
-const DeviceInfo* Graph::device_info() const { return ctx_ ? &ctx_->device_info() : nullptr; }
 Graph::~Graph() = default;
 Graph::Graph(Graph&&) noexcept = default;
 Graph& Graph::operator=(Graph&&) noexcept = default;
+
+const DeviceInfo* Graph::device_info() const { return ctx_ ? &ctx_->device_info() : nullptr; }
 
 BufferHandle Graph::create_buffer(const BufferDesc& desc) {
     if (desc.size == 0) data_->fail("transient buffer '" + desc.name + "' has size 0");
