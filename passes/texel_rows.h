@@ -1,5 +1,5 @@
 #pragma once
-// Arrays kept in storage images instead of storage buffers: one 128-bit texel an element,
+// Arrays kept in storage images instead of storage buffers: one texel an element,
 // kTexelRowWidth texels a row, as many rows as needed (shaders/common/texel_rows.glsl is the
 // shader side). Used by the sphere map's planar solves and the cylindrical Z-buffer's geometry.
 //
@@ -10,6 +10,7 @@
 // the 2-core machines). GPUs load a whole texel as cheaply as 16 bytes of a buffer.
 #include "gimg/engine/context.h"
 #include "gimg/engine/error.h"
+#include "gimg/engine/format.h"
 
 #include <algorithm>
 #include <cstdint>
@@ -36,10 +37,12 @@ inline void check_texel_count(const Context& ctx, std::size_t count, const std::
                                                     std::to_string(ctx.device_info().max_image_dimension_2d));
 }
 
-// A device image of `format` (16 bytes a texel, the size of T) holding `texels`, padded to whole rows.
+// A device image of `format` (one T a texel: T has the format's size) holding `texels`, padded to
+// whole rows.
 template <class T>
 Image upload_texel_rows(Context& ctx, std::vector<T> texels, Format format, const std::string& name) {
-    static_assert(sizeof(T) == 16, "one 128-bit texel an element");
+    if (sizeof(T) != bytes_per_pixel(format))
+        throw Error(ErrorKind::InvalidArgument, name + ": " + std::to_string(sizeof(T)) + "-byte elements in " + to_string(format) + " texels");
     check_texel_count(ctx, texels.size(), name);
     Image image = ctx.create_image(texel_rows_desc(texels.size(), format, name));
     texels.resize(std::size_t(image.width()) * image.height(), T{});

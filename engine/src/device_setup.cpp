@@ -252,6 +252,7 @@ void describe_device(Device& d, const VkPhysicalDeviceFeatures2* enabled) {
         info.shader_float64 = enabled->features.shaderFloat64;
         info.shader_int64 = enabled->features.shaderInt64;
         info.fill_mode_non_solid = enabled->features.fillModeNonSolid;
+        info.storage_image_extended_formats = enabled->features.shaderStorageImageExtendedFormats;
         for (auto* s = static_cast<const VkBaseInStructure*>(enabled->pNext); s; s = s->pNext)
             if (s->sType == VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_FLOAT_FEATURES_EXT)
                 info.float_atomics = reinterpret_cast<const VkPhysicalDeviceShaderAtomicFloatFeaturesEXT*>(s)

@@ -42,6 +42,13 @@ double dot_sum(const std::vector<glm::dvec2>& a, const std::vector<glm::dvec2>& 
     return sum;
 }
 
+// r . z with r rounded to float, as the cycle sees it (its b) and its last pass sums it.
+double rounded_dot_sum(const std::vector<glm::dvec2>& r, const std::vector<glm::dvec2>& z) {
+    double sum = 0.0;
+    for (std::size_t i = 0; i < r.size(); ++i) sum += glm::dot(glm::dvec2(glm::vec2(r[i])), z[i]);
+    return sum;
+}
+
 // Push constants of the cycle's passes: the level's rows and the pass's switch (mg_transfer:
 // accumulate; mg_postsmooth_second and mg_coarsest: write r.z's terms).
 struct RowsAndSwitch {
@@ -49,15 +56,16 @@ struct RowsAndSwitch {
     std::uint32_t on;
 };
 
-// The smoothing passes' push constants (shaders/sphere/chebyshev.glsl).
+// The smoothing passes' push constants (shaders/sphere/chebyshev.glsl), rounded to float as
+// apply_multigrid_cpu rounds them.
 struct SmootherPush {
     std::uint32_t rows;
     std::uint32_t write_terms;
-    double theta_inverse, c0, c1, k;
+    float theta_inverse, c0, c1, k;
 };
 
 SmootherPush smoother_push(std::uint32_t rows, bool write_terms, const ChebyshevSmoother& s) {
-    return {rows, write_terms ? 1u : 0u, s.theta_inverse, s.c0, s.c1, s.k};
+    return {rows, write_terms ? 1u : 0u, float(s.theta_inverse), float(s.c0), float(s.c1), float(s.k)};
 }
 
 }  // namespace
@@ -82,9 +90,9 @@ PlaneCgState start_plane_cg(const PlaneProblem& problem, const PlaneMultigrid& m
     const bool from_zero = std::all_of(state.x.begin(), state.x.end(), [](const glm::dvec2& v) { return v == glm::dvec2(0.0); });
     std::future<double> rz_rhs;
     if (!from_zero)
-        rz_rhs = std::async(std::launch::async, [&] { return dot_sum(problem.rhs, apply_multigrid_cpu(mg, problem.rhs)); });
+        rz_rhs = std::async(std::launch::async, [&] { return rounded_dot_sum(problem.rhs, apply_multigrid_cpu(mg, problem.rhs)); });
     state.p = apply_multigrid_cpu(mg, state.r);
-    state.rz = dot_sum(state.r, state.p);
+    state.rz = rounded_dot_sum(state.r, state.p);
     state.rz_rhs = from_zero ? state.rz : rz_rhs.get();
     return state;
 }
@@ -101,7 +109,7 @@ void plane_cg_cpu(const PlaneMultigrid& mg, PlaneCgState& state, std::uint32_t i
             state.r[i] -= alpha * q[i];
         }
         const std::vector<glm::dvec2> z = apply_multigrid_cpu(mg, state.r);
-        const double rz = dot_sum(state.r, z);
+        const double rz = rounded_dot_sum(state.r, z);
         const double beta = state.rz > 0.0 ? rz / state.rz : 0.0;
         for (std::size_t i = 0; i < m; ++i) state.p[i] = z[i] + beta * state.p[i];
         state.rz = rz;
@@ -116,13 +124,13 @@ GpuPlaneCg::GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMul
     for (std::size_t l = 0; l < mg.levels.size(); ++l) {
         const std::string name = "plane mg level " + std::to_string(l);
         const MultigridLevel& level = mg.levels[l];
-        levels_.push_back({upload_matrix_texels(ctx, level.a, level.inverse_diagonal, name + " A"),
-                           upload_matrix_texels(ctx, level.prolong, {}, name + " P"),
-                           upload_matrix_texels(ctx, level.restrict_, {}, name + " R"),
-                           upload_texels(ctx, entry_texels(level.a, level.inverse_diagonal), name + " A D^-1 entries"),
+        levels_.push_back({upload_matrix_texels(ctx, level.a, level.inverse_diagonal, EntryType::float32, name + " A"),
+                           upload_matrix_texels(ctx, level.prolong, {}, EntryType::float32, name + " P"),
+                           upload_matrix_texels(ctx, level.restrict_, {}, EntryType::float32, name + " R"),
+                           upload_float_entries(ctx, level.a, level.inverse_diagonal, name + " A D^-1 entries"),
                            level.smoother});
     }
-    if (levels_.empty()) finest_ = upload_matrix_texels(ctx, mg.coarsest, {}, "plane mg coarsest A");
+    finest_ = upload_matrix_texels(ctx, mg.finest(), {}, EntryType::float64, "plane cg A");
     coarsest_inverse_ = upload_vector(ctx, mg.coarsest_inverse, "plane mg coarsest inverse");
     coarsest_rows_ = std::uint32_t(mg.coarsest_rows());
     const PlaneCgState start = started.get();
@@ -147,7 +155,8 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
         std::uint32_t count;
     };
     auto import = [&](TexelMatrix& m) { return MatrixHandles{g.import_image(m.rows), g.import_image(m.entries), m.row_count}; };
-    auto vector = [&](std::uint32_t rows, const std::string& name) { return g.create_image(texel_image_desc(rows, name)); };
+    // The cycle's vectors, in float.
+    auto vector = [&](std::uint32_t rows, const std::string& name) { return g.create_image(float_vector_desc(rows, name)); };
     // Per level: its operator (and its entries divided by their column's diagonal), transfers,
     // and the cycle's vectors (plane_multigrid.h names them). Level 0's right-hand side is the
     // conjugate gradients' r and its result their z.
@@ -166,7 +175,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
                           vector(n, name + " r"), vector(n, name + " x1"), l ? vector(n, name + " out") : ImageHandle{},
                           level.smoother});
     }
-    const MatrixHandles finest = levels.empty() ? import(finest_) : levels.front().a;
+    const MatrixHandles finest = import(finest_);
     auto coarsest_inverse = g.import_buffer(coarsest_inverse_);
     auto coarsest_b = vector(coarsest_rows_, "plane mg coarsest b");
     auto coarsest_x = vector(coarsest_rows_, "plane mg coarsest x");
@@ -174,6 +183,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
     auto r = g.import_image(r_);
     auto p = g.import_image(p_);
     auto q = g.import_image(q_);
+    auto r32 = vector(rows_, "plane cg r (float)");  // the cycle's b on the finest level
     auto z = vector(rows_, "plane cg z");
     BufferHandle rz[2] = {g.import_buffer(rz_[0]), g.import_buffer(rz_[1])};
     auto pq = g.import_buffer(pq_);
@@ -185,7 +195,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
         const std::size_t depth = levels.size();
         for (std::size_t l = 0; l < depth; ++l) {
             LevelHandles& level = levels[l];
-            const ImageHandle b = l ? level.b : r;
+            const ImageHandle b = l ? level.b : r32;
             ImageHandle& coarse_b = l + 1 < depth ? levels[l + 1].b : coarsest_b;
             const std::string name = "plane mg " + std::to_string(l);
             const SmootherPush push = smoother_push(level.a.count, false, level.smoother);
@@ -211,7 +221,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
         }
         // With no smoothed level the dense solve is the whole cycle and writes r.z's terms.
         const bool alone = depth == 0;
-        const ImageHandle dense_b = alone ? r : coarsest_b;
+        const ImageHandle dense_b = alone ? r32 : coarsest_b;
         ImageHandle& dense_x = alone ? z : coarsest_x;
         g.add_compute_pass("plane mg coarsest" + suffix, [&](PassBuilder& pb) {
             pb.read(coarsest_inverse, Access::ComputeRead);
@@ -224,7 +234,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
         });
         for (std::size_t l = depth; l-- > 0;) {
             LevelHandles& level = levels[l];
-            const ImageHandle b = l ? level.b : r;
+            const ImageHandle b = l ? level.b : r32;
             const ImageHandle coarse_x = l + 1 < depth ? levels[l + 1].out : coarsest_x;
             const std::string name = "plane mg " + std::to_string(l);
             g.add_compute_pass(name + " prolong" + suffix, [&](PassBuilder& pb) {
@@ -268,7 +278,8 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
                 for (ImageHandle h : {p, q}) b.read(h, Access::ComputeRead);
                 x = b.write(x, Access::ComputeReadWrite);
                 r = b.write(r, Access::ComputeReadWrite);
-            }, [=](Cmd& cmd) { cmd.dispatch_threads(kStep, {rows}, {pq, rz_old, p, q, x, r}, rows); });
+                r32 = b.write(r32, Access::ComputeWrite);
+            }, [=](Cmd& cmd) { cmd.dispatch_threads(kStep, {rows}, {pq, rz_old, p, q, x, r, r32}, rows); });
             add_cycle(suffix);
             const BufferHandle rz_new = rz[1 - half] = add_reduce_sum_f64(g, terms, rz[1 - half], rows, 1, "plane cg r.z" + suffix);
             g.add_compute_pass("plane cg direction" + suffix, [&](PassBuilder& b) {

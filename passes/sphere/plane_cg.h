@@ -5,11 +5,21 @@
 //
 // One iteration: q = A p and p.q (a pass and a reduction, primitives/reduce_f64, a fixed tree);
 // x += alpha p, r -= alpha q; z = V-cycle(r) with r.z from its last pass, and a reduction; then
-// p = z + beta p. The scalars alpha and beta never leave the GPU: each pass reads the reduced sums
-// it needs. Only r.z comes back, once per call, for the convergence test. (Summing the partials
-// inside the next pass instead, to save the reduction dispatches, was 1.3-1.5x slower on
-// lavapipe: its workgroup barriers cost more than the dispatches.) Vectors and matrices live in
-// storage images, not buffers (texel_layout.h says why: 2-3x faster on lavapipe).
+// p = z + beta p. The scalars alpha and beta never leave the GPU: each pass reads the reduced sums it
+// needs. Only r.z comes back, once per call, for the convergence test. (Summing the partials inside
+// the next pass instead, to save the reduction dispatches, was 1.3-1.5x slower on lavapipe: its
+// workgroup barriers cost more than the dispatches.) Vectors and matrices live in storage images,
+// not buffers (texel_layout.h says why: 2-3x faster on lavapipe).
+//
+// Number types: x, r, p, q, A and the scalars in double, the V-cycle in float32 (its input r
+// rounded to float, its output z widened back). Conjugate gradients only need the preconditioner
+// for their search directions; the residual they test is updated in double, so a float cycle
+// leaves the solution's precision alone (the protrusions' triangles of area 1e-15 included: the
+// cycle sees residuals, which float's exponent range holds at any scale, never positions). A float
+// cycle is symmetric only to float's rounding (1e-7), far below what the 1e-5 and 1e-8 tolerances
+// of the solves can notice. Its passes gather half the bytes and do float arithmetic:
+// armadillo_loop1's cycle took 6.8-7.0 ms an iteration instead of 11.6 on lavapipe (pass
+// timestamps), the whole map 0.48 s instead of 0.60, with the same iterations and angles.
 #include "plane_multigrid.h"
 #include "plane_problem.h"
 #include "texel_layout.h"
@@ -61,6 +71,7 @@ public:
 private:
     Plan& plan_for(std::uint32_t iterations);
 
+    // A multigrid level, its entries in float (the cycle's type).
     struct Level {
         TexelMatrix a, prolong, restrict_;  // a's rows carry 1 / a_ii
         Image ad_entries;                   // A's entries divided by their column's diagonal, for the presmoothing
@@ -72,7 +83,7 @@ private:
     double rz_rhs_ = 0.0;
     double start_residual_ = 1.0;
     std::vector<Level> levels_;
-    TexelMatrix finest_;  // the operator when there is no smoothed level (else levels_[0].a)
+    TexelMatrix finest_;  // the operator in double, for q = A p
     Buffer coarsest_inverse_;
     std::uint32_t coarsest_rows_ = 0;
     Image x_, r_, p_, q_;

@@ -201,63 +201,83 @@ std::vector<double> dense_inverse(const Sparse& a) {
     return out;
 }
 
-// Row i of A x with A's entries divided by their column's diagonal (a_ij / a_jj), summed as
-// mg_presmooth_first and mg_presmooth_second do with their pre-divided entries.
-glm::dvec2 row_times_by_diagonal(const MultigridLevel& level, const std::vector<glm::dvec2>& x, std::size_t i) {
-    glm::dvec2 sum(0.0);
-    for (std::uint32_t k = level.a.offsets[i]; k < level.a.offsets[i + 1]; ++k)
-        sum += (level.a.values[k] * level.inverse_diagonal[level.a.columns[k]]) * x[level.a.columns[k]];
+template <class T>
+using Vec2 = glm::vec<2, T>;
+template <class T>
+using Vectors = std::vector<Vec2<T>>;
+
+// Row i of m v in T, each entry rounded to T (times its column's `scale`, when one is given,
+// before the rounding), summed in the shaders' order.
+template <class T>
+Vec2<T> row_times_in(const CsrMatrix& m, const Vectors<T>& v, std::size_t i, const std::vector<double>* scale = nullptr) {
+    Vec2<T> sum(T(0));
+    for (std::uint32_t k = m.offsets[i]; k < m.offsets[i + 1]; ++k) {
+        const double entry = scale ? m.values[k] * (*scale)[m.columns[k]] : m.values[k];
+        sum += T(entry) * v[m.columns[k]];
+    }
     return sum;
 }
 
 // The smoother from zero and its residual (the header's "down" line): x = D^-1 (c0 b + c1 r1) and
-// r = b - A x.
-void presmooth(const MultigridLevel& level, const std::vector<glm::dvec2>& b, std::vector<glm::dvec2>& x,
-               std::vector<glm::dvec2>& r) {
+// r = b - A x. A's entries come divided by their column's diagonal, as mg_presmooth_first and
+// mg_presmooth_second read them.
+template <class T>
+void presmooth(const MultigridLevel& level, const Vectors<T>& b, Vectors<T>& x, Vectors<T>& r) {
     const std::size_t n = b.size();
     const ChebyshevSmoother& s = level.smoother;
-    std::vector<glm::dvec2> mix(n);  // c0 b + c1 r1
-    for (std::size_t i = 0; i < n; ++i) mix[i] = s.c0 * b[i] + s.c1 * (b[i] - s.theta_inverse * row_times_by_diagonal(level, b, i));
+    const T c0 = T(s.c0), c1 = T(s.c1), theta_inverse = T(s.theta_inverse);
+    Vectors<T> mix(n);  // c0 b + c1 r1
+    for (std::size_t i = 0; i < n; ++i)
+        mix[i] = c0 * b[i] + c1 * (b[i] - theta_inverse * row_times_in(level.a, b, i, &level.inverse_diagonal));
     x.resize(n);
     r.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-        x[i] = level.inverse_diagonal[i] * mix[i];
-        r[i] = b[i] - row_times_by_diagonal(level, mix, i);
+        x[i] = T(level.inverse_diagonal[i]) * mix[i];
+        r[i] = b[i] - row_times_in(level.a, mix, i, &level.inverse_diagonal);
     }
 }
 
 // The smoother from x (the header's "up" line).
-std::vector<glm::dvec2> postsmooth(const MultigridLevel& level, const std::vector<glm::dvec2>& b,
-                                   const std::vector<glm::dvec2>& x) {
+template <class T>
+Vectors<T> postsmooth(const MultigridLevel& level, const Vectors<T>& b, const Vectors<T>& x) {
     const std::size_t n = b.size();
     const ChebyshevSmoother& s = level.smoother;
-    std::vector<glm::dvec2> x1(n), z(n);
+    const T c1 = T(s.c1), k = T(s.k), theta_inverse = T(s.theta_inverse);
+    Vectors<T> x1(n), z(n);
     for (std::size_t i = 0; i < n; ++i)
-        x1[i] = x[i] + (s.theta_inverse * level.inverse_diagonal[i]) * (b[i] - row_times(level.a, x, i));
+        x1[i] = x[i] + (theta_inverse * T(level.inverse_diagonal[i])) * (b[i] - row_times_in(level.a, x, i));
     for (std::size_t i = 0; i < n; ++i)
-        z[i] = x1[i] + s.k * (x1[i] - x[i]) + (s.c1 * level.inverse_diagonal[i]) * (b[i] - row_times(level.a, x1, i));
+        z[i] = x1[i] + k * (x1[i] - x[i]) + (c1 * T(level.inverse_diagonal[i])) * (b[i] - row_times_in(level.a, x1, i));
     return z;
 }
 
-std::vector<glm::dvec2> cycle(const PlaneMultigrid& mg, std::size_t l, const std::vector<glm::dvec2>& b) {
+template <class T>
+Vectors<T> cycle(const PlaneMultigrid& mg, std::size_t l, const Vectors<T>& b) {
     if (l == mg.levels.size()) {
+        // The dense level sums in double whatever the cycle's type (mg_coarsest).
         const std::size_t n = mg.coarsest_rows();
-        std::vector<glm::dvec2> x(n, glm::dvec2(0.0));
+        Vectors<T> x(n, Vec2<T>(T(0)));
         for (std::size_t i = 0; i < n; ++i) {
             glm::dvec2 sum(0.0);
-            for (std::size_t j = 0; j < n; ++j) sum += mg.coarsest_inverse[i * n + j] * b[j];
-            x[i] = sum;
+            for (std::size_t j = 0; j < n; ++j) sum += mg.coarsest_inverse[i * n + j] * glm::dvec2(b[j]);
+            x[i] = Vec2<T>(sum);
         }
         return x;
     }
     const MultigridLevel& level = mg.levels[l];
-    std::vector<glm::dvec2> x, r;
+    Vectors<T> x, r;
     presmooth(level, b, x, r);
-    std::vector<glm::dvec2> coarse_b(level.restrict_.rows());
-    for (std::size_t i = 0; i < coarse_b.size(); ++i) coarse_b[i] = row_times(level.restrict_, r, i);
-    const std::vector<glm::dvec2> coarse_x = cycle(mg, l + 1, coarse_b);
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] += row_times(level.prolong, coarse_x, i);
+    Vectors<T> coarse_b(level.restrict_.rows());
+    for (std::size_t i = 0; i < coarse_b.size(); ++i) coarse_b[i] = row_times_in(level.restrict_, r, i);
+    const Vectors<T> coarse_x = cycle(mg, l + 1, coarse_b);
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] += row_times_in(level.prolong, coarse_x, i);
     return postsmooth(level, b, x);
+}
+
+template <class T>
+std::vector<glm::dvec2> cycle_in(const PlaneMultigrid& mg, const std::vector<glm::dvec2>& b) {
+    const Vectors<T> z = cycle(mg, 0, Vectors<T>(b.begin(), b.end()));
+    return std::vector<glm::dvec2>(z.begin(), z.end());
 }
 
 }  // namespace
@@ -274,11 +294,7 @@ ChebyshevSmoother chebyshev_smoother(double rho) {
     return s;
 }
 
-glm::dvec2 row_times(const CsrMatrix& m, const std::vector<glm::dvec2>& v, std::size_t i) {
-    glm::dvec2 sum(0.0);
-    for (std::uint32_t k = m.offsets[i]; k < m.offsets[i + 1]; ++k) sum += m.values[k] * v[m.columns[k]];
-    return sum;
-}
+glm::dvec2 row_times(const CsrMatrix& m, const std::vector<glm::dvec2>& v, std::size_t i) { return row_times_in(m, v, i); }
 
 PlaneMultigrid build_plane_multigrid(const PlaneProblem& problem) {
     PlaneMultigrid mg;
@@ -313,8 +329,9 @@ PlaneMultigrid build_plane_multigrid(const PlaneProblem& problem) {
     return mg;
 }
 
-std::vector<glm::dvec2> apply_multigrid_cpu(const PlaneMultigrid& mg, const std::vector<glm::dvec2>& b) {
-    return cycle(mg, 0, b);
+std::vector<glm::dvec2> apply_multigrid_cpu(const PlaneMultigrid& mg, const std::vector<glm::dvec2>& b,
+                                            CyclePrecision precision) {
+    return precision == CyclePrecision::float32 ? cycle_in<float>(mg, b) : cycle_in<double>(mg, b);
 }
 
 }  // namespace gimg::passes::detail

@@ -6,8 +6,8 @@
 // coarse grids, so the iterations no longer grow with the mesh.
 //
 // The hierarchy is built once on the CPU (aggregation, Galerkin products: linear in the
-// nonzeros); the V-cycle runs on the render graph (plane_cg.cpp), and apply_multigrid_cpu is its
-// CPU twin in the same order of operations. On every level (D: A's diagonal):
+// nonzeros); the V-cycle runs on the render graph (plane_cg.cpp) in float32, and apply_multigrid_cpu
+// is its CPU twin in the same order of operations. On every level (D: A's diagonal):
 //   down:  r1 = b - A (D^-1 b / theta),  x = D^-1 (c0 b + c1 r1),  r = b - A x,  bc = R r
 //   below: xc = V(bc) (a dense inverse on the coarsest), x += P xc
 //   up:    d = D^-1 (b - A x) / theta,  x1 = x + d,  r1 = b - A x1,  z = x1 + k d + c1 D^-1 r1
@@ -77,7 +77,14 @@ inline constexpr std::size_t kMultigridDenseRows = 256;
 // polish is then not kept, with the message in the map's note.
 PlaneMultigrid build_plane_multigrid(const PlaneProblem& problem);
 
-// z = V-cycle(b).
-std::vector<glm::dvec2> apply_multigrid_cpu(const PlaneMultigrid& mg, const std::vector<glm::dvec2>& b);
+// The number type of a V-cycle. The GPU's cycle is float32 (plane_cg.h says why): b rounded to
+// float, every entry and constant rounded to float once (a_ij / a_jj before the rounding), sums in
+// float in the shaders' order, but the dense level in double. float64 is the same cycle in double,
+// the exact algorithm (symmetric to rounding), for tests.
+enum class CyclePrecision { float32, float64 };
+
+// z = V-cycle(b), in `precision`; with float32 the GPU cycle's CPU twin.
+std::vector<glm::dvec2> apply_multigrid_cpu(const PlaneMultigrid& mg, const std::vector<glm::dvec2>& b,
+                                            CyclePrecision precision = CyclePrecision::float32);
 
 }  // namespace gimg::passes::detail

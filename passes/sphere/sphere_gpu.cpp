@@ -391,6 +391,9 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
         check_options(options);
         if (!ctx.device_info().shader_float64)
             throw Error(ErrorKind::Unsupported, "gpu sphere: the device has no float64 in shaders (shaderFloat64); use --method kanai or linear");
+        if (options.plane_polish && !ctx.device_info().storage_image_extended_formats)
+            throw Error(ErrorKind::Unsupported, "gpu sphere: the device has no two-channel storage images for the polish's "
+                                                "multigrid (shaderStorageImageExtendedFormats); use --method kanai or linear");
         // Solved with the vertices renumbered along a space-filling curve, so that the passes'
         // gathers of neighbours hit the cache (geometry/vertex_order.h): armadillo_loop1's
         // conjugate gradient iterations and relaxation sweeps took 30 % less time.

@@ -1,13 +1,14 @@
 #pragma once
-// How the planar solves keep their vectors and sparse matrices on the GPU: in RGBA32UI storage
-// images, one 128-bit texel an element, kTexelRowWidth texels a row (shaders/sphere/texels.glsl is
-// the shader side).
+// How the planar solves keep their vectors and sparse matrices on the GPU: in storage images, one
+// texel an element, kTexelRowWidth texels a row (shaders/sphere/texels.glsl is the shader side).
 //
 // Why images and not storage buffers: passes/texel_rows.h.
 //
-// Layouts: a vector of dvec2 has element i in texel i (x bits in .xy, y bits in .zw); a matrix in
-// compressed rows is two images, its rows (begin, end, and one double per row: 1 / a_ii on
-// multigrid levels, else 0) and its entries (column, 0, value).
+// Layouts: the conjugate gradients' vectors of dvec2 in RGBA32UI, element i in texel i (x bits in
+// .xy, y bits in .zw); the multigrid cycle's vectors of vec2 in RG32F. A matrix in compressed rows
+// is two images: its rows in RGBA32UI (begin, end, and one double per row: 1 / a_ii on multigrid
+// levels, else 0) and its entries, in RGBA32UI (column, 0, double value) for the conjugate
+// gradients' q = A p, in RG32UI (column, float value's bits) for the cycle.
 #include "plane_multigrid.h"
 #include "../texel_rows.h"
 
@@ -24,9 +25,14 @@
 
 namespace gimg::passes::detail {
 
-// An RGBA32UI image of at least `count` texels.
+// An RGBA32UI image of at least `count` texels: a vector of dvec2.
 inline ImageDesc texel_image_desc(std::size_t count, const std::string& name) {
     return texel_rows_desc(count, Format::RGBA32U, name);
+}
+
+// An RG32F image of at least `count` texels: a vector of vec2 (the multigrid cycle's).
+inline ImageDesc float_vector_desc(std::size_t count, const std::string& name) {
+    return texel_rows_desc(count, Format::RG32F, name);
 }
 
 inline glm::uvec4 texel_of(std::uint32_t a, std::uint32_t b, double value) {
@@ -60,29 +66,51 @@ inline std::vector<glm::dvec2> download_vector_texels(Context& ctx, Image& image
     return v;
 }
 
-// A matrix's entries as texels (column, 0, value), each value times its column's `scale` when one
-// is given (one per column; empty for none).
+// A matrix's entries, each value times its column's `scale` when one is given (one per column;
+// empty for none): as texels (column, 0, value) in double, or (column, value's bits) rounded to
+// float after the scaling.
+inline double scaled_entry(const CsrMatrix& m, const std::vector<double>& scale, std::size_t k) {
+    return scale.empty() ? m.values[k] : m.values[k] * scale[m.columns[k]];
+}
+
 inline std::vector<glm::uvec4> entry_texels(const CsrMatrix& m, const std::vector<double>& scale) {
     std::vector<glm::uvec4> entries(m.values.size());
-    for (std::size_t k = 0; k < entries.size(); ++k)
-        entries[k] = texel_of(m.columns[k], 0u, scale.empty() ? m.values[k] : m.values[k] * scale[m.columns[k]]);
+    for (std::size_t k = 0; k < entries.size(); ++k) entries[k] = texel_of(m.columns[k], 0u, scaled_entry(m, scale, k));
     return entries;
 }
 
+inline Image upload_float_entries(Context& ctx, const CsrMatrix& m, const std::vector<double>& scale, const std::string& name) {
+    std::vector<glm::uvec2> entries(m.values.size());
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+        const float value = float(scaled_entry(m, scale, k));
+        std::uint32_t bits;
+        std::memcpy(&bits, &value, sizeof bits);
+        entries[k] = {m.columns[k], bits};
+    }
+    return upload_texel_rows(ctx, std::move(entries), Format::RG32U, name);
+}
+
 // The two images of a matrix in compressed rows; `row_values` (one per row, or empty for zeros)
-// rides in the rows image.
+// rides in the rows image. Its entries in double or float (the cycle's).
 struct TexelMatrix {
     Image rows, entries;
     std::uint32_t row_count = 0;
 };
 
-inline TexelMatrix upload_matrix_texels(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values,
-                                        const std::string& name) {
+enum class EntryType { float64, float32 };
+
+inline Image upload_rows(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values, const std::string& name) {
     std::vector<glm::uvec4> rows(m.rows());
     for (std::size_t i = 0; i < m.rows(); ++i)
         rows[i] = texel_of(m.offsets[i], m.offsets[i + 1], row_values.empty() ? 0.0 : row_values[i]);
-    return {upload_texels(ctx, std::move(rows), name + " rows"), upload_texels(ctx, entry_texels(m, {}), name + " entries"),
-            std::uint32_t(m.rows())};
+    return upload_texels(ctx, std::move(rows), name + " rows");
+}
+
+inline TexelMatrix upload_matrix_texels(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values,
+                                        EntryType type, const std::string& name) {
+    Image entries = type == EntryType::float32 ? upload_float_entries(ctx, m, {}, name + " entries")
+                                               : upload_texels(ctx, entry_texels(m, {}), name + " entries");
+    return {upload_rows(ctx, m, row_values, name), std::move(entries), std::uint32_t(m.rows())};
 }
 
 }  // namespace gimg::passes::detail

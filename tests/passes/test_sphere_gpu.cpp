@@ -27,6 +27,8 @@ protected:
     void SetUp() override {
         GpuTest::SetUp();
         if (!ctx().device_info().shader_float64) GTEST_SKIP() << "device has no shaderFloat64";
+        if (!ctx().device_info().storage_image_extended_formats)
+            GTEST_SKIP() << "device has no shaderStorageImageExtendedFormats (the multigrid's RG32F vectors)";
     }
 };
 

@@ -41,6 +41,7 @@ struct DeviceInfo {
     bool shader_int64 = false;
     bool float_atomics = false;      // shaderBufferFloat32AtomicAdd
     bool fill_mode_non_solid = false;
+    bool storage_image_extended_formats = false;  // storage images of RG32F, RG32UI and the like
     VkDeviceSize max_storage_buffer_range = 0;
     std::uint32_t max_push_constants_size = 0;
     std::uint32_t subgroup_size = 0;
