@@ -2,7 +2,7 @@
 #include "sphere_relax.h"
 
 #include "sphere_steps.h"
-#include "upload_vector.h"
+#include "../texel_rows.h"
 
 #include "gimg/engine/graph.h"
 #include "gimg/passes/primitives.h"
@@ -12,7 +12,9 @@
 #include "sphere/relax_comp.h"
 
 #include <glm/geometric.hpp>
+#include <glm/vec4.hpp>
 
+#include <cstring>
 #include <span>
 
 namespace gimg::passes::detail {
@@ -23,12 +25,26 @@ const Spirv kRelax = GIMG_SPIRV(gimg_spv_sphere_relax_comp);
 const Spirv kLevelStats = GIMG_SPIRV(gimg_spv_sphere_level_stats_comp);
 const Spirv kRecentre = GIMG_SPIRV(gimg_spv_sphere_recentre_comp);
 
-// The shaders' layout: one dvec4 per point (w unused), shaders/sphere/sphere_common.glsl.
-std::vector<double> flatten(const std::vector<glm::dvec3>& y) {
-    std::vector<double> flat(4 * y.size(), 0.0);
-    for (std::size_t i = 0; i < y.size(); ++i)
-        for (int k = 0; k < 3; ++k) flat[4 * i + k] = y[i][k];
-    return flat;
+// The shaders' layouts (shaders/sphere/sphere_common.glsl): storage images, one texel an element.
+// A point is two RGBA32UI texels, (x, y) and (z, 0) as doubles: byte for byte one dvec4 a point.
+Image upload_points(Context& ctx, const std::vector<glm::dvec3>& y, const std::string& name) {
+    std::vector<glm::dvec2> texels(2 * y.size(), glm::dvec2(0.0));
+    for (std::size_t i = 0; i < y.size(); ++i) {
+        texels[2 * i] = {y[i].x, y[i].y};
+        texels[2 * i + 1] = {y[i].z, 0.0};
+    }
+    return upload_texel_rows(ctx, std::move(texels), Format::RGBA32U, name);
+}
+
+// The fans' spokes, (neighbour, 0, weight as a double), one RGBA32UI texel a spoke.
+Image upload_spokes(Context& ctx, const SphereLevel& level) {
+    std::vector<glm::uvec4> texels(level.ring.size());
+    for (std::size_t k = 0; k < texels.size(); ++k) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &level.ring_weights[k], sizeof bits);
+        texels[k] = {level.ring[k], 0u, std::uint32_t(bits), std::uint32_t(bits >> 32)};
+    }
+    return upload_texel_rows(ctx, std::move(texels), Format::RGBA32U, "sphere spokes");
 }
 
 LevelStats stats_from_sums(std::span<const double> sums, std::size_t vertex_count) {
@@ -84,13 +100,11 @@ CentreRun centre_mass_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, 
 
 GpuSphereRelaxation::GpuSphereRelaxation(Context& ctx, const SphereLevel& level, const std::vector<glm::dvec3>& y)
     : ctx_(ctx), level_(level) {
-    const std::vector<double> flat = flatten(y);
-    points_[0] = upload_vector(ctx, flat, "sphere points A");
-    points_[1] = upload_vector(ctx, flat, "sphere points B");
-    ring_offsets_ = upload_vector(ctx, level.ring_offsets, "sphere ring offsets");
-    ring_ = upload_vector(ctx, level.ring, "sphere rings");
-    ring_weights_ = upload_vector(ctx, level.ring_weights, "sphere ring weights");
-    members_ = upload_vector(ctx, level.colour_members, "sphere colour members");
+    points_[0] = upload_points(ctx, y, "sphere points A");
+    points_[1] = upload_points(ctx, y, "sphere points B");
+    ring_offsets_ = upload_texel_rows(ctx, level.ring_offsets, Format::R32U, "sphere ring offsets");
+    spokes_ = upload_spokes(ctx, level);
+    members_ = upload_texel_rows(ctx, level.colour_members, Format::R32U, "sphere colour members");
     sums_relaxed_ = ctx.create_buffer({6 * sizeof(double), "sphere sums (relaxed)"}, MemoryUsage::Readback);
     sums_recentred_ = ctx.create_buffer({6 * sizeof(double), "sphere sums (recentred)"}, MemoryUsage::Readback);
     control_ = ctx.create_buffer({sizeof(double), "sphere recentre scale"}, MemoryUsage::Upload);
@@ -101,12 +115,11 @@ Plan& GpuSphereRelaxation::plan_for(std::uint32_t iterations, bool uniform_weigh
     if (slot) return *slot;
     const auto n = std::uint32_t(level_.vertex_count());
     Graph g(ctx_);
-    auto points = g.import_buffer(points_[current_]);
-    auto moved = g.import_buffer(points_[1 - current_]);
-    auto offsets = g.import_buffer(ring_offsets_);
-    auto ring = g.import_buffer(ring_);
-    auto weights = g.import_buffer(ring_weights_);
-    auto members = g.import_buffer(members_);
+    auto points = g.import_image(points_[current_]);
+    auto moved = g.import_image(points_[1 - current_]);
+    auto offsets = g.import_image(ring_offsets_);
+    auto spokes = g.import_image(spokes_);
+    auto members = g.import_image(members_);
     auto control = g.import_buffer(control_);
     struct RelaxPush {
         std::uint32_t first, count, uniform_weights;
@@ -116,22 +129,19 @@ Plan& GpuSphereRelaxation::plan_for(std::uint32_t iterations, bool uniform_weigh
             const RelaxPush push{level_.colour_offsets[c], level_.colour_offsets[c + 1] - level_.colour_offsets[c],
                                  uniform_weights ? 1u : 0u};
             g.add_compute_pass("relax colour " + std::to_string(c), [&](PassBuilder& b) {
-                b.read(offsets, Access::ComputeRead);
-                b.read(ring, Access::ComputeRead);
-                b.read(weights, Access::ComputeRead);
-                b.read(members, Access::ComputeRead);
+                for (ImageHandle h : {offsets, spokes, members}) b.read(h, Access::ComputeRead);
                 points = b.write(points, Access::ComputeReadWrite);
             }, [=](Cmd& cmd) {
-                cmd.dispatch_threads(kRelax, {push.count}, {points, offsets, ring, weights, members}, push);
+                cmd.dispatch_threads(kRelax, {push.count}, {points, offsets, spokes, members}, push);
             });
         }
     });
-    auto reduce_stats = [&](BufferHandle of, Buffer& sums_buffer, const std::string& name) {
+    auto reduce_stats = [&](ImageHandle of, Buffer& sums_buffer, const std::string& name) {
         auto terms = g.create_buffer({VkDeviceSize(n) * 6 * sizeof(double), name + " terms"});
         g.add_compute_pass(name, [&](PassBuilder& b) {
-            for (BufferHandle h : {of, offsets, ring, weights}) b.read(h, Access::ComputeRead);
+            for (ImageHandle h : {of, offsets, spokes}) b.read(h, Access::ComputeRead);
             terms = b.write(terms, Access::ComputeWrite);
-        }, [=](Cmd& cmd) { cmd.dispatch_threads(kLevelStats, {n}, {of, offsets, ring, weights, terms}, n); });
+        }, [=](Cmd& cmd) { cmd.dispatch_threads(kLevelStats, {n}, {of, offsets, spokes, terms}, n); });
         auto sums = add_reduce_sum_f64(g, terms, g.import_buffer(sums_buffer), n, 6, name + " sum");
         return sums;
     };
@@ -145,8 +155,8 @@ Plan& GpuSphereRelaxation::plan_for(std::uint32_t iterations, bool uniform_weigh
     auto sums_moved = reduce_stats(moved, sums_recentred_, "sphere stats recentred");
     g.export_buffer(sums, Access::HostRead);
     g.export_buffer(sums_moved, Access::HostRead);
-    g.export_buffer(points, Access::ComputeReadWrite);
-    g.export_buffer(moved, Access::ComputeReadWrite);
+    g.export_image(points, Access::ComputeReadWrite);
+    g.export_image(moved, Access::ComputeReadWrite);
     slot = std::make_unique<Plan>(g.compile());
     return *slot;
 }
@@ -171,9 +181,13 @@ RelaxCheck GpuSphereRelaxation::run(std::uint32_t iterations, bool uniform_weigh
 }
 
 std::vector<glm::dvec3> GpuSphereRelaxation::positions() {
-    const std::vector<double> flat = ctx_.download<double>(points_[current_]);
+    const std::vector<std::byte> bytes = ctx_.download(points_[current_]);
     std::vector<glm::dvec3> y(level_.vertex_count());
-    for (std::size_t i = 0; i < y.size(); ++i) y[i] = {flat[4 * i], flat[4 * i + 1], flat[4 * i + 2]};
+    for (std::size_t i = 0; i < y.size(); ++i) {
+        double p[4];
+        std::memcpy(p, bytes.data() + 4 * sizeof(double) * i, sizeof p);  // (x, y), (z, 0): one dvec4
+        y[i] = {p[0], p[1], p[2]};
+    }
     return y;
 }
 

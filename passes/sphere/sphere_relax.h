@@ -4,7 +4,7 @@
 //
 // One call runs `iterations` sweeps (one dispatch per colour each), then reduces the level's
 // energy, flip count and mass centre on the GPU, moves the mass centre towards the origin by a
-// Moebius transformation into a second buffer and reduces again. Only the two small sums come
+// Moebius transformation into a second image and reduces again. Only the two small sums come
 // back to the host, once per call: the caller reads them every K iterations, never every
 // iteration. The recentred points are kept when no more triangles are flipped or fail the kernel
 // test than before; otherwise the next call tries half the move.
@@ -72,10 +72,10 @@ private:
 
     Context& ctx_;
     const SphereLevel& level_;
-    Buffer points_[2], ring_offsets_, ring_, ring_weights_, members_;
+    Image points_[2], ring_offsets_, spokes_, members_;  // shaders/sphere/sphere_common.glsl's layouts
     Buffer sums_relaxed_, sums_recentred_, control_;
     double recentre_scale_ = kRecentreScale;
-    int current_ = 0;  // which points_ buffer holds the points
+    int current_ = 0;  // which points_ image holds the points
     bool timestamps_ = false;
     double last_gpu_ms_ = 0.0;
     std::map<std::tuple<std::uint32_t, bool, int>, std::unique_ptr<Plan>> plans_;

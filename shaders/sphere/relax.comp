@@ -5,11 +5,10 @@
 // local energy on the sphere, halving the step until no triangle of its fan flips that was not
 // flipped before. No two vertices of one colour share an edge, so the moves are independent.
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) buffer Points { dvec4 pos[]; };
-layout(std430, binding = 1) readonly buffer RingOffsets { uint ring_offsets[]; };
-layout(std430, binding = 2) readonly buffer Ring { uint ring[]; };
-layout(std430, binding = 3) readonly buffer RingWeights { double ring_weights[]; };
-layout(std430, binding = 4) readonly buffer Members { uint members[]; };
+layout(binding = 0, rgba32ui) uniform uimage2D points;
+layout(binding = 1, r32ui) uniform readonly uimage2D ring_offsets;
+layout(binding = 2, rgba32ui) uniform readonly uimage2D spokes;
+layout(binding = 3, r32ui) uniform readonly uimage2D members;
 layout(push_constant) uniform Push {
     uint first;            // of this colour in members
     uint count;
@@ -22,10 +21,10 @@ const int kMaxStepHalvings = 16;
 
 void main() {
     if (gl_GlobalInvocationID.x >= count) return;
-    const uint v = members[first + gl_GlobalInvocationID.x];
+    const uint v = imageLoad(members, texel(first + gl_GlobalInvocationID.x)).x;
     dvec3 sum = dvec3(0.0LF);
-    for (uint k = ring_offsets[v]; k < ring_offsets[v + 1]; ++k)
-        sum += (uniform_weights != 0 ? 1.0LF : ring_weights[k]) * point_at(ring[k]);
+    for (uint k = ring_offset(v); k < ring_offset(v + 1); ++k)
+        sum += (uniform_weights != 0 ? 1.0LF : spoke_weight(k)) * point_at(spoke_vertex(k));
     const double len = length(sum);
     if (!(len > 1e-300LF)) return;
     const dvec3 target = sum / len;
@@ -37,7 +36,8 @@ void main() {
         if (!(chord_length > 1e-12LF)) continue;
         const dvec3 candidate = chord / chord_length;
         if (keeps_every_grade(v, current, candidate)) {
-            pos[v] = dvec4(candidate, 0.0LF);
+            imageStore(points, texel(2u * v), uvec4(unpackDouble2x32(candidate.x), unpackDouble2x32(candidate.y)));
+            imageStore(points, texel(2u * v + 1u), uvec4(unpackDouble2x32(candidate.z), 0u, 0u));
             return;
         }
     }

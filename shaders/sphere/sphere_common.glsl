@@ -1,9 +1,19 @@
-// Shared by the sphere solver's shaders: points as dvec4 (w unused), the fan layout of
-// passes/sphere/sphere_level.h, and the orientation test (same arithmetic as the CPU reference).
-// A point is one vector load, not three: lavapipe loads storage buffers lane by lane, one loop
-// per load, and fewer loads made a sweep about 15 % faster there.
+// Shared by the sphere solver's shaders: the points, the fan layout of passes/sphere/sphere_level.h
+// and the orientation test (same arithmetic as the CPU reference). All in storage images, one
+// texel an element (passes/texel_rows.h says why: lavapipe gathers from images, and loads from
+// storage buffers lane by lane): the points in RGBA32UI, two texels a point, (x, y) and (z, 0) as
+// doubles; the fans' offsets in R32UI; their spokes in RGBA32UI, (neighbour, 0, weight as a
+// double). The including shader declares the images `points`, `ring_offsets` and `spokes`.
+#include "common/texel_rows.glsl"
 
-dvec3 point_at(uint v) { return pos[v].xyz; }
+dvec3 point_at(uint v) {
+    const uvec4 xy = imageLoad(points, texel(2u * v));
+    const uvec2 z = imageLoad(points, texel(2u * v + 1u)).xy;
+    return dvec3(packDouble2x32(xy.xy), packDouble2x32(xy.zw), packDouble2x32(z));
+}
+uint ring_offset(uint v) { return imageLoad(ring_offsets, texel(v)).x; }
+uint spoke_vertex(uint k) { return imageLoad(spokes, texel(k)).x; }
+double spoke_weight(uint k) { return packDouble2x32(imageLoad(spokes, texel(k)).zw); }
 
 // The kernel test of passes/sphere/sphere_steps.h: counter-clockwise seen from outside by a
 // rounding margin, det(a, b, c) written a . ((b - a) x (c - a)) to keep its precision on tiny
@@ -28,13 +38,13 @@ int orientation_grade(dvec3 at, dvec3 a, dvec3 b) {
 double orientation(dvec3 at, dvec3 a, dvec3 b) { return dot(at, cross(a - at, b - at)); }
 
 bool keeps_every_grade(uint v, dvec3 from, dvec3 to) {
-    const uint begin = ring_offsets[v], degree = ring_offsets[v + 1] - begin;
+    const uint begin = ring_offset(v), degree = ring_offset(v + 1) - begin;
     // Each neighbour loaded once: triangle k's second corner is triangle k + 1's first.
-    const dvec3 first = point_at(ring[begin]);
+    const dvec3 first = point_at(spoke_vertex(begin));
     dvec3 b = first;
     for (uint k = 0; k < degree; ++k) {
         const dvec3 a = b;
-        b = k + 1 < degree ? point_at(ring[begin + k + 1]) : first;
+        b = k + 1 < degree ? point_at(spoke_vertex(begin + k + 1)) : first;
         const int after = orientation_grade(to, a, b);
         if (after == 2) continue;
         const int before = orientation_grade(from, a, b);
