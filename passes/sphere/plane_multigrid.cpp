@@ -51,35 +51,69 @@ void sort_row(Row& row) {
     }
 }
 
-// Appends row i (the next) to `m`, filled in order with startVec / insertBack: sorted by column,
-// a repeated column summed (in the order given), exact zeros left out when `drop_zeros`.
-void append_row(Sparse& m, Eigen::Index i, Row& row, bool drop_zeros) {
+// Sorts `row` and appends it to `columns` and `values`: sorted by column, a repeated column summed
+// (in the order given), exact zeros left out when `drop_zeros`.
+void append_row(Row& row, bool drop_zeros, std::vector<int>& columns, std::vector<double>& values) {
     sort_row(row);
-    m.startVec(i);
     for (std::size_t k = 0; k < row.size();) {
         double value = 0.0;
         std::size_t next = k;
         for (; next < row.size() && row[next].first == row[k].first; ++next) value += row[next].second;
-        if (!drop_zeros || value != 0.0) m.insertBack(i, row[k].first) = value;
+        if (!drop_zeros || value != 0.0) {
+            columns.push_back(int(row[k].first));
+            values.push_back(value);
+        }
         k = next;
     }
+}
+
+// The compressed row-major matrix whose row i `fill_row(i, row)` lists (column, value) in any
+// order (append_row merges it), built in two halves of the rows on two threads and joined: each
+// row comes out as one thread would build it, so the matrix is the same.
+template <class FillRow>
+Sparse rows_in_halves(Eigen::Index rows, Eigen::Index cols, bool drop_zeros, const FillRow& fill_row) {
+    struct Part {
+        std::vector<int> ends, columns;  // ends: the end of each row in columns / values
+        std::vector<double> values;
+    };
+    Part parts[2];
+    const std::size_t half = std::max<std::size_t>((std::size_t(rows) + 1) / 2, 1);
+    geo::parallel_for_chunks(std::size_t(rows), half, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+        Part& part = parts[chunk];
+        part.ends.reserve(end - begin);
+        Row row;
+        for (std::size_t i = begin; i < end; ++i) {
+            row.clear();
+            fill_row(Eigen::Index(i), row);
+            append_row(row, drop_zeros, part.columns, part.values);
+            part.ends.push_back(int(part.columns.size()));
+        }
+    });
+    Sparse out(rows, cols);
+    out.resizeNonZeros(Eigen::Index(parts[0].columns.size() + parts[1].columns.size()));
+    int* outer = out.outerIndexPtr();
+    outer[0] = 0;
+    Eigen::Index i = 0;
+    int offset = 0;
+    for (const Part& part : parts) {
+        for (int end : part.ends) outer[++i] = offset + end;
+        std::copy(part.columns.begin(), part.columns.end(), out.innerIndexPtr() + offset);
+        std::copy(part.values.begin(), part.values.end(), out.valuePtr() + offset);
+        offset += int(part.columns.size());
+    }
+    return out;
 }
 
 // The problem's rows, already compressed, filled in directly (setFromTriplets sorted all of
 // them again: 8-16 ms on armadillo_loop1).
 Sparse sparse_of_problem(const PlaneProblem& problem) {
     const auto m = Eigen::Index(problem.rows());
-    Sparse a(m, m);
-    a.reserve(Eigen::Index(problem.columns.size() + problem.rows()));
-    Row row;
-    for (Eigen::Index i = 0; i < m; ++i) {
-        row.assign(1, {i, problem.diagonal[std::size_t(i)]});
+    // Explicit zeros kept, as setFromTriplets kept them.
+    return rows_in_halves(m, m, false, [&](Eigen::Index i, Row& row) {
+        row.emplace_back(i, problem.diagonal[std::size_t(i)]);
         for (std::uint32_t k = problem.row_offsets[std::size_t(i)]; k < problem.row_offsets[std::size_t(i) + 1]; ++k)
             row.emplace_back(Eigen::Index(problem.columns[k]), problem.values[k]);
-        append_row(a, i, row, false);  // explicit zeros kept, as setFromTriplets kept them
-    }
-    a.finalize();
-    return a;
+    });
 }
 
 // P = (I - omega D^-1 A) T, T the tentative prolongator (row i: a 1 in the column of its
@@ -87,17 +121,11 @@ Sparse sparse_of_problem(const PlaneProblem& problem) {
 // out. (Built from Eigen products with T it took 14 ms of armadillo_loop1's setup; this, 3.)
 Sparse smoothed_prolongator(const Sparse& a, const Eigen::VectorXd& diagonal, const std::vector<int>& of,
                             Eigen::Index coarse, double omega) {
-    Sparse prolong(a.rows(), coarse);
-    prolong.reserve(3 * a.rows());
-    Row row;  // (aggregate, value)
-    for (Eigen::Index i = 0; i < a.rows(); ++i) {
+    return rows_in_halves(a.rows(), coarse, true, [&](Eigen::Index i, Row& row) {
         const double scale = omega / diagonal[i];
-        row.assign(1, {of[std::size_t(i)], 1.0});
+        row.emplace_back(of[std::size_t(i)], 1.0);
         for (Sparse::InnerIterator it(a, i); it; ++it) row.emplace_back(of[std::size_t(it.col())], -scale * it.value());
-        append_row(prolong, i, row, true);
-    }
-    prolong.finalize();
-    return prolong;
+    });
 }
 
 // lhs * rhs with the rows of lhs in two halves on two threads: each row of the product is
@@ -149,8 +177,15 @@ double largest_jacobi_eigenvalue(const Sparse& a, const Eigen::VectorXd& diagona
         if (!(norm > 0.0)) break;
         v /= norm;
         geo::parallel_for_chunks(std::size_t(a.rows()), half, [&](std::size_t, std::size_t begin, std::size_t end) {
-            const auto b = Eigen::Index(begin), n = Eigen::Index(end - begin);
-            w.segment(b, n) = (a.middleRows(b, n) * v).cwiseQuotient(diagonal.segment(b, n));
+            // Row by row without a temporary, summed in storage order as Eigen's product sums.
+            const int* outer = a.outerIndexPtr();
+            const int* inner = a.innerIndexPtr();
+            const double* values = a.valuePtr();
+            for (std::size_t i = begin; i < end; ++i) {
+                double sum = 0.0;
+                for (int e = outer[i]; e < outer[i + 1]; ++e) sum += values[e] * v[inner[e]];
+                w[Eigen::Index(i)] = sum / diagonal[Eigen::Index(i)];
+            }
         });
         lambda = v.dot(w);
         std::swap(v, w);
