@@ -75,8 +75,7 @@ std::uint32_t iterations_to_reach(double tolerance, double before, double after,
     const double rate = std::pow(after / before, 1.0 / double(iterations));
     if (!(rate > 0.0 && rate < 1.0) || !(after > tolerance)) return per_check;
     const double needed = std::ceil(std::log(tolerance / after) / std::log(rate));
-    const auto even = std::uint32_t(2.0 * std::ceil(std::min(needed, double(per_check)) / 2.0));
-    return std::clamp<std::uint32_t>(even, 2, std::max<std::uint32_t>(per_check, 2));
+    return std::clamp<std::uint32_t>(std::uint32_t(std::min(needed, double(per_check))), 1, std::max<std::uint32_t>(per_check, 1));
 }
 
 PlaneCgState start_plane_cg(const PlaneProblem& problem, const PlaneMultigrid& mg) {
@@ -141,13 +140,13 @@ GpuPlaneCg::GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMul
     p_ = upload_vector_texels(ctx, start.p, "plane cg p");
     q_ = ctx.create_image(texel_image_desc(rows_, "plane cg q"));
     rz_[0] = ctx.create_buffer({sizeof(double), "plane cg r.z"}, MemoryUsage::Readback);
-    rz_[1] = ctx.create_buffer({sizeof(double), "plane cg r.z (odd iterations)"});
+    rz_[1] = ctx.create_buffer({sizeof(double), "plane cg r.z (other)"}, MemoryUsage::Readback);
     pq_ = ctx.create_buffer({sizeof(double), "plane cg p.q"});
     ctx.upload(rz_[0], std::span<const double>(&start.rz, 1));
 }
 
 Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
-    auto& slot = plans_[iterations];
+    auto& slot = plans_[{iterations, rz_index_}];
     if (slot) return *slot;
     Graph g(ctx_);
     struct MatrixHandles {
@@ -263,46 +262,57 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
         }
     };
 
-    g.add_loop(iterations / 2, [&] {
-        for (int half = 0; half < 2; ++half) {
-            const BufferHandle rz_old = rz[half];
-            const std::string suffix = half ? " (odd)" : " (even)";
-            g.add_compute_pass("plane cg apply" + suffix, [&](PassBuilder& b) {
-                for (ImageHandle h : {p, finest.rows, finest.entries}) b.read(h, Access::ComputeRead);
-                q = b.write(q, Access::ComputeWrite);
-                terms = b.write(terms, Access::ComputeWrite);
-            }, [=](Cmd& cmd) { cmd.dispatch_threads(kApply, {rows}, {p, finest.rows, finest.entries, q, terms}, rows); });
-            pq = add_reduce_sum_f64(g, terms, pq, rows, 1, "plane cg p.q" + suffix);
-            g.add_compute_pass("plane cg step" + suffix, [&](PassBuilder& b) {
-                for (BufferHandle h : {pq, rz_old}) b.read(h, Access::ComputeRead);
-                for (ImageHandle h : {p, q}) b.read(h, Access::ComputeRead);
-                x = b.write(x, Access::ComputeReadWrite);
-                r = b.write(r, Access::ComputeReadWrite);
-                r32 = b.write(r32, Access::ComputeWrite);
-            }, [=](Cmd& cmd) { cmd.dispatch_threads(kStep, {rows}, {pq, rz_old, p, q, x, r, r32}, rows); });
-            add_cycle(suffix);
-            const BufferHandle rz_new = rz[1 - half] = add_reduce_sum_f64(g, terms, rz[1 - half], rows, 1, "plane cg r.z" + suffix);
-            g.add_compute_pass("plane cg direction" + suffix, [&](PassBuilder& b) {
-                for (BufferHandle h : {rz_old, rz_new}) b.read(h, Access::ComputeRead);
-                b.read(z, Access::ComputeRead);
-                p = b.write(p, Access::ComputeReadWrite);
-            }, [=](Cmd& cmd) { cmd.dispatch_threads(kDirection, {rows}, {rz_old, rz_new, z, p}, rows); });
-        }
-    });
-    g.export_buffer(rz[0], Access::HostRead);
+    // One iteration whose old r.z is in rz[from] and new r.z goes to the other.
+    auto add_iteration = [&](int from, const std::string& suffix) {
+        const BufferHandle rz_old = rz[from];
+        g.add_compute_pass("plane cg apply" + suffix, [&](PassBuilder& b) {
+            for (ImageHandle h : {p, finest.rows, finest.entries}) b.read(h, Access::ComputeRead);
+            q = b.write(q, Access::ComputeWrite);
+            terms = b.write(terms, Access::ComputeWrite);
+        }, [=](Cmd& cmd) { cmd.dispatch_threads(kApply, {rows}, {p, finest.rows, finest.entries, q, terms}, rows); });
+        pq = add_reduce_sum_f64(g, terms, pq, rows, 1, "plane cg p.q" + suffix);
+        g.add_compute_pass("plane cg step" + suffix, [&](PassBuilder& b) {
+            for (BufferHandle h : {pq, rz_old}) b.read(h, Access::ComputeRead);
+            for (ImageHandle h : {p, q}) b.read(h, Access::ComputeRead);
+            x = b.write(x, Access::ComputeReadWrite);
+            r = b.write(r, Access::ComputeReadWrite);
+            r32 = b.write(r32, Access::ComputeWrite);
+        }, [=](Cmd& cmd) { cmd.dispatch_threads(kStep, {rows}, {pq, rz_old, p, q, x, r, r32}, rows); });
+        add_cycle(suffix);
+        const BufferHandle rz_new = rz[1 - from] = add_reduce_sum_f64(g, terms, rz[1 - from], rows, 1, "plane cg r.z" + suffix);
+        g.add_compute_pass("plane cg direction" + suffix, [&](PassBuilder& b) {
+            for (BufferHandle h : {rz_old, rz_new}) b.read(h, Access::ComputeRead);
+            b.read(z, Access::ComputeRead);
+            p = b.write(p, Access::ComputeReadWrite);
+        }, [=](Cmd& cmd) { cmd.dispatch_threads(kDirection, {rows}, {rz_old, rz_new, z, p}, rows); });
+    };
+    // The loop body runs two iterations, so that r.z goes back to the buffer it came from; an odd
+    // count ends with one more, and r.z is then in the other buffer.
+    const int first = rz_index_;
+    if (iterations >= 2) {
+        g.add_loop(iterations / 2, [&] {
+            add_iteration(first, " (even)");
+            add_iteration(1 - first, " (odd)");
+        });
+    }
+    if (iterations % 2) add_iteration(first, " (last)");
+    const int last = (first + int(iterations % 2)) % 2;
+    g.export_buffer(rz[last], Access::HostRead);
+    g.export_buffer(rz[1 - last], Access::ComputeReadWrite);
     for (ImageHandle h : {x, r, p, q}) g.export_image(h, Access::ComputeReadWrite);
-    for (BufferHandle h : {pq, rz[1]}) g.export_buffer(h, Access::ComputeReadWrite);
+    g.export_buffer(pq, Access::ComputeReadWrite);
     slot = std::make_unique<Plan>(g.compile());
     return *slot;
 }
 
 double GpuPlaneCg::run(std::uint32_t iterations) {
-    iterations += iterations % 2;
     if (rows_ == 0) return 0.0;
+    if (iterations == 0) return relative_residual(ctx_.download<double>(rz_[rz_index_])[0], rz_rhs_);
     Plan& plan = plan_for(iterations);
     plan.execute({.wait = true, .timestamps = timestamps_});
     last_gpu_ms_ = timestamps_ ? plan.total_gpu_ms() : 0.0;
-    return relative_residual(ctx_.download<double>(rz_[0])[0], rz_rhs_);
+    rz_index_ = (rz_index_ + int(iterations % 2)) % 2;
+    return relative_residual(ctx_.download<double>(rz_[rz_index_])[0], rz_rhs_);
 }
 
 std::vector<glm::dvec2> GpuPlaneCg::solution() {

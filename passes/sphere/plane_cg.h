@@ -16,7 +16,7 @@
 // for their search directions; the residual they test is updated in double, so a float cycle
 // leaves the solution's precision alone (the protrusions' triangles of area 1e-15 included: the
 // cycle sees residuals, which float's exponent range holds at any scale, never positions). A float
-// cycle is symmetric only to float's rounding (1e-7), far below what the 1e-5 and 1e-8 tolerances
+// cycle is symmetric only to float's rounding (1e-7), far below what the 1e-5 and 5e-9 tolerances
 // of the solves can notice. Its passes gather half the bytes and do float arithmetic:
 // armadillo_loop1's cycle took 6.8-7.0 ms an iteration instead of 11.6 on lavapipe (pass
 // timestamps), the whole map 0.48 s instead of 0.60, with the same iterations and angles.
@@ -32,6 +32,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <utility>
 
 namespace gimg::passes::detail {
 
@@ -61,7 +62,7 @@ public:
     // Throws gimg::Error (InvalidArgument) when a vector or matrix is too large for the device's
     // images (texel_layout.h).
     GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMultigrid& mg);
-    // Runs `iterations` (even) iterations; returns the state's relative residual after them.
+    // Runs `iterations` iterations; returns the state's relative residual after them.
     double run(std::uint32_t iterations);
     std::vector<glm::dvec2> solution();
     double start_residual() const { return start_residual_; }  // before the first run
@@ -87,10 +88,11 @@ private:
     Buffer coarsest_inverse_;
     std::uint32_t coarsest_rows_ = 0;
     Image x_, r_, p_, q_;
-    Buffer rz_[2], pq_;  // rz_[0] holds r.z between calls (the loop body runs two iterations)
+    Buffer rz_[2], pq_;  // rz_[rz_index_] holds r.z between calls (each iteration writes the other)
+    int rz_index_ = 0;
     bool timestamps_ = false;
     double last_gpu_ms_ = 0.0;
-    std::map<std::uint32_t, std::unique_ptr<Plan>> plans_;
+    std::map<std::pair<std::uint32_t, int>, std::unique_ptr<Plan>> plans_;  // by iterations and rz_index_
 };
 
 struct PlaneSolve {
@@ -101,7 +103,7 @@ struct PlaneSolve {
     bool converged(double tolerance) const { return residual <= tolerance; }
 };
 
-// The iterations (even, 2 to per_check) until the next check: as many as the rate of the last
+// The iterations (1 to per_check) until the next check: as many as the rate of the last
 // `iterations`, which took the residual from `before` to `after`, needs to reach `tolerance`;
 // per_check when the rate says nothing (no progress, or already there). Conjugate gradients
 // converge at least as fast as their past rate on these problems, so the guess rarely falls short.
@@ -109,7 +111,7 @@ std::uint32_t iterations_to_reach(double tolerance, double before, double after,
                                   std::uint32_t per_check);
 
 // GpuPlaneCg from the problem's start until the relative residual is at most `tolerance`, it
-// breaks down, or `max_iterations` are spent; checked after `per_check` iterations (even), then
+// breaks down, or `max_iterations` are spent; checked after `per_check` iterations, then
 // after as many as iterations_to_reach() says (a whole check past the tolerance cost armadillo_loop1
 // 4-8 iterations a solve). `progress` (may be empty) hears the iterations and the residual after
 // every check.
