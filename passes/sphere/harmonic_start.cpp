@@ -7,6 +7,7 @@
 #include "plane_multigrid.h"
 
 #include "gimg/engine/error.h"
+#include "gimg/geometry/parallel_for.h"
 
 #include <glm/geometric.hpp>
 
@@ -93,18 +94,26 @@ HarmonicStart harmonic_start_gpu(Context& ctx, const geo::Mesh& mesh, const Sphe
 }
 
 double total_solid_angle(const SphereLevel& level, const std::vector<glm::dvec3>& y) {
-    double sum = 0.0;
-    for (std::uint32_t v = 0; v < level.vertex_count(); ++v) {
-        const std::uint32_t begin = level.ring_offsets[v], degree = level.ring_offsets[v + 1] - begin;
-        for (std::uint32_t k = 0; k < degree; ++k) {
-            const std::uint32_t a = level.ring[begin + k], b = level.ring[begin + (k + 1) % degree];
-            if (a < v || b < v) continue;  // each triangle once, from its smallest vertex
-            // Van Oosterom and Strackee's solid angle of the spherical triangle (v, a, b).
-            const glm::dvec3 p = y[v], q = y[a], r = y[b];
-            sum += 2.0 * std::atan2(glm::dot(p, glm::cross(q, r)), 1.0 + glm::dot(p, q) + glm::dot(q, r) + glm::dot(r, p));
+    // In chunks on the CPU's threads, summed in chunk order (sphere_level.h).
+    const std::size_t n = level.vertex_count();
+    std::vector<double> sums(geo::chunk_count(n, kLevelChunk), 0.0);
+    geo::parallel_for_chunks(n, kLevelChunk, [&](std::size_t chunk, std::size_t first, std::size_t end) {
+        double sum = 0.0;
+        for (auto v = std::uint32_t(first); v < end; ++v) {
+            const std::uint32_t begin = level.ring_offsets[v], degree = level.ring_offsets[v + 1] - begin;
+            for (std::uint32_t k = 0; k < degree; ++k) {
+                const std::uint32_t a = level.ring[begin + k], b = level.ring[begin + (k + 1) % degree];
+                if (a < v || b < v) continue;  // each triangle once, from its smallest vertex
+                // Van Oosterom and Strackee's solid angle of the spherical triangle (v, a, b).
+                const glm::dvec3 p = y[v], q = y[a], r = y[b];
+                sum += 2.0 * std::atan2(glm::dot(p, glm::cross(q, r)), 1.0 + glm::dot(p, q) + glm::dot(q, r) + glm::dot(r, p));
+            }
         }
-    }
-    return sum;
+        sums[chunk] = sum;
+    });
+    double total = 0.0;
+    for (double sum : sums) total += sum;
+    return total;
 }
 
 }  // namespace gimg::passes::detail

@@ -4,6 +4,8 @@
 #include "linear/stereographic.h"
 #include "sphere_steps.h"
 
+#include "gimg/geometry/parallel_for.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -99,9 +101,11 @@ PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm:
 std::vector<glm::dvec3> sphere_points_from_plane(const PlaneProblem& problem, const std::vector<glm::dvec3>& y,
                                                  const std::vector<glm::dvec2>& x) {
     std::vector<glm::dvec3> out = y;
-    for (std::size_t i = 0; i < problem.rows(); ++i)
-        out[problem.free_vertices[i]] =
-            glm::normalize(problem.frame * linear_sphere::sphere_from_south_chart({x[i].x, x[i].y}));
+    geo::parallel_for_chunks(problem.rows(), kLevelChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i)
+            out[problem.free_vertices[i]] =
+                glm::normalize(problem.frame * linear_sphere::sphere_from_south_chart({x[i].x, x[i].y}));
+    });
     return out;
 }
 

@@ -47,6 +47,10 @@ struct LevelStats {
 };
 LevelStats level_stats_cpu(const SphereLevel& level, const std::vector<glm::dvec3>& y);
 
+// Vertices a chunk where the CPU loops over a level on several threads (geo::parallel_for_chunks):
+// the chunks, not the threads, fix the order of every sum, so results do not depend on the machine.
+inline constexpr std::size_t kLevelChunk = 16384;
+
 inline constexpr int kMaxStepHalvings = 16;
 
 // The relaxation's own kernel test is stricter than the flip test: it keeps every corner of the

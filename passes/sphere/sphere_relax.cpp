@@ -5,6 +5,7 @@
 #include "../texel_rows.h"
 
 #include "gimg/engine/graph.h"
+#include "gimg/geometry/parallel_for.h"
 #include "gimg/passes/primitives.h"
 
 #include "sphere/level_stats_comp.h"
@@ -79,13 +80,20 @@ CentreRun centre_mass_cpu(const SphereLevel& level, std::vector<glm::dvec3>& y, 
     run.stats = now;
     std::vector<glm::dvec3> moved = y;
     glm::dvec3 centroid = run.stats.centroid;
+    // Each step in chunks on the CPU's threads, their sums added in chunk order (sphere_level.h).
+    std::vector<glm::dvec3> sums(geo::chunk_count(moved.size(), kLevelChunk));
     while (run.steps < max_steps && glm::length(centroid) > tolerance) {
         const glm::dvec3 a = recentring_point(centroid, kRecentreScale);
+        geo::parallel_for_chunks(moved.size(), kLevelChunk, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+            glm::dvec3 sum(0.0);
+            for (std::size_t v = begin; v < end; ++v) {
+                moved[v] = moebius_move(moved[v], a);
+                sum += moved[v];
+            }
+            sums[chunk] = sum;
+        });
         centroid = glm::dvec3(0.0);
-        for (glm::dvec3& p : moved) {
-            p = moebius_move(p, a);
-            centroid += p;
-        }
+        for (const glm::dvec3& sum : sums) centroid += sum;
         centroid /= double(moved.size());
         ++run.steps;
     }
