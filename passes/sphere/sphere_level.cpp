@@ -21,46 +21,73 @@ SphereLevel build_sphere_level(const geo::Mesh& mesh) {
     for (const glm::uvec3& t : mesh.triangles)
         for (int k = 0; k < 3; ++k) ++corner_offsets[t[k] + 1];
     for (std::size_t i = 0; i < n; ++i) corner_offsets[i + 1] += corner_offsets[i];
-    std::vector<std::uint32_t> fill(corner_offsets.begin(), corner_offsets.end() - 1);
-    std::vector<std::uint32_t> step_from(corner_offsets.back()), step_to(corner_offsets.back());
-    std::vector<double> weight_from(corner_offsets.back()), weight_to(corner_offsets.back());
-    for (const glm::uvec3& t : mesh.triangles) {
-        const glm::dvec3 p[3] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
-        for (int k = 0; k < 3; ++k) {
-            const int a = (k + 1) % 3, b = (k + 2) % 3;
-            const std::uint32_t slot = fill[t[k]]++;
-            step_from[slot] = t[a];
-            step_to[slot] = t[b];
-            // Spoke (k, a) is opposite corner b; spoke (k, b) is opposite corner a.
-            weight_from[slot] = 0.5 * geo::clamped_cotangent(p[k] - p[b], p[a] - p[b]);
-            weight_to[slot] = 0.5 * geo::clamped_cotangent(p[k] - p[a], p[b] - p[a]);
+    // Half the cotangent of each triangle's angle at corner j, once per angle (each serves two
+    // spokes), in chunks of triangles on the CPU's threads.
+    std::vector<double> half_cot(3 * mesh.face_count());
+    geo::parallel_for_chunks(mesh.face_count(), kLevelChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t f = begin; f < end; ++f) {
+            const glm::uvec3 t = mesh.triangles[f];
+            const glm::dvec3 p[3] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
+            for (int j = 0; j < 3; ++j)
+                half_cot[3 * f + j] = 0.5 * geo::clamped_cotangent(p[(j + 1) % 3] - p[j], p[(j + 2) % 3] - p[j]);
         }
+    });
+    // Each vertex's corners (3 f + k: corner k of triangle f), in the triangles' order.
+    std::vector<std::uint32_t> corners(corner_offsets.back());
+    {
+        std::vector<std::uint32_t> fill(corner_offsets.begin(), corner_offsets.end() - 1);
+        for (std::size_t f = 0; f < mesh.face_count(); ++f)
+            for (int k = 0; k < 3; ++k) corners[fill[mesh.triangles[f][k]]++] = std::uint32_t(3 * f + std::size_t(k));
     }
-    level.ring_offsets.assign(n + 1, 0);
+    level.ring_offsets.assign(corner_offsets.begin(), corner_offsets.end());
     level.ring.resize(corner_offsets.back());
     level.ring_weights.assign(corner_offsets.back(), 0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-        const std::uint32_t begin = corner_offsets[i], end = corner_offsets[i + 1];
-        level.ring_offsets[i + 1] = end;
-        if (begin == end) throw geo::InputError("vertex " + std::to_string(i) + " is in no triangle");
-        // Walk the fan: after the spoke to `from`, the next spoke is that corner's `to`.
-        std::uint32_t slot = begin;
-        for (std::uint32_t k = 0; k < end - begin; ++k) {
-            level.ring[begin + k] = step_from[slot];
-            const std::uint32_t to = step_to[slot];
-            const std::uint32_t next_k = (k + 1) % (end - begin);
-            level.ring_weights[begin + k] += weight_from[slot];
-            level.ring_weights[begin + next_k] += weight_to[slot];
-            auto found = std::find(step_from.begin() + begin, step_from.begin() + end, to);
-            if (found == step_from.begin() + end && next_k != 0)
-                throw geo::InputError("the triangles around vertex " + std::to_string(i) + " do not form one closed fan");
-            slot = std::uint32_t(found - step_from.begin());
-            if (slot == begin && next_k != 0)  // a second fan: a non-manifold vertex
-                throw geo::InputError("the triangles around vertex " + std::to_string(i) + " form more than one fan");
+    // The fans, in chunks of vertices on the CPU's threads (each writes only its vertices' spokes);
+    // a broken fan's message names the lowest such vertex, as one thread would.
+    std::vector<std::string> broken(geo::chunk_count(n, kLevelChunk));
+    geo::parallel_for_chunks(n, kLevelChunk, [&](std::size_t chunk, std::size_t first, std::size_t last) {
+        std::vector<std::uint32_t> from;  // per corner of the vertex: the spoke its triangle starts at
+        for (std::size_t i = first; i < last; ++i) {
+            const std::uint32_t begin = corner_offsets[i], end = corner_offsets[i + 1], degree = end - begin;
+            if (degree == 0) {
+                broken[chunk] = "vertex " + std::to_string(i) + " is in no triangle";
+                return;
+            }
+            from.resize(degree);
+            for (std::uint32_t c = 0; c < degree; ++c) {
+                const std::uint32_t corner = corners[begin + c];
+                from[c] = mesh.triangles[corner / 3][(corner % 3 + 1) % 3];
+            }
+            // Walk the fan: after the spoke to `from`, the next spoke is that corner's `to`.
+            std::uint32_t c = 0;
+            for (std::uint32_t k = 0; k < degree; ++k) {
+                const std::uint32_t corner = corners[begin + c], f = corner / 3, j = corner % 3;
+                const std::uint32_t a = (j + 1) % 3, b = (j + 2) % 3;
+                level.ring[begin + k] = from[c];
+                const std::uint32_t to = mesh.triangles[f][b];
+                const std::uint32_t next_k = (k + 1) % degree;
+                // Spoke (j, a) is opposite corner b; spoke (j, b) is opposite corner a.
+                level.ring_weights[begin + k] += half_cot[3 * f + b];
+                level.ring_weights[begin + next_k] += half_cot[3 * f + a];
+                const auto found = std::uint32_t(std::find(from.begin(), from.end(), to) - from.begin());
+                if (found == degree && next_k != 0) {
+                    broken[chunk] = "the triangles around vertex " + std::to_string(i) + " do not form one closed fan";
+                    return;
+                }
+                c = found;
+                if (c == 0 && next_k != 0) {  // a second fan: a non-manifold vertex
+                    broken[chunk] = "the triangles around vertex " + std::to_string(i) + " form more than one fan";
+                    return;
+                }
+            }
+            if (c != 0) {
+                broken[chunk] = "the triangles around vertex " + std::to_string(i) + " do not form one closed fan";
+                return;
+            }
         }
-        if (slot != begin)
-            throw geo::InputError("the triangles around vertex " + std::to_string(i) + " do not form one closed fan");
-    }
+    });
+    for (const std::string& why : broken)
+        if (!why.empty()) throw geo::InputError(why);
     // Greedy colouring in smallest-last order: repeatedly take away a vertex of least remaining
     // degree, then colour in reverse. A planar graph always has a vertex of degree <= 5, so a
     // genus-0 mesh needs at most 6 colours (6 dispatches per sweep).
