@@ -172,9 +172,10 @@ TEST_F(SphereGpu, TheHierarchyTakesOverWhereTheDirectRouteFolds) {
 TEST_F(SphereGpu, LooseLevelsBeforeThePolishKeepTheQuality) {
     // Levels settled loosely ahead of the polish (every level above 500 vertices here, not only
     // the default's above 10,000): where the polish is kept (bunny_small) the map is as good as
-    // with every level settled in full; where it folds beyond repair (camel, 2,600 folded
-    // triangles) the finest level settles in full after all, flip-free and within 1% of Kanai's
-    // energy.
+    // with every level settled in full; where it folds beyond repair the finest level settles in
+    // full after all, flip-free and within 1% of Kanai's energy. Camel's polish folds 2,600
+    // triangles from the fully settled levels, and is kept from the loose ones (13.7 degrees mean
+    // against 36.4 without it): the map must then be at least as good.
     for (const char* name : {"bunny_small.obj", "camel.off"}) {
         auto path = test::shared_mesh(name);
         if (!path) GTEST_SKIP() << "shared mesh " << name << " not found (set GIMG_MESH_DIR)";
@@ -186,19 +187,24 @@ TEST_F(SphereGpu, LooseLevelsBeforeThePolishKeepTheQuality) {
         full.loose_levels_above = mesh.vertex_count();
         const passes::SphereResult r = passes::sphere_gpu(ctx(), mesh, loose);
         const passes::SphereMetrics m = passes::sphere_metrics(mesh, r.positions);
-        const passes::SphereMetrics f = passes::sphere_metrics(mesh, passes::sphere_gpu(ctx(), mesh, full).positions);
+        const passes::SphereResult full_run = passes::sphere_gpu(ctx(), mesh, full);
+        const passes::SphereMetrics f = passes::sphere_metrics(mesh, full_run.positions);
         const bool refused = r.note.find("plane polish not kept") != std::string::npos;
+        const bool refused_in_full = full_run.note.find("plane polish not kept") != std::string::npos;
         const bool settled_after = std::any_of(r.stages.begin(), r.stages.end(), [](const passes::SphereStage& s) {
             return s.name.ends_with("settled in full without the polish");
         });
-        std::printf("%-16s loose levels: angle mean %.3f (full %.3f), ratio %.5f (full %.5f)%s\n", name,
+        std::printf("%-16s loose levels: angle mean %.3f (full %.3f), ratio %.5f (full %.5f)%s%s\n", name,
                     m.angle_distortion_deg.mean, f.angle_distortion_deg.mean, m.conformal_ratio, f.conformal_ratio,
-                    refused ? ", polish refused" : "");
+                    refused ? ", polish refused" : "", refused_in_full ? ", polish refused after full levels" : "");
         EXPECT_EQ(m.flips, 0u);
         EXPECT_EQ(settled_after, refused);
         if (refused) {
             const double kanai = passes::sphere_metrics(mesh, passes::sphere_kanai(mesh).positions).conformal_energy;
             EXPECT_LE(m.conformal_energy, 1.01 * kanai);
+        } else if (refused_in_full) {
+            EXPECT_LE(m.angle_distortion_deg.mean, f.angle_distortion_deg.mean + 0.05);
+            EXPECT_LE(m.conformal_ratio, f.conformal_ratio + 1e-4);
         } else {
             EXPECT_NEAR(m.angle_distortion_deg.mean, f.angle_distortion_deg.mean, 0.05);
             EXPECT_NEAR(m.conformal_ratio, f.conformal_ratio, 1e-4);

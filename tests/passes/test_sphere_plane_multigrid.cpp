@@ -185,12 +185,12 @@ TEST(SpherePlaneMultigrid, IterationsStayFlatAsTheMeshGrows) {
     // Jacobi-preconditioned conjugate gradients need about as many iterations as the mesh has
     // rings across (in the polish: 900 on bunny, 1,856 on armadillo_loop1); with the V-cycle the
     // count must stay flat over a 16x finer mesh. (With one damped Jacobi step each way the cycle
-    // needed 25 and 30; the Chebyshev smoothers 15 and 19.)
+    // needed 25 and 30; the Chebyshev smoothers 15 and 19, with strong connections only 11 and 14.)
     const Case small = lumpy_case(4), large = lumpy_case(6);
     const std::uint32_t n_small = iterations_to(small.problem, build_plane_multigrid(small.problem), 1e-8);
     const std::uint32_t n_large = iterations_to(large.problem, build_plane_multigrid(large.problem), 1e-8);
     std::printf("iterations to 1e-8 from zero: %u (2,562 vertices), %u (40,962 vertices)\n", n_small, n_large);
-    EXPECT_LE(n_large, 24u);
+    EXPECT_LE(n_large, 16u);
     EXPECT_LE(n_large, n_small + n_small / 2);
 }
 
