@@ -19,13 +19,6 @@ namespace {
 
 bool is_finite(const glm::dvec3& p) { return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z); }
 
-// Zero area relative to the face's size, so that the test does not depend on the mesh's scale.
-bool zero_area(const Mesh& mesh, const glm::uvec3& t) {
-    const glm::dvec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - a, c - a), glm::dot(c - b, c - b)});
-    return glm::length(glm::cross(b - a, c - a)) <= 1e-12 * longest;
-}
-
 void check_indices(const Mesh& mesh) {
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
         for (int k = 0; k < 3; ++k) {
@@ -45,7 +38,7 @@ void count_faces(const Mesh& mesh, std::vector<std::uint8_t>& collapsed, MeshInf
         if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
             collapsed[f] = 1;
             ++info.collapsed_faces;
-        } else if (zero_area(mesh, t)) {
+        } else if (zero_area_face(mesh, t)) {
             ++info.zero_area_faces;
         }
         sorted[f] = {t[0], t[1], t[2]};
@@ -116,6 +109,13 @@ void check_orientation(const Mesh& mesh, const topo::EdgeTable& edges, const std
 }
 
 }  // namespace
+
+// Zero area relative to the face's size, so that the test does not depend on the mesh's scale.
+bool zero_area_face(const Mesh& mesh, const glm::uvec3& t) {
+    const glm::dvec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - a, c - a), glm::dot(c - b, c - b)});
+    return glm::length(glm::cross(b - a, c - a)) <= 1e-12 * longest;
+}
 
 MeshInfo analyze_topology(const Mesh& mesh) {
     check_indices(mesh);

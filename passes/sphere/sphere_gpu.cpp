@@ -21,6 +21,7 @@
 
 #include "base_map.h"
 #include "harmonic_start.h"
+#include "level_topology.h"
 #include "plane_cg.h"
 #include "progressive_replay.h"
 #include "sphere_level.h"
@@ -381,16 +382,26 @@ SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::Sp
 }  // namespace
 
 SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOptions& options) {
-    // The input check (topology, components, genus: 50-60 ms on armadillo_loop1) runs on a second
-    // thread while this one renumbers the vertices, lays out the level (35-40 ms) and sets up the
-    // direct route's start (its problem and multigrid hierarchy), which only need indices in range
-    // and finite points; a mesh without them is checked first, alone. The GPU waits for the check,
-    // and its message comes first whenever it has one: it names the caller's vertices.
+    // The input must be closed, manifold, genus 0 (check_sphere_input). A mesh without indices in
+    // range and finite points is checked first, alone. The direct route lays out the mesh's level
+    // anyway, and a level that exists leaves little to check (level_topology.h): that is checked
+    // here, and only a mesh that fails it goes to check_sphere_input, for the message. Otherwise
+    // the check (topology, components, genus: 50-60 ms on armadillo_loop1) runs on a second thread
+    // while this one renumbers the vertices, and the map waits for it before any GPU work. Either
+    // way the check's message comes first whenever it has one.
     if (!indices_in_range(mesh) || !all_points_finite(mesh)) check_sphere_input(mesh);
-    auto checked = std::async(std::launch::async, [&mesh] { check_sphere_input(mesh); });
+    const bool direct = options.plane_polish && options.direct;
+    std::future<void> checked;
+    if (!direct) checked = std::async(std::launch::async, [&mesh] { check_sphere_input(mesh); });
+    // The input's message first, when it has one, wherever something else went wrong.
+    auto input_message_first = [&] {
+        if (checked.valid()) checked.get();
+        else check_sphere_input(mesh);
+    };
     std::vector<std::uint32_t> order;
     geo::Mesh renumbered;
     detail::SphereLevel level;
+    bool input_checked = false;  // check_sphere_input has run here
     try {
         check_options(options);
         if (!ctx.device_info().shader_float64)
@@ -403,16 +414,22 @@ SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOpti
         // conjugate gradient iterations and relaxation sweeps took 30 % less time.
         order = geo::spatial_vertex_order(mesh);
         renumbered = geo::reorder_vertices(mesh, order);
-        if (options.plane_polish && options.direct) level = detail::build_sphere_level(renumbered);
+        if (direct) {
+            level = detail::build_sphere_level(renumbered);
+            if (!detail::level_is_closed_genus_zero(renumbered, level)) {
+                input_checked = true;
+                check_sphere_input(mesh);
+            }
+        }
     } catch (...) {
-        checked.get();  // the input's message first, when it has one
+        if (!input_checked) input_message_first();
         throw;
     }
     bool check_done = false;
     const std::function<void()> wait_for_check = [&] {
         if (check_done) return;
         check_done = true;
-        checked.get();
+        if (checked.valid()) checked.get();
     };
     SphereResult result;
     try {

@@ -76,4 +76,7 @@ struct MeshInfo {
 // Throws InputError when a triangle names a vertex that does not exist.
 MeshInfo analyze_topology(const Mesh& mesh);
 
+// The zero-area test of the definitions above, for one face of distinct, existing vertices.
+bool zero_area_face(const Mesh& mesh, const glm::uvec3& t);
+
 }  // namespace gimg::geo
