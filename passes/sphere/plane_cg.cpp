@@ -2,8 +2,6 @@
 // CPU twin.
 #include "plane_cg.h"
 
-#include "upload_vector.h"
-
 #include "gimg/engine/graph.h"
 #include "gimg/passes/primitives.h"
 
@@ -130,7 +128,7 @@ GpuPlaneCg::GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMul
                            level.smoother});
     }
     finest_ = upload_matrix_texels(ctx, mg.finest(), {}, EntryType::float64, "plane cg A");
-    coarsest_inverse_ = upload_vector(ctx, mg.coarsest_inverse, "plane mg coarsest inverse");
+    coarsest_inverse_ = upload_double_texels(ctx, mg.coarsest_inverse, "plane mg coarsest inverse");
     coarsest_rows_ = std::uint32_t(mg.coarsest_rows());
     const PlaneCgState start = started.get();
     rz_rhs_ = start.rz_rhs;
@@ -175,7 +173,7 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
                           level.smoother});
     }
     const MatrixHandles finest = import(finest_);
-    auto coarsest_inverse = g.import_buffer(coarsest_inverse_);
+    auto coarsest_inverse = g.import_image(coarsest_inverse_);
     auto coarsest_b = vector(coarsest_rows_, "plane mg coarsest b");
     auto coarsest_x = vector(coarsest_rows_, "plane mg coarsest x");
     auto x = g.import_image(x_);

@@ -85,7 +85,7 @@ private:
     double start_residual_ = 1.0;
     std::vector<Level> levels_;
     TexelMatrix finest_;  // the operator in double, for q = A p
-    Buffer coarsest_inverse_;
+    Image coarsest_inverse_;  // row-major, one double a texel
     std::uint32_t coarsest_rows_ = 0;
     Image x_, r_, p_, q_;
     Buffer rz_[2], pq_;  // rz_[rz_index_] holds r.z between calls (each iteration writes the other)

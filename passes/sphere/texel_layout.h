@@ -8,7 +8,8 @@
 // .xy, y bits in .zw); the multigrid cycle's vectors of vec2 in RG32F. A matrix in compressed rows
 // is two images: its rows in RGBA32UI (begin, end, and one double per row: 1 / a_ii on multigrid
 // levels, else 0) and its entries, in RGBA32UI (column, 0, double value) for the conjugate
-// gradients' q = A p, in RG32UI (column, float value's bits) for the cycle.
+// gradients' q = A p, in RG32UI (column, float value's bits) for the cycle. The dense level's
+// inverse is an RG32UI image of doubles, row-major.
 #include "plane_multigrid.h"
 #include "../texel_rows.h"
 
@@ -28,6 +29,13 @@ namespace gimg::passes::detail {
 // An RGBA32UI image of at least `count` texels: a vector of dvec2.
 inline ImageDesc texel_image_desc(std::size_t count, const std::string& name) {
     return texel_rows_desc(count, Format::RGBA32U, name);
+}
+
+// An RG32UI image of `values`, one double a texel (the dense level's inverse).
+inline Image upload_double_texels(Context& ctx, const std::vector<double>& values, const std::string& name) {
+    std::vector<glm::uvec2> texels(std::max<std::size_t>(values.size(), 1), glm::uvec2(0u));
+    std::memcpy(texels.data(), values.data(), values.size() * sizeof(double));
+    return upload_texel_rows(ctx, std::move(texels), Format::RG32U, name);
 }
 
 // An RG32F image of at least `count` texels: a vector of vec2 (the multigrid cycle's).
