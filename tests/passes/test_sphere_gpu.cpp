@@ -171,7 +171,7 @@ TEST_F(SphereGpu, TheHierarchyTakesOverWhereTheDirectRouteFolds) {
 
 TEST_F(SphereGpu, LooseLevelsBeforeThePolishKeepTheQuality) {
     // Levels settled loosely ahead of the polish (every level above 500 vertices here, not only
-    // the default's above 10,000): where the polish is kept (bunny_small) the map is as good as
+    // the default's above 2,000): where the polish is kept (bunny_small) the map is as good as
     // with every level settled in full; where it folds beyond repair the finest level settles in
     // full after all, flip-free and within 1% of Kanai's energy. Camel's polish folds 2,600
     // triangles from the fully settled levels, and is kept from the loose ones (13.7 degrees mean
