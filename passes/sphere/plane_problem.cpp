@@ -45,6 +45,14 @@ PlaneProblem make_dirichlet_problem(const SphereLevel& level, const std::vector<
                                     const std::vector<glm::dvec2>& chart) {
     const std::size_t n = level.vertex_count();
     PlaneProblem problem;
+    // Room for every row and spoke up front (growing the arrays took a third of the time).
+    problem.free_vertices.reserve(n);
+    problem.row_offsets.reserve(n + 1);
+    problem.columns.reserve(level.ring.size());
+    problem.values.reserve(level.ring.size());
+    problem.diagonal.reserve(n);
+    problem.rhs.reserve(n);
+    problem.start.reserve(n);
     std::vector<std::uint32_t> row_of(n, 0);
     for (std::uint32_t v = 0; v < n; ++v) {
         if (pinned[v]) continue;
@@ -88,7 +96,9 @@ PlaneProblem make_plane_problem(const SphereLevel& level, const std::vector<glm:
     std::vector<std::uint8_t> pinned(n, 0);
     for (std::size_t i = 0; i < cap; ++i) pinned[order[i]] = 1;
     std::vector<glm::dvec2> chart(n);
-    for (std::uint32_t v = 0; v < n; ++v) chart[v] = chart_point(frame, y[v]);
+    geo::parallel_for_chunks(n, kLevelChunk, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t v = begin; v < end; ++v) chart[v] = chart_point(frame, y[v]);
+    });
     PlaneProblem problem = make_dirichlet_problem(level, pinned, chart);
     problem.frame = frame;
     return problem;
