@@ -121,13 +121,15 @@ GpuPlaneCg::GpuPlaneCg(Context& ctx, const PlaneProblem& problem, const PlaneMul
     for (std::size_t l = 0; l < mg.levels.size(); ++l) {
         const std::string name = "plane mg level " + std::to_string(l);
         const MultigridLevel& level = mg.levels[l];
-        levels_.push_back({upload_matrix_texels(ctx, level.a, level.inverse_diagonal, EntryType::float32, name + " A"),
-                           upload_matrix_texels(ctx, level.prolong, {}, EntryType::float32, name + " P"),
-                           upload_matrix_texels(ctx, level.restrict_, {}, EntryType::float32, name + " R"),
+        levels_.push_back({upload_matrix_texels(ctx, level.a, level.inverse_diagonal, name + " A"),
+                           upload_matrix_texels(ctx, level.prolong, {}, name + " P"),
+                           upload_matrix_texels(ctx, level.restrict_, {}, name + " R"),
                            upload_float_entries(ctx, level.a, level.inverse_diagonal, name + " A D^-1 entries"),
                            level.smoother});
     }
-    finest_ = upload_matrix_texels(ctx, mg.finest(), {}, EntryType::float64, "plane cg A");
+    // q = A p in double: A's entries again, in double; its rows are level 0's when there is one.
+    apply_entries_ = upload_texels(ctx, entry_texels(mg.finest()), "plane cg A entries");
+    if (levels_.empty()) apply_rows_ = upload_rows(ctx, mg.finest(), {}, "plane cg A");
     coarsest_inverse_ = upload_double_texels(ctx, mg.coarsest_inverse, "plane mg coarsest inverse");
     coarsest_rows_ = std::uint32_t(mg.coarsest_rows());
     const PlaneCgState start = started.get();
@@ -172,7 +174,8 @@ Plan& GpuPlaneCg::plan_for(std::uint32_t iterations) {
                           vector(n, name + " r"), vector(n, name + " x1"), l ? vector(n, name + " out") : ImageHandle{},
                           level.smoother});
     }
-    const MatrixHandles finest = import(finest_);
+    const MatrixHandles finest{levels.empty() ? g.import_image(apply_rows_) : levels.front().a.rows,
+                               g.import_image(apply_entries_), rows_};
     auto coarsest_inverse = g.import_image(coarsest_inverse_);
     auto coarsest_b = vector(coarsest_rows_, "plane mg coarsest b");
     auto coarsest_x = vector(coarsest_rows_, "plane mg coarsest x");

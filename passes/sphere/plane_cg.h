@@ -84,7 +84,8 @@ private:
     double rz_rhs_ = 0.0;
     double start_residual_ = 1.0;
     std::vector<Level> levels_;
-    TexelMatrix finest_;  // the operator in double, for q = A p
+    Image apply_entries_;  // the finest operator's entries in double, for q = A p
+    Image apply_rows_;     // its rows when there is no smoothed level (else level 0's)
     Image coarsest_inverse_;  // row-major, one double a texel
     std::uint32_t coarsest_rows_ = 0;
     Image x_, r_, p_, q_;

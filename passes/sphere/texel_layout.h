@@ -74,23 +74,19 @@ inline std::vector<glm::dvec2> download_vector_texels(Context& ctx, Image& image
     return v;
 }
 
-// A matrix's entries, each value times its column's `scale` when one is given (one per column;
-// empty for none): as texels (column, 0, value) in double, or (column, value's bits) rounded to
-// float after the scaling.
-inline double scaled_entry(const CsrMatrix& m, const std::vector<double>& scale, std::size_t k) {
-    return scale.empty() ? m.values[k] : m.values[k] * scale[m.columns[k]];
-}
-
-inline std::vector<glm::uvec4> entry_texels(const CsrMatrix& m, const std::vector<double>& scale) {
+// A matrix's entries as texels (column, 0, value) in double.
+inline std::vector<glm::uvec4> entry_texels(const CsrMatrix& m) {
     std::vector<glm::uvec4> entries(m.values.size());
-    for (std::size_t k = 0; k < entries.size(); ++k) entries[k] = texel_of(m.columns[k], 0u, scaled_entry(m, scale, k));
+    for (std::size_t k = 0; k < entries.size(); ++k) entries[k] = texel_of(m.columns[k], 0u, m.values[k]);
     return entries;
 }
 
+// A matrix's entries as texels (column, value's bits) in float, each value times its column's
+// `scale` when one is given (one per column; empty for none) before the rounding.
 inline Image upload_float_entries(Context& ctx, const CsrMatrix& m, const std::vector<double>& scale, const std::string& name) {
     std::vector<glm::uvec2> entries(m.values.size());
     for (std::size_t k = 0; k < entries.size(); ++k) {
-        const float value = float(scaled_entry(m, scale, k));
+        const float value = float(scale.empty() ? m.values[k] : m.values[k] * scale[m.columns[k]]);
         std::uint32_t bits;
         std::memcpy(&bits, &value, sizeof bits);
         entries[k] = {m.columns[k], bits};
@@ -98,14 +94,12 @@ inline Image upload_float_entries(Context& ctx, const CsrMatrix& m, const std::v
     return upload_texel_rows(ctx, std::move(entries), Format::RG32U, name);
 }
 
-// The two images of a matrix in compressed rows; `row_values` (one per row, or empty for zeros)
-// rides in the rows image. Its entries in double or float (the cycle's).
+// The two images of a matrix of the multigrid cycle in compressed rows, its entries in float;
+// `row_values` (one per row, or empty for zeros) rides in the rows image.
 struct TexelMatrix {
     Image rows, entries;
     std::uint32_t row_count = 0;
 };
-
-enum class EntryType { float64, float32 };
 
 inline Image upload_rows(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values, const std::string& name) {
     std::vector<glm::uvec4> rows(m.rows());
@@ -115,10 +109,8 @@ inline Image upload_rows(Context& ctx, const CsrMatrix& m, const std::vector<dou
 }
 
 inline TexelMatrix upload_matrix_texels(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values,
-                                        EntryType type, const std::string& name) {
-    Image entries = type == EntryType::float32 ? upload_float_entries(ctx, m, {}, name + " entries")
-                                               : upload_texels(ctx, entry_texels(m, {}), name + " entries");
-    return {upload_rows(ctx, m, row_values, name), std::move(entries), std::uint32_t(m.rows())};
+                                        const std::string& name) {
+    return {upload_rows(ctx, m, row_values, name), upload_float_entries(ctx, m, {}, name + " entries"), std::uint32_t(m.rows())};
 }
 
 }  // namespace gimg::passes::detail
