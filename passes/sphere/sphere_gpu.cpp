@@ -148,12 +148,13 @@ GpuSphereOptions loose_level_options(GpuSphereOptions o) {
 // small relative to the solution's (1e-7 gives bunny, armadillo and armadillo_loop1 the same
 // angles as 1e-9, but leaves dino with 301 folds the untangling cannot repair, so its map comes
 // from the hierarchy, 5x slower and 47 degrees mean instead of 34; 1e-6 raises armadillo's
-// largest from 57 to 77 degrees). 1e-8 was at that edge: stopping at 9.9e-9 after 15
-// iterations, dino's polish folded 328 triangles whose repair left a map the centring could not
-// move (256 sweeps of relaxation, 44 degrees mean); with 5e-9 it stops at 2.1e-9 after 17 (17
-// degrees mean, 0.08 s). Dino's result still moves with the last digits of its solve. Checked
-// first after kCgIterationsPerCheck iterations (the multigrid preconditioner needs 12-40,
-// plane_cg.h), at most kMaxCgIterations.
+// largest from 57 to 77 degrees). 1e-8 was at that edge: with the preconditioner of the time,
+// stopping at 9.9e-9 after 15 iterations, dino's polish folded 328 triangles whose repair left a
+// map the centring could not move (256 sweeps of relaxation, 44 degrees mean); with 5e-9 it
+// stopped at 2.1e-9 after 17 (17 degrees mean, 0.08 s). Dino's result still moves with the last
+// digits of its solve (26.5 degrees mean after 11 iterations since the multigrid keeps strong
+// connections only). Checked first after kCgIterationsPerCheck iterations (the polish needs 8-31
+// on the shared meshes), at most kMaxCgIterations.
 constexpr double kCgTolerance = 5e-9;
 constexpr std::uint32_t kCgIterationsPerCheck = 8;
 constexpr std::size_t kMaxCgIterations = 2000;
