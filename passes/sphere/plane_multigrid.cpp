@@ -31,10 +31,10 @@ constexpr double kStalledCoarsening = 0.9;
 constexpr int kPowerIterations = 20;
 // Strong connections for the aggregation: |a_ij| >= this sqrt(a_ii a_jj), Vanek, Mandel and
 // Brezina's 0.08, on every level. Against taking every entry as strong (as this solver did
-// first), the conjugate gradients' iterations (start + polish) fell from 10 + 13 to 8 + 9 on
-// armadillo_loop1, 17 + 28 to 8 + 11 on cow, 22 + 64 to 10 + 31 on triceratops, 10 + 14 to 8 + 8
-// on bunny_loop1, for a setup a few milliseconds longer. (Their 0.08 halved on every coarser level
-// gave the same counts to +-1.)
+// first), the conjugate gradients' iterations (start + polish) fell from 10 + 13 to 7 + 9 on
+// armadillo_loop1, 17 + 28 to 7 + 11 on cow, 22 + 64 to 10 + 31 on triceratops, 10 + 14 to 6 + 8
+// on bunny_loop1 (the start's first check after 6 iterations, harmonic_start.cpp), for a setup a
+// few milliseconds longer. (Their 0.08 halved on every coarser level gave the same counts to +-1.)
 constexpr double kStrongConnection = 0.08;
 // The smoother's interval, in multiples of rho: its lower end 0.1 needed 1-2 fewer iterations
 // than 0.3 on armadillo and armadillo_loop1 (0.05 no fewer), its upper end the same from 1.1 to
