@@ -1,4 +1,4 @@
-// Fitting a model into the unit cylinder (seed 003, 2.5.1): PCA alignment, then one uniform scale
+// Fitting a model into the unit cylinder (the cylindrical-projection thesis, 2.5.1): PCA alignment, then one uniform scale
 // and a translation. One scale for all axes keeps the shape, so distances and facing stay true.
 #include "gimg/passes/cylinder.h"
 

@@ -1,5 +1,5 @@
 // The paper's own CPU algorithm for cylindrical geometry images: the cylindrical Z-buffer of
-// seed 003, chapter 4. Triangles are projected onto the cylinder one at a time and scan-converted
+// the cylindrical-projection thesis, chapter 4. Triangles are projected onto the cylinder one at a time and scan-converted
 // row by row; a depth test keeps the largest signed distance d per pixel. It gives the image of
 // the ray-casting definition in cylinder.h, to rounding, at the cost of a 2D line intersection
 // per covered pixel instead of a 3D ray-triangle test per candidate.
@@ -14,6 +14,7 @@
 //        x_u = beta / (gamma_u - alpha), d_u = |x_u| sqrt(1 + gamma_u^2) (eqs. 4.5, 4.6), from
 //        tables over the columns; the largest d_u per pixel wins (z3-a).
 #include "gimg/passes/cylinder.h"
+#include "gimg/geometry/error.h"
 
 #include "gimg/engine/error.h"
 
@@ -254,10 +255,10 @@ struct Geometry {
 
 Geometry scanline_geometry(const CylinderMesh& mesh, const CylinderTransform& m) {
     if (mesh.positions.size() % 3 != 0 || mesh.triangles.size() % 3 != 0)
-        throw Error(ErrorKind::InvalidArgument, "cylinder mesh arrays are not whole triangles / vertices");
+        throw geo::InputError("cylinder mesh arrays are not whole triangles / vertices");
     const std::size_t n = mesh.positions.size() / 3;
     for (std::uint32_t i : mesh.triangles)
-        if (i >= n) throw Error(ErrorKind::InvalidArgument, "cylinder mesh face names a missing vertex");
+        if (i >= n) throw geo::InputError("cylinder mesh face names a missing vertex");
     Geometry g;
     g.points.resize(n);
     g.triangles = &mesh.triangles;
@@ -335,7 +336,7 @@ CylinderImage cylinder_scanline(const CylinderMesh& mesh, std::uint32_t width, s
 CylinderImage cylinder_scanline(const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
                                 const CylinderTransform& transform, unsigned threads) {
     if (width == 0 || height == 0 || width > 65535 || height > 65535)
-        throw Error(ErrorKind::InvalidArgument, "cylinder image size must be between 1x1 and 65535x65535");
+        throw geo::InputError("cylinder image size must be between 1x1 and 65535x65535");
     const Geometry g = scanline_geometry(mesh, transform);
     std::vector<float> depth(std::size_t(width) * height, kEmpty);
     const Raster r = make_raster(width, height, depth.data());

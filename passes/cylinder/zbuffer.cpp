@@ -1,12 +1,13 @@
 // The GPU cylindrical Z-buffer: classify + split + small pieces (compute), large pieces (the
 // graphics pipeline's curved raster, or a compute pass on CPU devices), one graph.
 #include "gimg/passes/cylinder.h"
+#include "gimg/geometry/error.h"
 
 #include "gimg/engine/error.h"
 #include "gimg/engine/graph.h"
 #include "gimg/geometry/vertex_order.h"
 
-#include "../texel_rows.h"
+#include "gimg/engine/texel_array.h"
 
 #include "cylinder/classify_comp.h"
 #include "cylinder/classify_float_comp.h"
@@ -110,7 +111,7 @@ struct CylinderZBuffer::State {
     // and keys as it unpacks the images (on lavapipe a merge pass of its own cost about 0.35 ms an
     // image).
     Buffer atlas_readback, keys_readback, args_readback;
-    // One texel a vertex, face and image column (texel_rows.h: lavapipe gathers from images).
+    // One texel a vertex, face and image column (texel_array.h: lavapipe gathers from images).
     Image positions_img, triangles_img, directions_img;
     Image atlas;  // the graphics pipeline's t per pixel (only with `graphics`)
     std::uint32_t job_capacity = 0, rect_capacity = 0, tiles_per_row = 1, atlas_width = 0, atlas_height = 0;
@@ -138,7 +139,7 @@ struct CylinderZBuffer::State {
                 std::memcpy(&texels[u], f, 8);
             }
         }
-        directions_img = detail::upload_texel_rows(ctx, std::move(texels), Format::RGBA32U, "cylinder directions");
+        directions_img = upload_texel_array(ctx, std::move(texels), Format::RGBA32U, "cylinder directions");
         args_buf = ctx.create_buffer({sizeof(PieceArgs), "cylinder large-piece arguments"});
         args_readback = ctx.create_buffer({sizeof(PieceArgs), "cylinder large-piece arguments readback"},
                                           MemoryUsage::Readback);
@@ -151,8 +152,8 @@ struct CylinderZBuffer::State {
         std::vector<glm::uvec4> faces(triangles.size() / 3);
         for (std::size_t f = 0; f < faces.size(); ++f)
             faces[f] = {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2], 0u};
-        positions_img = detail::upload_texel_rows(ctx, std::move(points), Format::RGBA32F, "cylinder positions");
-        triangles_img = detail::upload_texel_rows(ctx, std::move(faces), Format::RGBA32U, "cylinder triangles");
+        positions_img = upload_texel_array(ctx, std::move(points), Format::RGBA32F, "cylinder positions");
+        triangles_img = upload_texel_array(ctx, std::move(faces), Format::RGBA32U, "cylinder triangles");
         geometry_dirty = false;
         plan.reset();
     }
@@ -166,16 +167,16 @@ struct CylinderZBuffer::State {
         const std::uint32_t columns = std::min(job_capacity, tiles_per_row);
         const std::uint32_t rows = (job_capacity + tiles_per_row - 1) / tiles_per_row;
         if (std::uint64_t(rows) * height > max_dim)
-            throw Error(ErrorKind::InvalidArgument, "a batch of " + std::to_string(jobs) + " images of " +
+            throw geo::InputError("a batch of " + std::to_string(jobs) + " images of " +
                                                         std::to_string(width) + "x" + std::to_string(height) +
                                                         " does not fit one atlas; project fewer at a time");
         if (rects > rect_capacity)
             rect_capacity = std::uint32_t(std::min<std::uint64_t>(std::max<std::uint64_t>(rects, 2ull * rect_capacity), UINT32_MAX));
         const VkDeviceSize rect_bytes = VkDeviceSize(rect_capacity) * 16;
         if (rect_bytes > ctx.device_info().max_storage_buffer_range)
-            throw Error(ErrorKind::InvalidArgument, "too many faces in one batch for this device (" +
+            throw geo::InputError("too many faces in one batch for this device (" +
                                                         std::to_string(faces) + "); project fewer at a time");
-        jobs_img = ctx.create_image(detail::texel_rows_desc(std::size_t(job_capacity) * kTexelsPerJob, Format::RGBA32U,
+        jobs_img = ctx.create_image(texel_array_desc(std::size_t(job_capacity) * kTexelsPerJob, Format::RGBA32U,
                                                             "cylinder job texels"));
         jobs_upload = ctx.create_buffer({jobs_img.byte_size(), "cylinder jobs upload"}, MemoryUsage::Upload);
         jobs_buf = ctx.create_buffer({VkDeviceSize(job_capacity) * sizeof(JobGpu), "cylinder jobs"});
@@ -284,7 +285,7 @@ struct CylinderZBuffer::State {
 CylinderZBuffer::CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height,
                                  const CylinderZBufferOptions& options) {
     if (width == 0 || height == 0 || width > 65535 || height > 65535)
-        throw Error(ErrorKind::InvalidArgument, "cylinder image size must be between 1x1 and 65535x65535");
+        throw geo::InputError("cylinder image size must be between 1x1 and 65535x65535");
     state_ = std::make_unique<State>(ctx, width, height, options);
 }
 
@@ -302,10 +303,10 @@ std::vector<PassTiming> CylinderZBuffer::last_pass_timings() const {
 std::uint32_t CylinderZBuffer::add_mesh(const CylinderMesh& mesh) {
     State& s = *state_;
     if (mesh.triangles.size() % 3 != 0 || mesh.positions.size() % 3 != 0)
-        throw Error(ErrorKind::InvalidArgument, "cylinder mesh arrays are not whole triangles / vertices");
+        throw geo::InputError("cylinder mesh arrays are not whole triangles / vertices");
     const std::uint32_t vertices = std::uint32_t(mesh.positions.size() / 3);
     for (std::uint32_t i : mesh.triangles)
-        if (i >= vertices) throw Error(ErrorKind::InvalidArgument, "cylinder mesh face names a missing vertex");
+        if (i >= vertices) throw geo::InputError("cylinder mesh face names a missing vertex");
     s.meshes.push_back({std::uint32_t(s.positions.size() / 3), std::uint32_t(s.triangles.size() / 3),
                         std::uint32_t(mesh.face_count())});
     s.positions.insert(s.positions.end(), mesh.positions.begin(), mesh.positions.end());
@@ -350,7 +351,7 @@ std::vector<CylinderImage> CylinderZBuffer::project(std::span<const Job> jobs) {
                (end == begin || faces + s.meshes[jobs[end].mesh].face_count <= max_faces))
             faces += s.meshes[jobs[end++].mesh].face_count;
         if (faces > max_faces)
-            throw Error(ErrorKind::InvalidArgument, "a mesh of " + std::to_string(faces) +
+            throw geo::InputError("a mesh of " + std::to_string(faces) +
                                                         " faces is more than this device can project at once (" +
                                                         std::to_string(max_faces) + ")");
         auto images = project_batch(jobs.subspan(begin, end - begin), faces);

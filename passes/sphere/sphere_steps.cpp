@@ -1,5 +1,5 @@
 // Per-vertex steps on the unit sphere (see sphere_steps.h).
-#include "sphere_steps.h"
+#include "sphere/sphere_steps.h"
 
 #include <cmath>
 

@@ -61,7 +61,7 @@ void run_cylinder(const CylinderOptions& o, const GlobalOptions& global) {
 
 void add_cylinder_command(CLI::App& app, const GlobalOptions& global) {
     auto opts = std::make_shared<CylinderOptions>();
-    auto* cmd = app.add_subcommand("cylinder", "Project a mesh into a cylindrical geometry image (seed 003)");
+    auto* cmd = app.add_subcommand("cylinder", "Project a mesh into a cylindrical geometry image");
     cmd->add_option("mesh", opts->mesh, "Input mesh (OBJ, PLY, OFF, STL)")->required();
     cmd->add_option("--out", opts->out, "Output folder for distance.exr, distance.png and frame.json")->required();
     auto* size = cmd->add_option("--size", opts->size, "Image size WxH");

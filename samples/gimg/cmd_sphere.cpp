@@ -1,4 +1,4 @@
-// gimg sphere MESH --out DIR [--method gpu|kanai|gu|linear] [--json FILE]
+// gimg sphere MESH --out DIR [--method harmonic|kanai|gu|linear] [--json FILE]
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
@@ -15,14 +15,15 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <map>
 
 namespace gimg::cli {
 
 namespace {
 
 struct SphereCliOptions {
-    std::string mesh, out, method = "gpu", json;
-    passes::GpuSphereOptions gpu;
+    std::string mesh, out, method = "harmonic", json;
+    passes::HarmonicSphereOptions harmonic;
 };
 
 nlohmann::json metrics_json(const passes::SphereMetrics& m) {
@@ -67,9 +68,9 @@ void write_pictures(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::
 
 void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
     const auto start = std::chrono::steady_clock::now();
-    if (!(o.gpu.tolerance > 0.0) || !std::isfinite(o.gpu.tolerance))
+    if (!(o.harmonic.tolerance > 0.0) || !std::isfinite(o.harmonic.tolerance))
         throw geo::InputError("--tolerance takes a positive number (default 3e-6)");
-    if (o.gpu.max_iterations_per_level == 0) throw geo::InputError("--max-iterations takes a positive count");
+    if (o.harmonic.max_iterations_per_level == 0) throw geo::InputError("--max-iterations takes a positive count");
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
     passes::check_sphere_input(mesh);
 
@@ -84,10 +85,10 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
     std::unique_ptr<Context> ctx = open_context(global);  // the pictures need it for every method
     passes::SphereResult result;
     const double solve_ms = time_ms([&] {
-        if (o.method == "gpu") {
-            passes::GpuSphereOptions options = o.gpu;
+        if (o.method == "harmonic") {
+            passes::HarmonicSphereOptions options = o.harmonic;
             options.progress = progress;
-            result = passes::sphere_gpu(*ctx, mesh, options);
+            result = passes::sphere_harmonic(*ctx, mesh, options);
         } else if (o.method == "kanai") {
             passes::KanaiOptions options;
             options.progress = progress;
@@ -126,7 +127,7 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
         if (s.name != "progressive mesh" && s.name != "base map") iterations += s.iterations;
     j["iterations"] = iterations;
     if (result.gpu_ms > 0.0) j["gpu_ms"] = result.gpu_ms;
-    add_machine_figures(j, o.method == "gpu" ? ctx.get() : nullptr);
+    add_machine_figures(j, o.method == "harmonic" ? ctx.get() : nullptr);
     gimg::geo::write_file_atomically(dir / "metrics.json", j.dump(2) + "\n");
     write_json(o.json, j);
 
@@ -151,18 +152,19 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--out", opts->out, "Output folder for sphere.ply, metrics.json, checker.png and sphere.png")
         ->required();
     cmd->add_option("--method", opts->method,
-                    "gpu (default: flip-free, on the render graph), kanai (the paper's CPU method), "
-                    "gu (Gu et al., CPU), linear (Choi-Lam-Lui 2015, CPU)")
-        ->check(CLI::IsMember({"gpu", "kanai", "gu", "linear"}));
-    cmd->add_option("--tolerance", opts->gpu.tolerance,
-                    "gpu: a level ends when the energy changes less than this per iteration, relative (default 3e-6)");
-    cmd->add_option("--max-iterations", opts->gpu.max_iterations_per_level,
-                    "gpu: at most this many sweeps per level (default 4000)");
-    cmd->add_flag_callback("--no-polish", [opts] { opts->gpu.plane_polish = false; },
-                           "gpu: skip the planar polish after the finest level (faster, protrusions stay crooked); "
-                           "implies --hierarchy");
-    cmd->add_flag_callback("--hierarchy", [opts] { opts->gpu.direct = false; },
-                           "gpu: skip the direct route and build Kanai's hierarchy at once");
+                    "harmonic (default: flip-free, on the render graph; `gpu` is an alias), kanai (Kanai's CPU "
+                    "method), gu (Gu et al., CPU), linear (Choi-Lam-Lui 2015, CPU)")
+        ->transform(CLI::Transformer(std::map<std::string, std::string>{{"gpu", "harmonic"}}))
+        ->check(CLI::IsMember({"harmonic", "kanai", "gu", "linear"}));
+    cmd->add_option("--tolerance", opts->harmonic.tolerance,
+                    "harmonic: a level ends when the energy changes less than this per iteration, relative (default 3e-6)");
+    cmd->add_option("--max-iterations", opts->harmonic.max_iterations_per_level,
+                    "harmonic: at most this many sweeps per level (default 4000)");
+    cmd->add_flag_callback("--no-polish", [opts] { opts->harmonic.plane_polish = false; },
+                           "harmonic: skip the harmonic map in a stereographic chart after the finest level (faster, "
+                           "protrusions stay crooked); implies --hierarchy");
+    cmd->add_flag_callback("--hierarchy", [opts] { opts->harmonic.direct = false; },
+                           "harmonic: skip the pinned-triangle start and relax on the progressive-mesh hierarchy at once");
     cmd->add_option("--json", opts->json, "Write the metrics and timings as JSON");
     cmd->callback([opts, &global] { run_sphere(*opts, global); });
 }

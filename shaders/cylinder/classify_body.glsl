@@ -16,7 +16,7 @@
 // or atomic with per-lane addresses is a loop over the lanes. Hence one atan per corner (not per
 // corner and piece), no atan for split points, rectangles held in named variables rather than an
 // array indexed by a per-lane count, one flat loop over all of a face's small pixels, and the
-// geometry in images (common/texel_rows.glsl). Measured on armadillo at 540x270: 8.2 -> 5.8 ms.
+// geometry in images (common/texel_array.glsl). Measured on armadillo at 540x270: 8.2 -> 5.8 ms.
 //
 // Included by classify.comp (double) and classify_float.comp (float), REAL, REAL2, REAL3, REAL4 defined.
 #extension GL_GOOGLE_include_directive : require

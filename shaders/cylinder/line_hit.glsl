@@ -4,7 +4,7 @@
 // from the wall (t = 1) through the axis to t = -1 - with the triangle, using the ray caster's own
 // test (Moller-Trumbore, no epsilon) and its own tabulated directions. A hit counts only if the
 // triangle faces the wall the line starts from. The includer declares the images positions and
-// triangles (common/texel_rows.glsl: texel v holds (x, y, z, 0), texel f a face's three corners)
+// triangles (common/texel_array.glsl: texel v holds (x, y, z, 0), texel f a face's three corners)
 // and directions (texel u: cos and sin of theta_u as REAL bits), and defines REAL, REAL2, REAL3,
 // REAL4 and REAL2_OF_TEXEL.
 

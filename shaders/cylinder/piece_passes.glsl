@@ -5,7 +5,7 @@
 #include "cylinder/cylinder_layout.h"
 #include "cylinder/cylinder_job.h"
 #include "cylinder/distance_key.glsl"
-#include "common/texel_rows.glsl"
+#include "common/texel_array.glsl"
 
 #ifdef PIECES_READ_ONLY
 #define PIECES_ACCESS readonly

@@ -4,7 +4,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "cylinder/cylinder_layout.h"
 #include "cylinder/cylinder_job.h"
-#include "common/texel_rows.glsl"
+#include "common/texel_array.glsl"
 
 layout(std430, binding = 1) readonly buffer Jobs { CylinderJob jobs[]; };
 layout(binding = 2, rgba32f) uniform readonly image2D positions;

@@ -5,11 +5,11 @@
 // passes/sphere/sphere_steps.h). It is conformal, so it adds no angle distortion (Gu's
 // normalize(y - c) does). It writes a separate image: the host keeps the result only if it
 // flipped nothing, and halves the scale otherwise. Points as in sphere_common.glsl.
-#include "common/texel_rows.glsl"
+#include "common/texel_array.glsl"
 
 layout(local_size_x = 64) in;
 layout(binding = 0, rgba32ui) uniform readonly uimage2D points;
-layout(std430, binding = 1) readonly buffer Sums { double sums[]; };  // level_stats, reduced
+layout(std430, binding = 1) readonly buffer Sums { double sums[]; };  // map_stats, reduced
 layout(std430, binding = 2) readonly buffer Control { double scale; };
 layout(binding = 3, rgba32ui) uniform writeonly uimage2D moved;
 layout(push_constant) uniform Push { uint vertex_count; };

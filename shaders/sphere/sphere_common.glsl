@@ -1,10 +1,10 @@
-// Shared by the sphere solver's shaders: the points, the fan layout of passes/sphere/sphere_level.h
+// Shared by the sphere solver's shaders: the points, the fan layout of passes/sphere/harmonic/relaxation_mesh.h
 // and the orientation test (same arithmetic as the CPU reference). All in storage images, one
-// texel an element (passes/texel_rows.h says why: lavapipe gathers from images, and loads from
+// texel an element (gimg/engine/texel_array.h says why: lavapipe gathers from images, and loads from
 // storage buffers lane by lane): the points in RGBA32UI, two texels a point, (x, y) and (z, 0) as
 // doubles; the fans' offsets in R32UI; their spokes in RGBA32UI, (neighbour, 0, weight as a
 // double). The including shader declares the images `points`, `ring_offsets` and `spokes`.
-#include "common/texel_rows.glsl"
+#include "common/texel_array.glsl"
 
 dvec3 point_at(uint v) {
     const uvec4 xy = imageLoad(points, texel(2u * v));
@@ -19,7 +19,7 @@ double spoke_weight(uint k) { return packDouble2x32(imageLoad(spokes, texel(k)).
 // rounding margin, det(a, b, c) written a . ((b - a) x (c - a)) to keep its precision on tiny
 // triangles.
 const double kKernelMargin = 1e-12LF;
-const double kRelaxMargin = 1e-6LF;  // passes/sphere/sphere_level.h says why
+const double kRelaxMargin = 1e-6LF;  // passes/sphere/harmonic/relaxation_mesh.h says why
 bool counter_clockwise(dvec3 a, dvec3 b, dvec3 c, double margin) {
     const dvec3 ab = b - a, ac = c - a;
     const double det = dot(a, cross(ab, ac));

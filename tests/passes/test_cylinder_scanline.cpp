@@ -6,6 +6,7 @@
 #include "cylinder_exact.h"
 
 #include "gimg/engine/error.h"
+#include "gimg/geometry/error.h"
 #include "gimg/passes/cylinder.h"
 
 #include <gtest/gtest.h>
@@ -157,10 +158,10 @@ TEST(CylinderScanline, ThreadCountDoesNotChangeTheImage) {
 
 TEST(CylinderScanline, BadInputIsRejectedOrSkipped) {
     passes::CylinderMesh mesh = soup({{0.5, 0.2, 0.0}, {0.5, 0.8, 0.2}, {0.5, 0.2, 0.4}});
-    EXPECT_THROW(passes::cylinder_scanline(mesh, 0, 10), Error);
+    EXPECT_THROW(passes::cylinder_scanline(mesh, 0, 10), geo::InputError);
     passes::CylinderMesh missing = mesh;
     missing.triangles[1] = 7;
-    EXPECT_THROW(passes::cylinder_scanline(missing, 10, 10), Error);
+    EXPECT_THROW(passes::cylinder_scanline(missing, 10, 10), geo::InputError);
     // A triangle with a non-finite corner is skipped, on one thread or several; the others are drawn.
     passes::CylinderMesh with_nan = soup({{0.5, 0.2, 0.0}, {0.5, 0.8, 0.2}, {0.5, 0.2, 0.4}, {0.1, 0.1, 0.1},
                                           {std::nan(""), 0.5, 0.1}, {0.2, 0.9, 0.1}});

@@ -7,8 +7,9 @@
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/shapes.h"
 #include "gimg/geometry/topology.h"
-#include "sphere/progressive_mesh.h"
-#include "sphere/progressive_replay.h"
+#include "gimg/geometry/progressive_mesh.h"
+#include "gimg/geometry/progressive_replay.h"
+#include "sphere/hierarchy/sphere_hierarchy.h"
 
 #include <gtest/gtest.h>
 
@@ -17,7 +18,7 @@
 #include <set>
 
 using namespace gimg;
-using passes::detail::HierarchyLevel;
+using geo::HierarchyLevel;
 
 namespace {
 
@@ -44,13 +45,13 @@ void expect_sphere_topology(const geo::Mesh& full, const std::vector<glm::uvec3>
 }
 
 void expect_valid_hierarchy(const geo::Mesh& mesh, std::size_t base, double growth) {
-    const std::vector<HierarchyLevel> levels = passes::detail::build_sphere_hierarchy(mesh, base, growth);
+    const std::vector<geo::HierarchyLevel> levels = passes::detail::build_sphere_hierarchy(mesh, base, growth);
     ASSERT_FALSE(levels.empty());
     EXPECT_LE(levels.front().vertices.size(), std::max<std::size_t>(base, 4));
     EXPECT_TRUE(levels.front().added.empty());
     std::set<std::uint32_t> seen;
     for (std::size_t i = 0; i < levels.size(); ++i) {
-        const HierarchyLevel& level = levels[i];
+        const geo::HierarchyLevel& level = levels[i];
         const std::string what = "level " + std::to_string(i) + " (" + std::to_string(level.vertices.size()) + " vertices)";
         expect_sphere_topology(mesh, level.triangles, level.vertices.size(), true, what);
         // Euler: a closed genus-0 triangle mesh has 2V - 4 faces.
@@ -99,15 +100,15 @@ TEST(SphereHierarchy, SharedMeshesKeepSphereTopologyAtEveryLevel) {
 
 TEST(SphereHierarchy, CollapsesReachATetrahedronAndTheReplayMatchesTheLevels) {
     const geo::Mesh mesh = geo::make_icosphere(1.0, 2);
-    const passes::detail::ProgressiveMesh pm = passes::detail::build_progressive_mesh(mesh, 60);
+    const geo::ProgressiveMesh pm = geo::build_progressive_mesh(mesh, 60);
     EXPECT_EQ(pm.coarsest_count(), 4u);
     EXPECT_EQ(pm.base_vertex_count, 60u);
     EXPECT_EQ(pm.coarsest_count() + pm.splits.size(), mesh.vertex_count());
-    passes::detail::ProgressiveReplay replay(pm, pm.coarsest_count());
+    geo::ProgressiveReplay replay(pm, pm.coarsest_count());
     while (true) {
         const std::size_t n = replay.active_count();
         const std::vector<glm::uvec3> live = replay.live_triangles();
-        ASSERT_EQ(live, passes::detail::triangles_at(pm, n)) << n << " vertices";
+        ASSERT_EQ(live, geo::triangles_at(pm, n)) << n << " vertices";
         // Below the base only the link condition holds the collapses back: topology, not geometry.
         expect_sphere_topology(mesh, live, n, n >= pm.base_vertex_count, std::to_string(n) + " vertices");
         for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
@@ -116,7 +117,7 @@ TEST(SphereHierarchy, CollapsesReachATetrahedronAndTheReplayMatchesTheLevels) {
                 ASSERT_TRUE(t.x == v || t.y == v || t.z == v);
             }
         if (replay.complete()) break;
-        const passes::detail::VertexSplit& s = replay.split_next();
+        const geo::VertexSplit& s = replay.split_next();
         const glm::uvec3 a = replay.triangles()[s.born_faces[0]], b = replay.triangles()[s.born_faces[1]];
         EXPECT_TRUE((a.x == s.left || a.y == s.left || a.z == s.left) && (b.x == s.right || b.y == s.right || b.z == s.right));
     }

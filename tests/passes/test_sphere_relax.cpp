@@ -1,7 +1,7 @@
 // The sphere solver's level layout and relaxation: fans and weights match the mesh, the colouring
 // is proper, the GPU sweeps equal the CPU reference, and no sweep adds a flipped triangle.
-#include "sphere/sphere_level.h"
-#include "sphere/sphere_relax.h"
+#include "sphere/harmonic/relaxation_mesh.h"
+#include "sphere/harmonic/relaxation.h"
 #include "sphere/sphere_steps.h"
 
 #include "gpu_test.h"
@@ -19,7 +19,7 @@
 #include <tuple>
 
 using namespace gimg;
-using passes::detail::SphereLevel;
+using passes::detail::RelaxationMesh;
 
 namespace {
 
@@ -46,9 +46,9 @@ class SphereRelax : public gimg::test::GpuTest {};
 
 }  // namespace
 
-TEST(SphereLevel, FansFollowTheTrianglesAndWeightsAreTheCotangentWeights) {
+TEST(RelaxationMesh, FansFollowTheTrianglesAndWeightsAreTheCotangentWeights) {
     const Case c = ellipsoid_case(2, 0.0);
-    const SphereLevel level = passes::detail::build_sphere_level(c.mesh);
+    const RelaxationMesh level = passes::detail::build_relaxation_mesh(c.mesh);
     std::set<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t>> faces;
     for (const glm::uvec3& t : c.mesh.triangles) {
         faces.insert({t.x, t.y, t.z});
@@ -69,9 +69,9 @@ TEST(SphereLevel, FansFollowTheTrianglesAndWeightsAreTheCotangentWeights) {
     }
 }
 
-TEST(SphereLevel, NoEdgeJoinsTwoVerticesOfOneColour) {
+TEST(RelaxationMesh, NoEdgeJoinsTwoVerticesOfOneColour) {
     const Case c = ellipsoid_case(3, 0.0);
-    const SphereLevel level = passes::detail::build_sphere_level(c.mesh);
+    const RelaxationMesh level = passes::detail::build_relaxation_mesh(c.mesh);
     std::vector<std::uint32_t> colour(level.vertex_count(), ~0u);
     for (std::uint32_t k = 0; k < level.colour_count(); ++k)
         for (std::uint32_t m = level.colour_offsets[k]; m < level.colour_offsets[k + 1]; ++m)
@@ -85,24 +85,24 @@ TEST(SphereLevel, NoEdgeJoinsTwoVerticesOfOneColour) {
     EXPECT_LE(level.colour_count(), 6u);
 }
 
-TEST(SphereLevel, SweepsNeverAddAFlippedTriangleAndLowerTheEnergy) {
+TEST(RelaxationMesh, SweepsNeverAddAFlippedTriangleAndLowerTheEnergy) {
     Case c = ellipsoid_case(3, 0.0);
     // Push one vertex far across its neighbours: its fan flips.
     c.start[17] = glm::normalize(-c.start[17] + glm::dvec3(0.1, 0.0, 0.0));
-    const SphereLevel level = passes::detail::build_sphere_level(c.mesh);
+    const RelaxationMesh level = passes::detail::build_relaxation_mesh(c.mesh);
     std::vector<glm::dvec3> y = c.start;
-    auto previous = passes::detail::level_stats_cpu(level, y);
+    auto previous = passes::detail::map_stats_cpu(level, y);
     ASSERT_GT(previous.flips, 0u);
     for (int sweep = 0; sweep < 30; ++sweep) {
         passes::detail::relax_sweep_cpu(level, y, sweep < 5);
-        const auto now = passes::detail::level_stats_cpu(level, y);
+        const auto now = passes::detail::map_stats_cpu(level, y);
         EXPECT_LE(now.flips, previous.flips) << "sweep " << sweep;
         previous = now;
     }
     EXPECT_EQ(previous.flips, 0u) << "the relaxation did not unfold the pushed vertex";
 }
 
-TEST(SphereLevel, ASliverWithinTheMarginNeverBecomesAFlip) {
+TEST(RelaxationMesh, ASliverWithinTheMarginNeverBecomesAFlip) {
     // A tetrahedron with one equilateral face: its sweeps drive the map towards a hemisphere, where
     // face (1, 2, 3) comes to lie within rounding of the origin (det 4e-16). Moves that lowered no
     // grade once flipped it there (sweeps 98 and 168), one vertex's move taking the noisy sign
@@ -110,14 +110,14 @@ TEST(SphereLevel, ASliverWithinTheMarginNeverBecomesAFlip) {
     geo::Mesh m;
     m.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     m.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-    const SphereLevel level = passes::detail::build_sphere_level(m);
+    const RelaxationMesh level = passes::detail::build_relaxation_mesh(m);
     const double s = 1.0 / std::sqrt(3.0);
     std::vector<glm::dvec3> y = {{s, s, s}, {s, -s, -s}, {-s, s, -s}, {-s, -s, s}};
-    if (passes::detail::level_stats_cpu(level, y).flips) std::swap(y[0], y[1]);
-    ASSERT_EQ(passes::detail::level_stats_cpu(level, y).flips, 0u);
+    if (passes::detail::map_stats_cpu(level, y).flips) std::swap(y[0], y[1]);
+    ASSERT_EQ(passes::detail::map_stats_cpu(level, y).flips, 0u);
     for (int sweep = 0; sweep < 300; ++sweep) {
         passes::detail::relax_sweep_cpu(level, y, false);
-        ASSERT_EQ(passes::detail::level_stats_cpu(level, y).flips, 0u) << "sweep " << sweep;
+        ASSERT_EQ(passes::detail::map_stats_cpu(level, y).flips, 0u) << "sweep " << sweep;
         if (sweep % 32 == 31) passes::detail::relax_and_check_cpu(level, y, 0, false);  // as the solver recentres
     }
 }
@@ -125,10 +125,10 @@ TEST(SphereLevel, ASliverWithinTheMarginNeverBecomesAFlip) {
 TEST_F(SphereRelax, GpuSweepsEqualTheCpuReference) {
     if (!ctx().device_info().shader_float64) GTEST_SKIP() << "device has no shaderFloat64";
     const Case c = ellipsoid_case(3, 0.03);
-    const SphereLevel level = passes::detail::build_sphere_level(c.mesh);
+    const RelaxationMesh level = passes::detail::build_relaxation_mesh(c.mesh);
     std::vector<glm::dvec3> cpu = c.start;
-    passes::detail::GpuSphereRelaxation gpu(ctx(), level, c.start);
-    double energy = passes::detail::level_stats_cpu(level, cpu).energy;
+    passes::detail::GpuRelaxation gpu(ctx(), level, c.start);
+    double energy = passes::detail::map_stats_cpu(level, cpu).energy;
     double scale = passes::detail::kRecentreScale;
     for (auto [iterations, tutte] : {std::pair{3u, true}, std::pair{8u, false}, std::pair{8u, false}}) {
         SCOPED_TRACE(testing::Message() << iterations << " iterations, tutte " << tutte);
@@ -153,15 +153,15 @@ TEST_F(SphereRelax, GpuSweepsEqualTheCpuReference) {
     }
 }
 
-TEST(SphereLevel, CentringUndoesAMoebiusPush) {
+TEST(RelaxationMesh, CentringUndoesAMoebiusPush) {
     // An icosphere's vertices have their mass centre at the origin; a Moebius push crowds them
     // to one side. Centring brings the centre back, and since the centred Moebius image of a point
     // set is unique up to a rotation, the icosphere's own edge lengths come back with it.
     const geo::Mesh mesh = geo::make_icosphere(1.0, 3);
-    const SphereLevel level = passes::detail::build_sphere_level(mesh);
+    const RelaxationMesh level = passes::detail::build_relaxation_mesh(mesh);
     std::vector<glm::dvec3> y;
     for (const glm::dvec3& p : mesh.positions) y.push_back(passes::detail::moebius_move(glm::normalize(p), {0.2, -0.3, 0.6}));
-    const passes::detail::LevelStats before = passes::detail::level_stats_cpu(level, y);
+    const passes::detail::MapStats before = passes::detail::map_stats_cpu(level, y);
     ASSERT_GT(glm::length(before.centroid), 0.5);
     const passes::detail::CentreRun run = passes::detail::centre_mass_cpu(level, y, before);
     EXPECT_TRUE(run.kept);

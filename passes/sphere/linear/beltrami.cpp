@@ -1,5 +1,5 @@
 // Beltrami coefficient of a planar layout against the mesh, and the linear Beltrami solver.
-#include "beltrami.h"
+#include "sphere/linear/beltrami.h"
 
 #include <glm/geometric.hpp>
 

@@ -14,7 +14,7 @@
 // test holds the two to round-off), and it inherits that map's weak spots: negative weights at
 // obtuse angles, and precision lost where the layout squeezes a region to nothing.
 
-#include "dirichlet_solve.h"
+#include "sphere/linear/dirichlet_solve.h"
 
 #include "gimg/geometry/mesh.h"
 

@@ -1,6 +1,6 @@
 // Sparse Cholesky (LDL^T) solve of a Dirichlet problem, with the pinned columns moved to the
 // right-hand side so the reduced matrix stays symmetric.
-#include "dirichlet_solve.h"
+#include "sphere/linear/dirichlet_solve.h"
 
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>

@@ -1,5 +1,5 @@
 // Big-triangle choice and the harmonic map of the rest of the mesh into the plane.
-#include "plane_harmonic_map.h"
+#include "sphere/linear/plane_harmonic_map.h"
 
 #include "gimg/geometry/normals.h"
 

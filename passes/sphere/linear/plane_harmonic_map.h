@@ -3,7 +3,7 @@
 // the closed mesh, which leaves a disk, and map that disk into the plane by a harmonic map whose
 // boundary is the big triangle itself laid flat with its own shape.
 
-#include "dirichlet_solve.h"
+#include "sphere/linear/dirichlet_solve.h"
 
 #include "gimg/geometry/adjacency.h"
 #include "gimg/geometry/mesh.h"

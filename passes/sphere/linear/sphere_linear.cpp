@@ -15,9 +15,9 @@
 //
 // Not guaranteed one-to-one: obtuse triangles make cotangent weights negative and long
 // protrusions squeeze into tiny regions, so flips are counted and reported, never hidden.
-#include "beltrami.h"
-#include "plane_harmonic_map.h"
-#include "stereographic.h"
+#include "sphere/linear/beltrami.h"
+#include "sphere/linear/plane_harmonic_map.h"
+#include "sphere/linear/stereographic.h"
 
 #include "gimg/geometry/adjacency.h"
 #include "gimg/geometry/cotangent.h"

@@ -1,5 +1,5 @@
 #pragma once
-// Cylindrical geometry images (seed 003, chapters 2 and 4). Every method gives pixel (u, v) one
+// Cylindrical geometry images (the cylindrical-projection thesis, chapters 2 and 4; docs/cylinder.md). Every method gives pixel (u, v) one
 // meaning: the line perpendicular to the cylinder's axis (the y axis) at height
 // y_v = 1 - (v + 0.5) / H in direction theta_u = 2 pi (u + 0.5) / W, walked from the wall (t = 1)
 // through the axis to the opposite wall (t = -1), keeps the largest t at which it crosses a
@@ -111,7 +111,7 @@ private:
     std::unique_ptr<Bvh> bvh_;
 };
 
-// The paper's own CPU algorithm (seed 003, ch. 4, the cylindrical Z-buffer): triangles are
+// The paper's own CPU algorithm (the cylindrical-projection thesis, ch. 4, the cylindrical Z-buffer): triangles are
 // classified front / back / exception, scan-converted row by row along their curved edges, and
 // each covered pixel's d comes from a 2D line intersection in the scan plane. The same image as
 // cylinder_raycast to rounding. Large meshes are split over threads by bands of rows; the image

@@ -1,5 +1,5 @@
 #pragma once
-// Geometry images back to meshes (seed 003, 2.4-2.6): every valid pixel becomes a vertex, every
+// Geometry images back to meshes (the cylindrical-projection thesis, 2.4-2.6; docs/reconstruct.md): every valid pixel becomes a vertex, every
 // 2x2 block of valid pixels two triangles cut along the shorter 3D diagonal, wrapping around in u
 // for cylindrical images. A block whose distance jump is larger than a threshold is an occlusion
 // boundary and stays a hole, not lace (2.6). The GPU path (compute passes, compaction on the GPU)
@@ -48,7 +48,7 @@ struct ReconstructOptions {
 // (tan 80 = 5.7); an occlusion jumps further.
 float default_cylinder_threshold(const CylinderImage& image);
 
-// Level of detail (seed 003 fig. 1.3): each reduction halves both sides; an output pixel is the
+// Level of detail (the thesis, fig. 1.3): each reduction halves both sides; an output pixel is the
 // mean of its 2x2 children when all four are valid, else empty, so valid and empty pixels never
 // mix. The sides must be divisible by 2^times. The reduced image keeps the image layout (pixel
 // centres at theta = 2 pi (u + 0.5) / W', y = 1 - (v + 0.5) / H').

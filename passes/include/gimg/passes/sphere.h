@@ -1,13 +1,15 @@
 #pragma once
-// Conformal spherical parameterization of closed genus-0 meshes (seed 000): every vertex gets a
+// Conformal spherical parameterization of closed genus-0 meshes (Kanai, "Robust and fast
+// calculation of conformal spherical parameterization", 2005; docs/sphere.md): every vertex gets a
 // point on the unit sphere so that triangles keep their angles and none flips.
 //
-// Methods: `gu` (Gu et al., the paper's base: Gauss map, Tutte phase, conformal phase, user step
-// constants), `kanai` (the paper's method: progressive-mesh hierarchy, vertex splits with local
-// Tutte optimisation and the kernel check, priority-queue conformal optimisation per level),
-// `linear` (Choi, Lam and Lui 2015: harmonic map to the plane, inverse stereographic projection,
-// south-pole Beltrami correction; fast, not guaranteed one-to-one), `gpu` (gimg's: the same
-// energies on the same hierarchy as iterative compute dispatches, flip-free parallel updates).
+// Methods: `harmonic` (gimg's default, on the render graph: the harmonic map of the mesh in a
+// stereographic chart of the sphere, solved by multigrid conjugate gradients and relaxed on the
+// sphere, flip-free), `kanai` (progressive-mesh hierarchy, vertex splits with local Tutte
+// optimisation and the kernel check, priority-queue conformal optimisation per level), `gu` (Gu et
+// al. 2004: Gauss map, Tutte phase, conformal phase, user step constants), `linear` (Choi, Lam and
+// Lui 2015: harmonic map to the plane, inverse stereographic projection, south-pole Beltrami
+// correction; fast, not guaranteed one-to-one).
 
 #include "gimg/engine/context.h"
 #include "gimg/geometry/mesh.h"
@@ -71,7 +73,7 @@ struct SphereResult {
     std::vector<glm::dvec3> positions;  // one unit vector per mesh vertex
     std::vector<SphereStage> stages;
     bool converged = true;     // false: stopped at an iteration limit, diverged or left a doubt (see note)
-    double gpu_ms = 0.0;       // sum of pass timestamps (gpu method with GpuSphereOptions::timestamps)
+    double gpu_ms = 0.0;       // sum of pass timestamps (harmonic method with HarmonicSphereOptions::timestamps)
     std::string note;          // why it did not converge, or anything else worth knowing
 };
 
@@ -100,44 +102,37 @@ SphereResult sphere_kanai(const geo::Mesh& mesh, const KanaiOptions& options = {
 
 SphereResult sphere_linear(const geo::Mesh& mesh);
 
-struct GpuSphereOptions {
-    std::size_t base_vertices = 300;          // as KanaiOptions: the same hierarchy
+struct HarmonicSphereOptions {
+    // The progressive-mesh hierarchy, used when the pinned-triangle start folds beyond repair or
+    // with direct = false: as KanaiOptions.
+    std::size_t base_vertices = 300;
     double growth = 2.0;
-    // K: sweeps between read-backs of the energy and recentrings; levels of fewer than 128 K
-    // vertices take n / 128 (at least 1), as coarse maps slide towards a point between recentrings.
+    // K: relaxation sweeps between read-backs of the energy and recentrings; levels of fewer than
+    // 128 K vertices take n / 128 (at least 1), as coarse maps slide towards a point between
+    // recentrings.
     std::uint32_t iterations_per_check = 32;
-    // A level ends when its energy changed by less than this per sweep over the last K sweeps,
-    // relative to it. 3e-6 reaches Gu's energy where Gu finishes (fandisk: 1e-5 stopped at a
-    // conformal ratio of 1.00109, Gu's is 1.00078, 3e-6 gives 1.00057) for 8-20% more time (bunny, fandisk, armadillo).
+    // A level's relaxation ends when its energy changed by less than this per sweep over the last K
+    // sweeps, relative to it.
     double tolerance = 3e-6;
     std::size_t max_iterations_per_level = 4000;
-    // After the finest level, solve for the map's harmonic shape in a stereographic chart by
-    // multigrid-preconditioned conjugate gradients and relax again from there; kept when it flips
-    // nothing. It straightens protrusions that the relaxation shrank but left crooked (bunny: mean
-    // angle distortion 7.8 degrees without, 0.8 with).
+    // After the relaxation, solve for the map's harmonic shape in a stereographic chart (a pinned
+    // cap around the pole, multigrid-preconditioned conjugate gradients) and relax again from
+    // there; kept when it flips nothing. It straightens protrusions that the relaxation shrank
+    // but left crooked.
     bool plane_polish = true;
-    // With the polish, try the direct route first: the polish applied to Choi, Lam and Lui's
-    // pinned-triangle harmonic map (itself solved by the same multigrid conjugate gradients)
-    // instead of to the hierarchy's relaxed map, so no progressive mesh is built. Kept when it
-    // flips nothing and covers the sphere once; otherwise the hierarchy runs as without it (the
-    // note says why). Meshes whose obtuse triangles fold the map beyond repair, or whose
-    // protrusions shrink below double precision in the pinned-triangle map, take the hierarchy.
+    // With plane_polish: start from Choi, Lam and Lui's pinned-triangle harmonic map (solved by
+    // the same conjugate gradients) instead of the hierarchy's relaxed map, so no progressive mesh
+    // is built. Kept when it flips nothing and covers the sphere once; otherwise the hierarchy
+    // runs (the result's note says why).
     bool direct = true;
-    // With the polish, levels above this many vertices settle to 100x the tolerance in checks of
-    // at most 8 sweeps: the polish replaces all but a small cap of the map (bunny, armadillo and
-    // armadillo_loop1 end with the same angles to 0.001 degree mean). The finest level settles in
-    // full when the polish is not kept. Smaller levels fix the map's global layout and cost little.
-    // On the 11 closed genus-0 shared meshes by the hierarchy alone, 2,000 instead of 10,000 gave
-    // the same mean angles to 0.11 degrees on 9, better on cow (9.93 -> 9.87) and on camel, whose
-    // polish then holds (36.4 -> 12.8 degrees mean), in 1.1-2.3x less time; 500 lost up to 0.5
-    // degrees on cow, triceratops and dino.
+    // With plane_polish, hierarchy levels above this many vertices are relaxed only to 100x the
+    // tolerance, in checks of at most 8 sweeps: the chart solve replaces all but its pinned cap.
+    // The finest level is relaxed in full when the chart solve is rejected.
     std::size_t loose_levels_above = 2000;
-    // GPU time of every pass from timestamps, summed in SphereResult::gpu_ms. Off by default: on
-    // lavapipe each timestamped pass costs about 0.2 ms (a third of the whole run on fandisk) and
-    // its timestamps do not cover compute work anyway.
+    // GPU time of every pass from timestamps, summed in SphereResult::gpu_ms (costly on lavapipe).
     bool timestamps = false;
     SphereProgress progress;
 };
-SphereResult sphere_gpu(Context& ctx, const geo::Mesh& mesh, const GpuSphereOptions& options = {});
+SphereResult sphere_harmonic(Context& ctx, const geo::Mesh& mesh, const HarmonicSphereOptions& options = {});
 
 }  // namespace gimg::passes
