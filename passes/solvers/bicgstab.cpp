@@ -1,0 +1,211 @@
+// BiCGSTAB with a Jacobi preconditioner on the render graph, and its CPU twin (bicgstab.h).
+#include "solvers/bicgstab.h"
+
+#include "solvers/matrix_texels.h"
+
+#include "gimg/engine/graph.h"
+#include "gimg/passes/primitives.h"
+
+#include "solvers/bicgstab_apply_comp.h"
+#include "solvers/bicgstab_direction_comp.h"
+#include "solvers/bicgstab_half_comp.h"
+#include "solvers/bicgstab_scalars_comp.h"
+#include "solvers/bicgstab_update_comp.h"
+
+namespace gimg::passes::detail {
+
+namespace {
+
+const Spirv kScalars = GIMG_SPIRV(gimg_spv_solvers_bicgstab_scalars_comp);
+const Spirv kDirection = GIMG_SPIRV(gimg_spv_solvers_bicgstab_direction_comp);
+const Spirv kApply = GIMG_SPIRV(gimg_spv_solvers_bicgstab_apply_comp);
+const Spirv kHalf = GIMG_SPIRV(gimg_spv_solvers_bicgstab_half_comp);
+const Spirv kUpdate = GIMG_SPIRV(gimg_spv_solvers_bicgstab_update_comp);
+
+// The shaders' BicgScalars (bicgstab_scalars.glsl).
+struct Scalars {
+    glm::dvec2 rho, alpha, omega, beta;
+};
+
+struct RowsAndMode {
+    std::uint32_t rows, mode;
+};
+
+glm::dvec2 times(const CsrMatrix& a, const std::vector<glm::dvec2>& v, std::size_t i) {
+    glm::dvec2 sum(0.0);
+    for (std::uint32_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) sum += a.values[k] * v[a.columns[k]];
+    return sum;
+}
+
+std::vector<double> inverse_diagonal(const CsrMatrix& a) {
+    std::vector<double> inv(a.rows(), 0.0);
+    for (std::size_t i = 0; i < a.rows(); ++i)
+        for (std::uint32_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+            if (a.columns[k] == i) inv[i] = 1.0 / a.values[k];
+    return inv;
+}
+
+glm::dvec2 divide_or_zero(glm::dvec2 num, glm::dvec2 den) {
+    return {den.x != 0.0 ? num.x / den.x : 0.0, den.y != 0.0 ? num.y / den.y : 0.0};
+}
+
+}  // namespace
+
+BicgState start_bicgstab(const CsrMatrix& a, const std::vector<glm::dvec2>& b, const std::vector<glm::dvec2>& x0) {
+    BicgState s;
+    const std::size_t n = a.rows();
+    s.x = x0;
+    s.r.resize(n);
+    for (std::size_t i = 0; i < n; ++i) s.r[i] = b[i] - times(a, x0, i);
+    s.r0 = s.r;
+    s.p.assign(n, glm::dvec2(0.0));
+    s.v.assign(n, glm::dvec2(0.0));
+    for (std::size_t i = 0; i < n; ++i) {
+        s.r0r += s.r0[i] * s.r[i];
+        s.rr += s.r[i] * s.r[i];
+    }
+    return s;
+}
+
+void bicgstab_cpu(const CsrMatrix& a, BicgState& s, std::uint32_t iterations) {
+    const std::size_t n = a.rows();
+    const std::vector<double> inv = inverse_diagonal(a);
+    std::vector<glm::dvec2> y(n), sv(n), z(n), t(n);
+    for (std::uint32_t it = 0; it < iterations; ++it) {
+        glm::dvec2 beta;
+        for (int c = 0; c < 2; ++c)
+            beta[c] = s.rho[c] != 0.0 && s.omega[c] != 0.0 ? (s.r0r[c] / s.rho[c]) * (s.alpha[c] / s.omega[c]) : 0.0;
+        s.rho = s.r0r;
+        for (std::size_t i = 0; i < n; ++i) {
+            s.p[i] = s.r[i] + beta * (s.p[i] - s.omega * s.v[i]);
+            y[i] = inv[i] * s.p[i];
+        }
+        glm::dvec2 r0v(0.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            s.v[i] = times(a, y, i);
+            r0v += s.r0[i] * s.v[i];
+        }
+        s.alpha = divide_or_zero(s.rho, r0v);
+        for (std::size_t i = 0; i < n; ++i) {
+            sv[i] = s.r[i] - s.alpha * s.v[i];
+            z[i] = inv[i] * sv[i];
+        }
+        glm::dvec2 ts(0.0), tt(0.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            t[i] = times(a, z, i);
+            ts += sv[i] * t[i];
+            tt += t[i] * t[i];
+        }
+        s.omega = {tt.x > 0.0 ? ts.x / tt.x : 0.0, tt.y > 0.0 ? ts.y / tt.y : 0.0};
+        s.r0r = glm::dvec2(0.0);
+        s.rr = glm::dvec2(0.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            s.x[i] = s.x[i] + s.alpha * y[i] + s.omega * z[i];
+            s.r[i] = sv[i] - s.omega * t[i];
+            s.r0r += s.r0[i] * s.r[i];
+            s.rr += s.r[i] * s.r[i];
+        }
+    }
+}
+
+GpuBicgstab::GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start)
+    : ctx_(ctx), rows_(std::uint32_t(a.rows())) {
+    check_texel_array_size(ctx, a.values.size(), "BiCGSTAB matrix entries");
+    a_rows_ = upload_rows(ctx, a, inverse_diagonal(a), "bicgstab A");
+    a_entries_ = upload_texels(ctx, entry_texels(a), "bicgstab A entries");
+    x_ = upload_vector_texels(ctx, start.x, "bicgstab x");
+    r_ = upload_vector_texels(ctx, start.r, "bicgstab r");
+    r0_ = upload_vector_texels(ctx, start.r0, "bicgstab r0");
+    p_ = upload_vector_texels(ctx, start.p, "bicgstab p");
+    v_ = upload_vector_texels(ctx, start.v, "bicgstab v");
+    y_ = ctx.create_image(texel_image_desc(rows_, "bicgstab y"));
+    s_ = ctx.create_image(texel_image_desc(rows_, "bicgstab s"));
+    z_ = ctx.create_image(texel_image_desc(rows_, "bicgstab z"));
+    t_ = ctx.create_image(texel_image_desc(rows_, "bicgstab t"));
+    scalars_ = ctx.create_buffer({sizeof(Scalars), "bicgstab scalars"});
+    const Scalars scalars{start.rho, start.alpha, start.omega, glm::dvec2(0.0)};
+    ctx.upload(scalars_, &scalars, sizeof scalars);
+    sums_rv_ = ctx.create_buffer({4 * sizeof(double), "bicgstab r0.v"});
+    sums_ts_ = ctx.create_buffer({4 * sizeof(double), "bicgstab t.s t.t"});
+    sums_rr_ = ctx.create_buffer({4 * sizeof(double), "bicgstab r0.r r.r"}, MemoryUsage::Readback);
+    const double rr[4] = {start.r0r.x, start.r0r.y, start.rr.x, start.rr.y};
+    ctx.upload(sums_rr_, rr, sizeof rr);
+}
+
+Plan& GpuBicgstab::plan_for(std::uint32_t iterations) {
+    auto& slot = plans_[iterations];
+    if (slot) return *slot;
+    Graph g(ctx_);
+    auto rows_img = g.import_image(a_rows_);
+    auto entries = g.import_image(a_entries_);
+    auto x = g.import_image(x_), r = g.import_image(r_), r0 = g.import_image(r0_), p = g.import_image(p_);
+    auto v = g.import_image(v_), y = g.import_image(y_), s = g.import_image(s_), z = g.import_image(z_);
+    auto t = g.import_image(t_);
+    auto scalars = g.import_buffer(scalars_);
+    auto rv = g.import_buffer(sums_rv_), ts = g.import_buffer(sums_ts_), rr = g.import_buffer(sums_rr_);
+    auto terms = g.create_buffer({VkDeviceSize(std::max<std::uint32_t>(rows_, 1)) * 4 * sizeof(double), "bicgstab terms"});
+    const std::uint32_t n = rows_;
+    auto add_scalars = [&](BufferHandle sums, std::uint32_t step, const std::string& name) {
+        g.add_compute_pass(name, [&](PassBuilder& b) {
+            b.read(sums, Access::ComputeRead);
+            scalars = b.write(scalars, Access::ComputeReadWrite);
+        }, [=, sc = scalars](Cmd& c) { c.dispatch(kScalars, {1}, {sc, sums}, step); });
+    };
+    g.add_loop(iterations, [&] {
+        add_scalars(rr, 0, "bicgstab beta");
+        g.add_compute_pass("bicgstab direction", [&](PassBuilder& b) {
+            for (ImageHandle h : {rows_img, r, v}) b.read(h, Access::ComputeRead);
+            b.read(scalars, Access::ComputeRead);
+            p = b.write(p, Access::ComputeReadWrite);
+            y = b.write(y, Access::ComputeWrite);
+        }, [=](Cmd& c) { c.dispatch_threads(kDirection, {n}, {scalars, rows_img, r, v, p, y}, n); });
+        g.add_compute_pass("bicgstab v = A y", [&](PassBuilder& b) {
+            for (ImageHandle h : {rows_img, entries, y, r0}) b.read(h, Access::ComputeRead);
+            v = b.write(v, Access::ComputeWrite);
+            terms = b.write(terms, Access::ComputeWrite);
+        }, [=](Cmd& c) { c.dispatch_threads(kApply, {n}, {rows_img, entries, y, r0, v, terms}, RowsAndMode{n, 0}); });
+        rv = add_reduce_sum_f64(g, terms, rv, n, 4, "bicgstab r0.v");
+        add_scalars(rv, 1, "bicgstab alpha");
+        g.add_compute_pass("bicgstab s", [&](PassBuilder& b) {
+            for (ImageHandle h : {rows_img, r, v}) b.read(h, Access::ComputeRead);
+            b.read(scalars, Access::ComputeRead);
+            s = b.write(s, Access::ComputeWrite);
+            z = b.write(z, Access::ComputeWrite);
+        }, [=](Cmd& c) { c.dispatch_threads(kHalf, {n}, {scalars, rows_img, r, v, s, z}, n); });
+        g.add_compute_pass("bicgstab t = A z", [&](PassBuilder& b) {
+            for (ImageHandle h : {rows_img, entries, z, s}) b.read(h, Access::ComputeRead);
+            t = b.write(t, Access::ComputeWrite);
+            terms = b.write(terms, Access::ComputeWrite);
+        }, [=](Cmd& c) { c.dispatch_threads(kApply, {n}, {rows_img, entries, z, s, t, terms}, RowsAndMode{n, 1}); });
+        ts = add_reduce_sum_f64(g, terms, ts, n, 4, "bicgstab t.s t.t");
+        add_scalars(ts, 2, "bicgstab omega");
+        g.add_compute_pass("bicgstab update", [&](PassBuilder& b) {
+            for (ImageHandle h : {y, z, s, t, r0}) b.read(h, Access::ComputeRead);
+            b.read(scalars, Access::ComputeRead);
+            x = b.write(x, Access::ComputeReadWrite);
+            r = b.write(r, Access::ComputeWrite);
+            terms = b.write(terms, Access::ComputeWrite);
+        }, [=](Cmd& c) { c.dispatch_threads(kUpdate, {n}, {scalars, y, z, s, t, r0, x, r, terms}, n); });
+        rr = add_reduce_sum_f64(g, terms, rr, n, 4, "bicgstab r0.r r.r");
+    });
+    g.export_buffer(rr, Access::HostRead);
+    g.export_buffer(scalars, Access::ComputeReadWrite);
+    g.export_buffer(rv, Access::ComputeReadWrite);
+    g.export_buffer(ts, Access::ComputeReadWrite);
+    for (ImageHandle h : {x, r, p, v}) g.export_image(h, Access::ComputeReadWrite);
+    slot = std::make_unique<Plan>(g.compile());
+    return *slot;
+}
+
+std::pair<glm::dvec2, glm::dvec2> GpuBicgstab::run(std::uint32_t iterations) {
+    if (rows_ > 0 && iterations > 0) plan_for(iterations).execute({.wait = true});
+    const std::vector<double> sums = ctx_.download<double>(sums_rr_);
+    return {{sums[0], sums[1]}, {sums[2], sums[3]}};
+}
+
+std::vector<glm::dvec2> GpuBicgstab::solution() {
+    if (rows_ == 0) return {};
+    return download_vector_texels(ctx_, x_, rows_);
+}
+
+}  // namespace gimg::passes::detail

@@ -1,0 +1,50 @@
+#pragma once
+// BiCGSTAB (van der Vorst 1992) with a Jacobi preconditioner for non-symmetric sparse systems, on
+// the render graph (GpuBicgstab) and on the CPU in the same order of operations (bicgstab_cpu).
+// Right-hand sides come in pairs, each with its own scalars, as dvec2 vectors in texel arrays
+// (matrix_texels.h). One iteration, with y = D^-1 p and z = D^-1 s:
+//   beta = (rho' / rho)(alpha / omega), rho = rho';  p = r + beta (p - omega v);  v = A y;
+//   alpha = rho / (r0 . v);  s = r - alpha v;  t = A z;  omega = (t . s) / (t . t);
+//   x += alpha y + omega z;  r = s - omega t;  rho' = r0 . r
+// The scalars stay on the GPU (a one-thread pass after each reduction); only r0 . r and r . r
+// come back, once per run().
+#include "solvers/multigrid.h"
+
+#include "gimg/engine/context.h"
+#include "gimg/engine/plan.h"
+
+#include <glm/vec2.hpp>
+
+#include <map>
+#include <memory>
+
+namespace gimg::passes::detail {
+
+struct BicgState {
+    std::vector<glm::dvec2> x, r, r0, p, v;
+    glm::dvec2 rho{1.0}, alpha{1.0}, omega{1.0};
+    glm::dvec2 r0r{0.0}, rr{0.0};  // r0 . r and r . r now
+};
+
+// `a` holds every entry, diagonal included (no zero diagonal).
+BicgState start_bicgstab(const CsrMatrix& a, const std::vector<glm::dvec2>& b, const std::vector<glm::dvec2>& x0);
+void bicgstab_cpu(const CsrMatrix& a, BicgState& state, std::uint32_t iterations);
+
+class GpuBicgstab {
+public:
+    GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start);
+    // Runs `iterations` iterations; returns (r0 . r, r . r) per right-hand side after them.
+    std::pair<glm::dvec2, glm::dvec2> run(std::uint32_t iterations);
+    std::vector<glm::dvec2> solution();
+
+private:
+    Plan& plan_for(std::uint32_t iterations);
+    Context& ctx_;
+    std::uint32_t rows_ = 0;
+    Image a_rows_, a_entries_;
+    Image x_, r_, r0_, p_, v_, y_, s_, z_, t_;
+    Buffer scalars_, sums_rv_, sums_ts_, sums_rr_;
+    std::map<std::uint32_t, std::unique_ptr<Plan>> plans_;
+};
+
+}  // namespace gimg::passes::detail

@@ -1,0 +1,258 @@
+// The sparse solvers (gimg/passes/solvers.h): conjugate gradients with multigrid for symmetric
+// positive definite systems and BiCGSTAB for non-symmetric ones, on the GPU, their CPU twins and
+// Eigen's direct solvers (SimplicialLDLT, SparseLU) of the same Dirichlet problems.
+#include "gpu_test.h"
+#include "test_data.h"
+
+#include "gimg/geometry/adjacency.h"
+#include "gimg/geometry/cotangent.h"
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/io.h"
+#include "gimg/geometry/shapes.h"
+#include "gimg/passes/solvers.h"
+
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+using namespace gimg;
+using passes::LinearSystem;
+using passes::SolveOptions;
+using passes::SolveResult;
+using passes::SparseMatrix;
+
+namespace {
+
+// A grid with its interior vertices jittered, so cotangent weights differ from edge to edge.
+geo::Mesh jittered_grid(int n) {
+    geo::Mesh mesh = geo::make_grid(n, n);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> jitter(-0.25 / n, 0.25 / n);
+    for (glm::dvec3& p : mesh.positions)
+        if (p.x > 1e-9 && p.x < 1 - 1e-9 && p.y > 1e-9 && p.y < 1 - 1e-9) {
+            p.x += jitter(rng);
+            p.y += jitter(rng);
+        }
+    return mesh;
+}
+
+// L = D - W over all vertices: `weights` per edge of `adj` (cotangent or uniform), plus `shift` on
+// the diagonal. With row_normalised, every row is divided by its diagonal (I - D^-1 W: Tutte's
+// barycentric system with these weights, not symmetric).
+SparseMatrix laplacian(const geo::MeshAdjacency& adj, const std::vector<double>& weights, double shift, bool row_normalised) {
+    const std::size_t n = adj.vertex_count();
+    SparseMatrix a;
+    a.size = n;
+    for (std::uint32_t i = 0; i < n; ++i) {
+        double diagonal = shift;
+        std::vector<std::pair<std::uint32_t, double>> row;
+        for (std::uint32_t j : adj.neighbors(i)) {
+            const double w = weights[adj.find_edge(i, j)];
+            diagonal += w;
+            row.emplace_back(j, -w);
+        }
+        row.emplace_back(i, diagonal);
+        for (auto [j, value] : row) {
+            a.columns.push_back(j);
+            a.values.push_back(row_normalised ? value / diagonal : value);
+        }
+        a.offsets.push_back(std::uint32_t(a.columns.size()));
+    }
+    return a;
+}
+
+// A known solution on every row; fixed rows keep theirs, b = A x on free rows (rows of A are
+// only needed there).
+LinearSystem system_with_solution(const SparseMatrix& a, std::vector<std::uint8_t> fixed, std::uint32_t k,
+                                  std::vector<double>& truth) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> u(-1.0, 1.0);
+    truth.resize(a.size * k);
+    for (double& t : truth) t = u(rng);
+    LinearSystem s;
+    s.a = a;
+    s.rhs_count = k;
+    s.fixed = std::move(fixed);
+    s.fixed_values = truth;
+    s.b.assign(a.size * k, 0.0);
+    for (std::size_t i = 0; i < a.size; ++i)
+        for (std::uint32_t e = a.offsets[i]; e < a.offsets[i + 1]; ++e)
+            for (std::uint32_t c = 0; c < k; ++c) s.b[i * k + c] += a.values[e] * truth[a.columns[e] * k + c];
+    return s;
+}
+
+std::vector<std::uint8_t> boundary_fixed(const geo::MeshAdjacency& adj) {
+    const std::vector<std::uint8_t> interior = adj.interior_vertices();
+    std::vector<std::uint8_t> fixed(interior.size());
+    for (std::size_t i = 0; i < fixed.size(); ++i) fixed[i] = interior[i] ? 0 : 1;
+    return fixed;
+}
+
+// Eigen's direct solution of the same reduced system, column c.
+std::vector<double> direct_solution(const LinearSystem& s, bool symmetric) {
+    const std::size_t n = s.a.size, k = s.rhs_count;
+    std::vector<int> index(n, -1);
+    int m = 0;
+    for (std::size_t i = 0; i < n; ++i)
+        if (!s.fixed[i]) index[i] = m++;
+    std::vector<Eigen::Triplet<double>> triplets;
+    Eigen::MatrixXd b = Eigen::MatrixXd::Zero(m, Eigen::Index(k));
+    for (std::size_t i = 0; i < n; ++i) {
+        if (index[i] < 0) continue;
+        for (std::uint32_t c = 0; c < k; ++c) b(index[i], c) = s.b[i * k + c];
+        for (std::uint32_t e = s.a.offsets[i]; e < s.a.offsets[i + 1]; ++e) {
+            const std::uint32_t j = s.a.columns[e];
+            if (index[j] >= 0) triplets.emplace_back(index[i], index[j], s.a.values[e]);
+            else
+                for (std::uint32_t c = 0; c < k; ++c) b(index[i], c) -= s.a.values[e] * s.fixed_values[j * k + c];
+        }
+    }
+    Eigen::SparseMatrix<double> a(m, m);
+    a.setFromTriplets(triplets.begin(), triplets.end());
+    Eigen::MatrixXd x;
+    if (symmetric) {
+        Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(a);
+        x = ldlt.solve(b);
+    } else {
+        Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+        lu.compute(a);
+        x = lu.solve(b);
+    }
+    std::vector<double> out(s.fixed_values);
+    for (std::size_t i = 0; i < n; ++i)
+        if (index[i] >= 0)
+            for (std::uint32_t c = 0; c < k; ++c) out[i * k + c] = x(index[i], c);
+    return out;
+}
+
+double max_difference(const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+    return d;
+}
+
+class Solvers : public test::GpuTest {};
+
+}  // namespace
+
+TEST_F(Solvers, SymmetricEqualsTheCpuTwinAndEigensCholeskyOnACotangentLaplacian) {
+    const geo::Mesh mesh = jittered_grid(40);
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    const SparseMatrix a = laplacian(adj, geo::cotangent_weights(mesh, adj), 0.0, false);
+    for (std::uint32_t k : {1u, 2u, 3u, 4u}) {
+        SCOPED_TRACE(k);
+        std::vector<double> truth;
+        const LinearSystem s = system_with_solution(a, boundary_fixed(adj), k, truth);
+        const SolveResult gpu = passes::solve_symmetric(ctx(), s, {.tolerance = 1e-10});
+        const SolveResult cpu = passes::solve_symmetric_cpu(s, {.tolerance = 1e-10});
+        const std::vector<double> direct = direct_solution(s, true);
+        std::printf("conjugate gradients, %u right-hand sides, %zu rows: %zu iterations to 1e-10\n", k, a.size, gpu.iterations);
+        EXPECT_TRUE(gpu.converged);
+        EXPECT_LE(gpu.iterations, 40u);  // multigrid: flat in the mesh size
+        EXPECT_EQ(gpu.iterations, cpu.iterations);
+        EXPECT_LT(max_difference(gpu.x, cpu.x), 1e-10);
+        EXPECT_LT(max_difference(gpu.x, direct), 1e-7);
+        EXPECT_LT(max_difference(direct, truth), 1e-9);
+        for (std::size_t i = 0; i < a.size; ++i) {  // fixed rows hold their values exactly
+            if (s.fixed[i]) {
+                EXPECT_EQ(gpu.x[i * k], truth[i * k]);
+            }
+        }
+    }
+}
+
+TEST_F(Solvers, SymmetricOnASharedMeshWithScatteredDirichletRows) {
+    const auto path = test::shared_mesh("bunny_small.obj");
+    if (!path) GTEST_SKIP() << "shared meshes not found (set GIMG_MESH_DIR)";
+    const geo::Mesh mesh = geo::load_mesh(*path);
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    const std::vector<double> uniform(adj.edge_count(), 1.0);
+    const SparseMatrix a = laplacian(adj, uniform, 0.0, false);
+    std::vector<std::uint8_t> fixed(a.size, 0);
+    for (std::size_t i = 0; i < a.size; i += 50) fixed[i] = 1;
+    std::vector<double> truth;
+    const LinearSystem s = system_with_solution(a, fixed, 3, truth);
+    const SolveResult gpu = passes::solve_symmetric(ctx(), s, {.tolerance = 1e-10});
+    EXPECT_TRUE(gpu.converged);
+    EXPECT_LT(max_difference(gpu.x, direct_solution(s, true)), 1e-7);
+    EXPECT_LT(max_difference(gpu.x, truth), 1e-7);
+}
+
+TEST_F(Solvers, GeneralEqualsTheCpuTwinAndEigensLuOnRowNormalisedWeights) {
+    // Tutte's system with cotangent weights divided by their row sums: not symmetric.
+    const geo::Mesh mesh = jittered_grid(30);
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    const SparseMatrix a = laplacian(adj, geo::cotangent_weights(mesh, adj), 0.0, true);
+    for (std::uint32_t k : {1u, 2u, 3u}) {
+        SCOPED_TRACE(k);
+        std::vector<double> truth;
+        const LinearSystem s = system_with_solution(a, boundary_fixed(adj), k, truth);
+        const SolveOptions o{.tolerance = 1e-11, .max_iterations = 2000, .iterations_per_check = 10};
+        const SolveResult gpu = passes::solve_general(ctx(), s, o);
+        const SolveResult cpu = passes::solve_general_cpu(s, o);
+        const std::vector<double> direct = direct_solution(s, false);
+        std::printf("BiCGSTAB, %u right-hand sides, %zu rows: %zu iterations to 1e-11\n", k, a.size, gpu.iterations);
+        EXPECT_TRUE(gpu.converged) << gpu.residual;
+        EXPECT_EQ(gpu.iterations, cpu.iterations);
+        EXPECT_LT(max_difference(gpu.x, cpu.x), 1e-8);
+        EXPECT_LT(max_difference(gpu.x, direct), 1e-8);
+        EXPECT_LT(max_difference(direct, truth), 1e-9);
+    }
+}
+
+TEST_F(Solvers, GeneralFollowsItsCpuTwinIterationByIteration) {
+    const geo::Mesh mesh = jittered_grid(12);
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    const SparseMatrix a = laplacian(adj, geo::cotangent_weights(mesh, adj), 0.0, true);
+    std::vector<double> truth;
+    const LinearSystem s = system_with_solution(a, boundary_fixed(adj), 2, truth);
+    for (std::size_t iterations : {1u, 3u, 7u}) {
+        const SolveOptions o{.tolerance = 0.0, .max_iterations = iterations, .iterations_per_check = 100};
+        const SolveResult gpu = passes::solve_general(ctx(), s, o);
+        const SolveResult cpu = passes::solve_general_cpu(s, o);
+        EXPECT_EQ(gpu.iterations, iterations);
+        EXPECT_LT(max_difference(gpu.x, cpu.x), 1e-12) << iterations << " iterations";
+        EXPECT_NEAR(gpu.residual, cpu.residual, 1e-12 + 1e-9 * cpu.residual);
+    }
+}
+
+TEST_F(Solvers, ClearErrorsForUnfitSystems) {
+    const geo::Mesh mesh = jittered_grid(6);
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    const SparseMatrix nonsymmetric = laplacian(adj, geo::cotangent_weights(mesh, adj), 0.0, true);
+    std::vector<double> truth;
+    const LinearSystem s = system_with_solution(nonsymmetric, boundary_fixed(adj), 1, truth);
+    try {
+        passes::solve_symmetric(ctx(), s);
+        ADD_FAILURE() << "a non-symmetric matrix was accepted";
+    } catch (const geo::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("not symmetric"), std::string::npos) << e.what();
+    }
+    LinearSystem bad = s;
+    bad.a.columns[3] = std::uint32_t(bad.a.size + 5);
+    EXPECT_THROW(passes::solve_general(ctx(), bad), geo::InputError);
+    bad = s;
+    bad.b.pop_back();
+    EXPECT_THROW(passes::solve_general_cpu(bad), geo::InputError);
+    bad = s;
+    bad.rhs_count = 5;
+    EXPECT_THROW(passes::solve_general_cpu(bad), geo::InputError);
+    // [[1, -2], [-2, 1]]: symmetric, eigenvalues 3 and -1. b along the eigenvector of -1.
+    LinearSystem indefinite;
+    indefinite.a = {2, {0, 2, 4}, {0, 1, 0, 1}, {1.0, -2.0, -2.0, 1.0}};
+    indefinite.b = {1.0, 1.0};
+    try {
+        passes::solve_symmetric(ctx(), indefinite);
+        ADD_FAILURE() << "an indefinite matrix converged";
+    } catch (const geo::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("broke down"), std::string::npos) << e.what();
+    }
+    LinearSystem zero_diagonal;
+    zero_diagonal.a = {2, {0, 1, 2}, {1, 0}, {1.0, 1.0}};
+    zero_diagonal.b = {1.0, 2.0};
+    EXPECT_THROW(passes::solve_general(ctx(), zero_diagonal), geo::InputError);
+}
