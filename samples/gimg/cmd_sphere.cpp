@@ -53,19 +53,6 @@ geo::Mesh sphere_mesh(const geo::Mesh& mesh, const std::vector<glm::dvec3>& y) {
     return out;
 }
 
-void write_pictures(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::dvec3>& y,
-                    const std::filesystem::path& dir) {
-    passes::RenderOptions view;
-    view.width = 800;
-    view.height = 800;
-    view.color = passes::MeshColor::Checker;
-    view.checker_cells = 12.0;
-    geo::write_png(passes::render_mesh(ctx, passes::spherical_texture_mesh(mesh, y), view), dir / "checker.png");
-    geo::Mesh on_sphere = mesh;
-    on_sphere.positions = y;
-    geo::write_png(passes::render_mesh(ctx, passes::spherical_texture_mesh(on_sphere, y), view), dir / "sphere.png");
-}
-
 void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
     const auto start = std::chrono::steady_clock::now();
     if (!(o.harmonic.tolerance > 0.0) || !std::isfinite(o.harmonic.tolerance))
@@ -108,7 +95,7 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
     std::filesystem::create_directories(dir);
     // float64: the tiniest triangles of a conformal map are below float32's resolution.
     geo::save_mesh(sphere_mesh(mesh, result.positions), dir / "sphere.ply", {.double_precision = true});
-    write_pictures(*ctx, mesh, result.positions, dir);
+    write_sphere_pictures(*ctx, mesh, result.positions, dir);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     nlohmann::json j = metrics_json(m);
@@ -144,6 +131,19 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
 }
 
 }  // namespace
+
+void write_sphere_pictures(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::dvec3>& y,
+                    const std::filesystem::path& dir) {
+    passes::RenderOptions view;
+    view.width = 800;
+    view.height = 800;
+    view.color = passes::MeshColor::Checker;
+    view.checker_cells = 12.0;
+    geo::write_png(passes::render_mesh(ctx, passes::spherical_texture_mesh(mesh, y), view), dir / "checker.png");
+    geo::Mesh on_sphere = mesh;
+    on_sphere.positions = y;
+    geo::write_png(passes::render_mesh(ctx, passes::spherical_texture_mesh(on_sphere, y), view), dir / "sphere.png");
+}
 
 void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
     auto opts = std::make_shared<SphereCliOptions>();

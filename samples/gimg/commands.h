@@ -3,6 +3,12 @@
 
 #include <CLI/CLI.hpp>
 
+#include "gimg/engine/context.h"
+#include "gimg/geometry/mesh.h"
+
+#include <filesystem>
+#include <vector>
+
 namespace gimg::cli {
 
 struct GlobalOptions {
@@ -22,8 +28,11 @@ void add_bench_sphere_command(CLI::App& bench, const GlobalOptions& global);
 void add_reconstruct_command(CLI::App& app, const GlobalOptions& global);
 void add_sample_command(CLI::App& app, const GlobalOptions& global);
 void add_roundtrip_command(CLI::App& app, const GlobalOptions& global);
-// gimg sphere MESH --out DIR [--method gpu|kanai|gu|linear] [--json FILE] (cmd_sphere.cpp)
+// gimg sphere MESH --out DIR [--method harmonic|kanai|gu|linear] [--json FILE] (cmd_sphere.cpp)
 void add_sphere_command(CLI::App& app, const GlobalOptions& global);
+// DIR/checker.png (the mesh textured through its sphere map `y`) and DIR/sphere.png (cmd_sphere.cpp).
+void write_sphere_pictures(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::dvec3>& y,
+                           const std::filesystem::path& dir);
 // gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
 void add_info_command(CLI::App& app, const GlobalOptions& global);
 
