@@ -25,7 +25,7 @@ struct FoldRepair {
     std::size_t flips_before = 0;
     std::size_t flips_after = 0;
     std::size_t moves = 0;   // vertex moves made
-    std::size_t rings = 0;   // how far around the folds the last round reached
+    std::size_t rings = 0;   // how far around the folds the repair reached
 };
 
 struct FoldRepairOptions {
