@@ -9,6 +9,8 @@
 
 #include "gimg/engine/texel_array.h"
 
+#include "cylinder/atlas_images_comp.h"
+#include "cylinder/atlas_images_raster_comp.h"
 #include "cylinder/classify_comp.h"
 #include "cylinder/classify_float_comp.h"
 #include "cylinder/cylinder_layout.h"
@@ -34,6 +36,8 @@ const Spirv kClassify = GIMG_SPIRV(gimg_spv_cylinder_classify_comp);
 const Spirv kClassifyFloat = GIMG_SPIRV(gimg_spv_cylinder_classify_float_comp);
 const Spirv kLargePieces = GIMG_SPIRV(gimg_spv_cylinder_large_pieces_comp);
 const Spirv kLargePiecesFloat = GIMG_SPIRV(gimg_spv_cylinder_large_pieces_float_comp);
+const Spirv kAtlasImages = GIMG_SPIRV(gimg_spv_cylinder_atlas_images_comp);
+const Spirv kAtlasImagesRaster = GIMG_SPIRV(gimg_spv_cylinder_atlas_images_raster_comp);
 const RasterState kDepthMax{.cull = CullMode::None, .depth_test = true, .depth_write = true,
                             .depth_compare = CompareOp::Less};
 const RasterProgram kZBuffer{GIMG_SPIRV(gimg_spv_cylinder_zbuffer_vert), GIMG_SPIRV(gimg_spv_cylinder_zbuffer_frag),
@@ -60,6 +64,9 @@ constexpr VkDeviceSize kDispatchArgsOffset = offsetof(PieceArgs, groups_x);
 
 struct ClassifyPush {
     std::uint32_t total_faces, job_count, width, height, max_rects, small_pixels, atlas_width;
+};
+struct AtlasImagesPush {  // shaders/cylinder/atlas_images_body.glsl
+    std::uint32_t width, height, count, tiles_per_row, atlas_width;
 };
 struct DrawPush {
     float atlas_size[2];
@@ -90,6 +97,32 @@ std::vector<std::array<double, 2>> cylinder_directions(std::uint32_t width) {
     return d;
 }
 
+namespace {
+
+// The uploaded meshes: one texel a vertex and a face (texel_array.h: lavapipe gathers from images).
+// Plans hold it by shared_ptr, so adding a mesh later leaves recorded plans intact.
+struct Geometry {
+    Image positions, triangles;
+};
+
+// One execution's jobs and the atlas they are laid out in: what the recorded passes read each time
+// they run. The host writes the jobs into `jobs_upload` before an execution.
+struct Batch {
+    Buffer jobs_upload;
+    std::uint32_t job_capacity = 0, rect_capacity = 0, tiles_per_row = 1, atlas_width = 0, atlas_height = 0;
+    ClassifyPush classify{};
+    DrawPush draw{};
+};
+
+// What record_projection leaves in the graph: per atlas pixel the compute passes' largest t as an
+// ordered key (0: none), the large-piece arguments, and with the graphics pipeline its t per pixel.
+struct Projection {
+    BufferHandle keys, args;
+    std::optional<ImageHandle> raster_t;
+};
+
+}  // namespace
+
 struct CylinderZBuffer::State {
     Context& ctx;
     std::uint32_t width, height, small_pixels;
@@ -99,27 +132,15 @@ struct CylinderZBuffer::State {
     std::vector<float> positions;
     std::vector<std::uint32_t> triangles;
     std::vector<MeshRange> meshes;
-    bool geometry_dirty = true;
+    std::shared_ptr<Geometry> geometry;  // null until the meshes are uploaded
+    std::shared_ptr<Image> directions;   // texel u: cos and sin of theta_u
 
-    // The batch's jobs: written by the host into jobs_upload, copied by the plan into jobs_buf (for
-    // the graphics pipeline) and jobs_img (five texels a job, for the compute passes).
-    Buffer jobs_upload, jobs_buf, rects_buf, args_buf;
-    Image jobs_img;
-    // Per atlas pixel, the largest t the compute passes found, as an ordered key (distance_key.glsl).
-    Buffer keys_buf;
-    // Where the plan copies the atlas, the keys and the arguments for the host, which merges atlas
-    // and keys as it unpacks the images (on lavapipe a merge pass of its own cost about 0.35 ms an
-    // image).
-    Buffer atlas_readback, keys_readback, args_readback;
-    // One texel a vertex, face and image column (texel_array.h: lavapipe gathers from images).
-    Image positions_img, triangles_img, directions_img;
-    Image atlas;  // the graphics pipeline's t per pixel (only with `graphics`)
-    std::uint32_t job_capacity = 0, rect_capacity = 0, tiles_per_row = 1, atlas_width = 0, atlas_height = 0;
+    // project()'s own plan: the batch it reads, and where it copies the keys, the graphics
+    // pipeline's t and the arguments for the host, which merges them as it unpacks the images (on
+    // lavapipe a merge pass cost about 0.35 ms an image).
+    std::shared_ptr<Batch> batch;
+    Buffer keys_readback, raster_readback, args_readback;
     std::optional<Plan> plan;
-
-    // Read by the record callbacks at every execution.
-    ClassifyPush classify{};
-    DrawPush draw{};
 
     State(Context& c, std::uint32_t w, std::uint32_t h, const CylinderZBufferOptions& options)
         : ctx(c), width(w), height(h), small_pixels(options.small_pixels) {
@@ -139,83 +160,116 @@ struct CylinderZBuffer::State {
                 std::memcpy(&texels[u], f, 8);
             }
         }
-        directions_img = upload_texel_array(ctx, std::move(texels), Format::RGBA32U, "cylinder directions");
-        args_buf = ctx.create_buffer({sizeof(PieceArgs), "cylinder large-piece arguments"});
+        directions = std::make_shared<Image>(
+            upload_texel_array(ctx, std::move(texels), Format::RGBA32U, "cylinder directions"));
         args_readback = ctx.create_buffer({sizeof(PieceArgs), "cylinder large-piece arguments readback"},
                                           MemoryUsage::Readback);
     }
 
-    void upload_geometry() {
+    const Geometry& uploaded_geometry() {
+        if (geometry) return *geometry;
         std::vector<glm::vec4> points(positions.size() / 3);
         for (std::size_t v = 0; v < points.size(); ++v)
             points[v] = {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2], 0.0f};
         std::vector<glm::uvec4> faces(triangles.size() / 3);
         for (std::size_t f = 0; f < faces.size(); ++f)
             faces[f] = {triangles[3 * f], triangles[3 * f + 1], triangles[3 * f + 2], 0u};
-        positions_img = upload_texel_array(ctx, std::move(points), Format::RGBA32F, "cylinder positions");
-        triangles_img = upload_texel_array(ctx, std::move(faces), Format::RGBA32U, "cylinder triangles");
-        geometry_dirty = false;
+        geometry = std::make_shared<Geometry>();
+        geometry->positions = upload_texel_array(ctx, std::move(points), Format::RGBA32F, "cylinder positions");
+        geometry->triangles = upload_texel_array(ctx, std::move(faces), Format::RGBA32U, "cylinder triangles");
         plan.reset();
+        return *geometry;
     }
 
-    void reserve(std::uint32_t jobs, std::uint64_t faces) {
-        const std::uint64_t rects = std::max<std::uint64_t>(GIMG_CYL_RECTS_PER_FACE * faces, 1);
-        if (jobs <= job_capacity && rects <= rect_capacity && plan) return;
+    // The most faces one execution can take (the rectangle buffer is bound whole, so it stays
+    // within maxStorageBufferRange) and the most images one atlas holds.
+    std::uint64_t max_faces() const {
+        return ctx.device_info().max_storage_buffer_range / (16ull * GIMG_CYL_RECTS_PER_FACE);
+    }
+    std::uint64_t max_images() const {
         const std::uint32_t max_dim = ctx.device_info().max_image_dimension_2d;
-        tiles_per_row = std::max(1u, max_dim / width);
-        if (jobs > job_capacity) job_capacity = std::max(jobs, 2 * job_capacity);
-        const std::uint32_t columns = std::min(job_capacity, tiles_per_row);
-        const std::uint32_t rows = (job_capacity + tiles_per_row - 1) / tiles_per_row;
-        if (std::uint64_t(rows) * height > max_dim)
-            throw geo::InputError("a batch of " + std::to_string(jobs) + " images of " +
-                                                        std::to_string(width) + "x" + std::to_string(height) +
-                                                        " does not fit one atlas; project fewer at a time");
-        if (rects > rect_capacity)
-            rect_capacity = std::uint32_t(std::min<std::uint64_t>(std::max<std::uint64_t>(rects, 2ull * rect_capacity), UINT32_MAX));
-        const VkDeviceSize rect_bytes = VkDeviceSize(rect_capacity) * 16;
-        if (rect_bytes > ctx.device_info().max_storage_buffer_range)
-            throw geo::InputError("too many faces in one batch for this device (" +
-                                                        std::to_string(faces) + "); project fewer at a time");
-        jobs_img = ctx.create_image(texel_array_desc(std::size_t(job_capacity) * kTexelsPerJob, Format::RGBA32U,
-                                                            "cylinder job texels"));
-        jobs_upload = ctx.create_buffer({jobs_img.byte_size(), "cylinder jobs upload"}, MemoryUsage::Upload);
-        jobs_buf = ctx.create_buffer({VkDeviceSize(job_capacity) * sizeof(JobGpu), "cylinder jobs"});
-        rects_buf = ctx.create_buffer({rect_bytes, "cylinder rectangles"});
-        atlas_width = columns * width;
-        atlas_height = rows * height;
-        const VkDeviceSize atlas_bytes = VkDeviceSize(atlas_width) * atlas_height * 4;
-        keys_buf = ctx.create_buffer({atlas_bytes, "cylinder distance keys"});
-        keys_readback = ctx.create_buffer({atlas_bytes, "cylinder distance keys readback"}, MemoryUsage::Readback);
-        if (graphics) {
-            atlas = ctx.create_image({atlas_width, atlas_height, Format::R32F, "cylinder atlas"});
-            atlas_readback = ctx.create_buffer({atlas_bytes, "cylinder atlas readback"}, MemoryUsage::Readback);
-        }
-        build_plan();
+        return std::uint64_t(std::max(1u, max_dim / width)) * std::max(1u, max_dim / height);
     }
 
-    void build_plan() {
-        Graph g(ctx);
-        auto pos = g.import_image(positions_img), tri = g.import_image(triangles_img);
-        auto jobs_in = g.import_buffer(jobs_upload), jobs = g.import_buffer(jobs_buf);
-        auto job_texels = g.import_image(jobs_img);
-        auto rects = g.import_buffer(rects_buf), args = g.import_buffer(args_buf);
-        auto dirs = g.import_image(directions_img);
-        auto keys = g.import_buffer(keys_buf);
-        auto keys_out = g.import_buffer(keys_readback), args_out = g.import_buffer(args_readback);
-        g.add_compute_pass("reset", [&](PassBuilder& b) {
+    // A batch for up to `jobs` images and `faces` faces, laid out in one atlas.
+    std::shared_ptr<Batch> make_batch(std::uint32_t jobs, std::uint64_t faces) const {
+        auto b = std::make_shared<Batch>();
+        const std::uint32_t max_dim = ctx.device_info().max_image_dimension_2d;
+        b->job_capacity = std::max(jobs, 1u);
+        b->tiles_per_row = std::max(1u, max_dim / width);
+        const std::uint32_t columns = std::min(b->job_capacity, b->tiles_per_row);
+        const std::uint32_t rows = (b->job_capacity + b->tiles_per_row - 1) / b->tiles_per_row;
+        if (std::uint64_t(rows) * height > max_dim)
+            throw geo::InputError("a batch of " + std::to_string(jobs) + " images of " + std::to_string(width) + "x" +
+                                  std::to_string(height) + " does not fit one atlas; project fewer at a time");
+        const std::uint64_t rects = std::max<std::uint64_t>(GIMG_CYL_RECTS_PER_FACE * faces, 1);
+        b->rect_capacity = std::uint32_t(std::min<std::uint64_t>(rects, UINT32_MAX));
+        if (VkDeviceSize(b->rect_capacity) * 16 > ctx.device_info().max_storage_buffer_range)
+            throw geo::InputError("too many faces in one batch for this device (" + std::to_string(faces) +
+                                  "); project fewer at a time");
+        b->atlas_width = columns * width;
+        b->atlas_height = rows * height;
+        const ImageDesc texels = texel_array_desc(std::size_t(b->job_capacity) * kTexelsPerJob, Format::RGBA32U, "");
+        b->jobs_upload = ctx.create_buffer({VkDeviceSize(texels.width) * texels.height * 16, "cylinder jobs upload"},
+                                           MemoryUsage::Upload);
+        return b;
+    }
+
+    // Writes the jobs into the batch (tiles in atlas order) and returns them as the shaders see them.
+    std::vector<JobGpu> write_jobs(Batch& b, std::span<const Job> jobs, std::uint64_t faces) const {
+        std::vector<JobGpu> gpu(jobs.size());
+        std::uint32_t prefix = 0;
+        for (std::size_t k = 0; k < jobs.size(); ++k) {
+            const MeshRange& m = meshes[jobs[k].mesh];
+            JobGpu& g = gpu[k];
+            std::memcpy(g.rows, jobs[k].transform.data(), sizeof g.rows);
+            g.first_face = m.first_face;
+            g.face_count = m.face_count;
+            g.face_prefix = prefix;
+            g.vertex_offset = m.vertex_offset;
+            g.tile_x = std::uint32_t(k % b.tiles_per_row) * width;
+            g.tile_y = std::uint32_t(k / b.tiles_per_row) * height;
+            g.pad0 = g.pad1 = 0;
+            prefix += m.face_count;
+        }
+        ctx.upload(b.jobs_upload, gpu.data(), gpu.size() * sizeof(JobGpu));
+        b.classify = {std::uint32_t(faces), std::uint32_t(jobs.size()), width,         height,
+                      b.rect_capacity,      small_pixels,              b.atlas_width};
+        b.draw = {{float(b.atlas_width), float(b.atlas_height)}, {width, height}};
+        return gpu;
+    }
+
+    // Records reset, classify + small pieces and the large-piece pass of one batch into g. The
+    // passes read the batch, the geometry and the directions through shared ownership or imports.
+    Projection record_projection(Graph& g, const std::shared_ptr<Batch>& bt, const std::string& name) {
+        const auto geo_ptr = geometry;
+        const auto dirs_ptr = directions;
+        auto pos = g.import_image(geo_ptr->positions), tri = g.import_image(geo_ptr->triangles);
+        auto dirs = g.import_image(*dirs_ptr);
+        auto jobs_in = g.import_buffer(bt->jobs_upload);
+        auto job_texels = g.create_image(
+            texel_array_desc(std::size_t(bt->job_capacity) * kTexelsPerJob, Format::RGBA32U, name + " job texels"));
+        const VkDeviceSize jobs_bytes = VkDeviceSize(bt->job_capacity) * sizeof(JobGpu);
+        auto jobs = g.create_buffer({jobs_bytes, name + " jobs"});
+        auto rects = g.create_buffer({VkDeviceSize(bt->rect_capacity) * 16, name + " rectangles"});
+        auto args = g.create_buffer({sizeof(PieceArgs), name + " large-piece arguments"});
+        auto keys = g.create_buffer(
+            {VkDeviceSize(bt->atlas_width) * bt->atlas_height * 4, name + " distance keys"});
+        const bool graphics_pass = graphics, dbl = use_double;
+        g.add_compute_pass(name + ": reset", [&](PassBuilder& b) {
             b.read(jobs_in, Access::TransferSrc);
-            if (graphics) jobs = b.write(jobs, Access::TransferDst);  // only the graphics pipeline reads it
+            if (graphics_pass) jobs = b.write(jobs, Access::TransferDst);  // only the graphics pipeline reads it
             job_texels = b.write(job_texels, Access::TransferDst);
             args = b.write(args, Access::TransferDst);
             keys = b.write(keys, Access::TransferDst);
-        }, [this, jobs_in, jobs, job_texels, args, keys](Cmd& c) {
-            if (graphics) c.copy(jobs_in, jobs, jobs_buf.size());
+        }, [graphics_pass, jobs_bytes, jobs_in, jobs, job_texels, args, keys, bt](Cmd& c) {
+            if (graphics_pass) c.copy(jobs_in, jobs, jobs_bytes);
             c.copy(jobs_in, job_texels);
             const PieceArgs init{0, 1, 0, 0, 0, 1, 1, 0};
             c.update(args, &init, sizeof init);
             c.fill(keys, 0);
         });
-        g.add_compute_pass("classify, split, small pieces", [&](PassBuilder& b) {
+        g.add_compute_pass(name + ": classify, split, small pieces", [&](PassBuilder& b) {
             b.read(pos, Access::ComputeRead);
             b.read(tri, Access::ComputeRead);
             b.read(job_texels, Access::ComputeRead);
@@ -223,19 +277,18 @@ struct CylinderZBuffer::State {
             rects = b.write(rects, Access::ComputeWrite);
             args = b.write(args, Access::ComputeReadWrite);
             keys = b.write(keys, Access::ComputeReadWrite);
-        }, [this, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
-            const std::uint32_t groups = (classify.total_faces + GIMG_CYL_CLASSIFY_GROUP - 1) / GIMG_CYL_CLASSIFY_GROUP;
+        }, [dbl, bt, geo_ptr, dirs_ptr, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
+            const std::uint32_t groups =
+                (bt->classify.total_faces + GIMG_CYL_CLASSIFY_GROUP - 1) / GIMG_CYL_CLASSIFY_GROUP;
             const std::uint32_t gx = std::min(groups, 65535u), gy = (groups + gx - 1) / std::max(gx, 1u);
-            c.dispatch(use_double ? kClassify : kClassifyFloat, {gx, gy, 1},
-                       {pos, tri, job_texels, rects, args, dirs, keys}, classify);
+            c.dispatch(dbl ? kClassify : kClassifyFloat, {gx, gy, 1}, {pos, tri, job_texels, rects, args, dirs, keys},
+                       bt->classify);
         });
-        std::optional<ImageHandle> image;
-        std::optional<BufferHandle> atlas_out;
-        if (graphics) {
-            image = g.import_image(atlas);
-            atlas_out = g.import_buffer(atlas_readback);
-            auto depth = g.create_image({atlas_width, atlas_height, Format::D32F, "cylinder depth"});
-            g.add_raster_pass("cylindrical z-buffer", [&](PassBuilder& b) {
+        Projection out{keys, args, std::nullopt};
+        if (graphics_pass) {
+            auto raster_t = g.create_image({bt->atlas_width, bt->atlas_height, Format::R32F, name + " atlas"});
+            auto depth = g.create_image({bt->atlas_width, bt->atlas_height, Format::D32F, name + " depth"});
+            g.add_raster_pass(name + ": z-buffer", [&](PassBuilder& b) {
                 b.read(rects, Access::VertexRead);
                 b.read(jobs, Access::VertexRead);
                 b.read(jobs, Access::FragmentRead);
@@ -243,13 +296,14 @@ struct CylinderZBuffer::State {
                 b.read(tri, Access::FragmentRead);
                 b.read(dirs, Access::FragmentRead);
                 b.read(args, Access::IndirectArgs);
-                image = b.color(*image, ClearValue::color(float(GIMG_CYL_EMPTY)));
+                raster_t = b.color(raster_t, ClearValue::color(float(GIMG_CYL_EMPTY)));
                 depth = b.depth(depth, ClearValue::depth(1.0f));
-            }, [this, rects, jobs, pos, tri, dirs, args](Cmd& c) {
-                c.draw_indirect(use_double ? kZBuffer : kZBufferFloat, args, 0, 1, {rects, jobs, pos, tri, dirs}, draw);
+            }, [dbl, bt, geo_ptr, rects, jobs, pos, tri, dirs, args](Cmd& c) {
+                c.draw_indirect(dbl ? kZBuffer : kZBufferFloat, args, 0, 1, {rects, jobs, pos, tri, dirs}, bt->draw);
             });
+            out.raster_t = raster_t;
         } else {
-            g.add_compute_pass("large pieces", [&](PassBuilder& b) {
+            g.add_compute_pass(name + ": large pieces", [&](PassBuilder& b) {
                 b.read(pos, Access::ComputeRead);
                 b.read(tri, Access::ComputeRead);
                 b.read(job_texels, Access::ComputeRead);
@@ -258,24 +312,51 @@ struct CylinderZBuffer::State {
                 b.read(args, Access::ComputeRead);
                 b.read(dirs, Access::ComputeRead);
                 keys = b.write(keys, Access::ComputeReadWrite);
-            }, [this, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
-                c.dispatch_indirect(use_double ? kLargePieces : kLargePiecesFloat, args, kDispatchArgsOffset,
-                                    {pos, tri, job_texels, rects, args, dirs, keys}, classify);
+            }, [dbl, bt, geo_ptr, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
+                c.dispatch_indirect(dbl ? kLargePieces : kLargePiecesFloat, args, kDispatchArgsOffset,
+                                    {pos, tri, job_texels, rects, args, dirs, keys}, bt->classify);
             });
+            out.keys = keys;
         }
-        g.add_compute_pass("read back", [&](PassBuilder& b) {
-            if (image) b.read(*image, Access::TransferSrc);
-            b.read(keys, Access::TransferSrc);
-            b.read(args, Access::TransferSrc);
-            if (atlas_out) atlas_out = b.write(*atlas_out, Access::TransferDst);
+        return out;
+    }
+
+    // project()'s plan, rebuilt when a batch outgrows it or the meshes change.
+    void reserve(std::uint32_t jobs, std::uint64_t faces) {
+        uploaded_geometry();
+        const std::uint32_t have_jobs = batch ? batch->job_capacity : 0;
+        const std::uint64_t have_faces = batch ? batch->rect_capacity / GIMG_CYL_RECTS_PER_FACE : 0;
+        if (plan && jobs <= have_jobs && faces <= have_faces) return;
+        // What outgrows the plan grows to twice the old size (within the device's limits), so a
+        // growing series of batches rebuilds it rarely.
+        const auto grow = [](std::uint64_t need, std::uint64_t have, std::uint64_t limit) {
+            return need <= have ? have : std::max(need, std::min(2 * have, limit));
+        };
+        plan.reset();
+        batch = make_batch(std::uint32_t(grow(jobs, have_jobs, max_images())), grow(faces, have_faces, max_faces()));
+        const VkDeviceSize atlas_bytes = VkDeviceSize(batch->atlas_width) * batch->atlas_height * 4;
+        keys_readback = ctx.create_buffer({atlas_bytes, "cylinder distance keys readback"}, MemoryUsage::Readback);
+        if (graphics)
+            raster_readback = ctx.create_buffer({atlas_bytes, "cylinder atlas readback"}, MemoryUsage::Readback);
+
+        Graph g(ctx);
+        const Projection p = record_projection(g, batch, "cylinder");
+        auto keys_out = g.import_buffer(keys_readback), args_out = g.import_buffer(args_readback);
+        std::optional<BufferHandle> raster_out;
+        if (graphics) raster_out = g.import_buffer(raster_readback);
+        g.add_compute_pass("cylinder: read back", [&](PassBuilder& b) {
+            if (p.raster_t) b.read(*p.raster_t, Access::TransferSrc);
+            b.read(p.keys, Access::TransferSrc);
+            b.read(p.args, Access::TransferSrc);
+            if (raster_out) raster_out = b.write(*raster_out, Access::TransferDst);
             keys_out = b.write(keys_out, Access::TransferDst);
             args_out = b.write(args_out, Access::TransferDst);
-        }, [image, keys, args, atlas_out, keys_out, args_out](Cmd& c) {
-            if (image) c.copy(*image, *atlas_out);
-            c.copy(keys, keys_out);
-            c.copy(args, args_out);
+        }, [p, raster_out, keys_out, args_out](Cmd& c) {
+            if (p.raster_t) c.copy(*p.raster_t, *raster_out);
+            c.copy(p.keys, keys_out);
+            c.copy(p.args, args_out);
         });
-        if (atlas_out) g.export_buffer(*atlas_out, Access::HostRead);
+        if (raster_out) g.export_buffer(*raster_out, Access::HostRead);
         g.export_buffer(keys_out, Access::HostRead);
         g.export_buffer(args_out, Access::HostRead);
         plan = g.compile();
@@ -325,21 +406,17 @@ std::uint32_t CylinderZBuffer::add_mesh(const CylinderMesh& mesh) {
     s.triangles.resize(first + mesh.triangles.size());
     for (std::size_t k = 0; k < order.size(); ++k)
         std::copy_n(mesh.triangles.begin() + 3 * std::size_t(order[k]), 3, s.triangles.begin() + first + 3 * k);
-    s.geometry_dirty = true;
+    s.geometry.reset();
     return std::uint32_t(s.meshes.size() - 1);
 }
 
 std::vector<CylinderImage> CylinderZBuffer::project(std::span<const Job> jobs) {
     State& s = *state_;
     if (jobs.empty()) return {};
-    if (s.geometry_dirty) s.upload_geometry();
     for (const Job& j : jobs)
         if (j.mesh >= s.meshes.size()) throw Error(ErrorKind::InvalidArgument, "project(): unknown mesh id");
-    // As many images per execution as the rectangle buffer (bound whole, so within
-    // maxStorageBufferRange) and one atlas can hold; larger batches run as several executions.
-    const std::uint64_t max_faces = s.ctx.device_info().max_storage_buffer_range / (16ull * GIMG_CYL_RECTS_PER_FACE);
-    const std::uint32_t max_dim = s.ctx.device_info().max_image_dimension_2d;
-    const std::uint64_t max_images = std::uint64_t(std::max(1u, max_dim / s.width)) * std::max(1u, max_dim / s.height);
+    // As many images per execution as one plan can hold; larger batches run as several executions.
+    const std::uint64_t max_faces = s.max_faces(), max_images = s.max_images();
     std::vector<CylinderImage> out;
     out.reserve(jobs.size());
     double gpu_ms = 0.0;
@@ -352,8 +429,7 @@ std::vector<CylinderImage> CylinderZBuffer::project(std::span<const Job> jobs) {
             faces += s.meshes[jobs[end++].mesh].face_count;
         if (faces > max_faces)
             throw geo::InputError("a mesh of " + std::to_string(faces) +
-                                                        " faces is more than this device can project at once (" +
-                                                        std::to_string(max_faces) + ")");
+                                  " faces is more than this device can project at once (" + std::to_string(max_faces) + ")");
         auto images = project_batch(jobs.subspan(begin, end - begin), faces);
         for (auto& img : images) out.push_back(std::move(img));
         gpu_ms += last_gpu_ms_;
@@ -368,39 +444,21 @@ std::vector<CylinderImage> CylinderZBuffer::project(std::span<const Job> jobs) {
 std::vector<CylinderImage> CylinderZBuffer::project_batch(std::span<const Job> jobs, std::uint64_t total) {
     State& s = *state_;
     s.reserve(std::uint32_t(jobs.size()), total);
-
-    std::vector<JobGpu> gpu(jobs.size());
-    std::uint32_t prefix = 0;
-    for (std::size_t k = 0; k < jobs.size(); ++k) {
-        const MeshRange& m = s.meshes[jobs[k].mesh];
-        JobGpu& g = gpu[k];
-        std::memcpy(g.rows, jobs[k].transform.data(), sizeof g.rows);
-        g.first_face = m.first_face;
-        g.face_count = m.face_count;
-        g.face_prefix = prefix;
-        g.vertex_offset = m.vertex_offset;
-        g.tile_x = std::uint32_t(k % s.tiles_per_row) * s.width;
-        g.tile_y = std::uint32_t(k / s.tiles_per_row) * s.height;
-        g.pad0 = g.pad1 = 0;
-        prefix += m.face_count;
-    }
-    s.ctx.upload(s.jobs_upload, gpu.data(), gpu.size() * sizeof(JobGpu));
-    s.classify = {std::uint32_t(total), std::uint32_t(jobs.size()), s.width,         s.height,
-                  s.rect_capacity,       s.small_pixels,              s.atlas_width};
-    s.draw = {{float(s.atlas_width), float(s.atlas_height)}, {s.width, s.height}};
+    const Batch& b = *s.batch;
+    const std::vector<JobGpu> gpu = s.write_jobs(*s.batch, jobs, total);
     s.plan->execute({.wait = true, .timestamps = s.timestamps});
     last_gpu_ms_ = s.timestamps ? s.plan->total_gpu_ms() : 0.0;
 
     PieceArgs args{};
     s.ctx.download(s.args_readback, &args, sizeof args);
     last_rects_ = args.rect_count;
-    const std::size_t atlas_pixels = std::size_t(s.atlas_width) * s.atlas_height;
+    const std::size_t atlas_pixels = std::size_t(b.atlas_width) * b.atlas_height;
     std::vector<std::uint32_t> keys(atlas_pixels);
     s.ctx.download(s.keys_readback, keys.data(), atlas_pixels * 4);
-    std::vector<float> atlas;
+    std::vector<float> raster_t;
     if (s.graphics) {
-        atlas.resize(atlas_pixels);
-        s.ctx.download(s.atlas_readback, atlas.data(), atlas_pixels * 4);
+        raster_t.resize(atlas_pixels);
+        s.ctx.download(s.raster_readback, raster_t.data(), atlas_pixels * 4);
     }
     std::vector<CylinderImage> out;
     out.reserve(jobs.size());
@@ -408,10 +466,11 @@ std::vector<CylinderImage> CylinderZBuffer::project_batch(std::span<const Job> j
         CylinderImage img(s.width, s.height);
         for (std::uint32_t v = 0; v < s.height; ++v)
             for (std::uint32_t u = 0; u < s.width; ++u) {
-                const std::size_t i = std::size_t(gpu[k].tile_y + v) * s.atlas_width + gpu[k].tile_x + u;
-                // The larger of the compute passes' t (key 0: none) and the graphics pipeline's (empty: -4).
+                const std::size_t i = std::size_t(gpu[k].tile_y + v) * b.atlas_width + gpu[k].tile_x + u;
+                // The larger of the compute passes' t (key 0: none) and the graphics pipeline's
+                // (empty: -4); shaders/cylinder/atlas_images_body.glsl decides the same on the GPU.
                 float d = keys[i] != 0 ? key_distance(keys[i]) : float(GIMG_CYL_EMPTY);
-                if (s.graphics) d = std::max(d, atlas[i]);
+                if (s.graphics) d = std::max(d, raster_t[i]);
                 const bool hit = d >= -1.0f;
                 img.covered[img.index(u, v)] = hit;
                 img.distance[img.index(u, v)] = hit ? d : 0.0f;
@@ -424,6 +483,44 @@ std::vector<CylinderImage> CylinderZBuffer::project_batch(std::span<const Job> j
 CylinderImage CylinderZBuffer::project(std::uint32_t mesh, const CylinderTransform& transform) {
     const Job job{mesh, transform};
     return std::move(project(std::span<const Job>(&job, 1)).front());
+}
+
+CylinderImagesHandle add_cylinder(Graph& graph, CylinderZBuffer& zbuffer, std::span<const CylinderZBuffer::Job> jobs,
+                                  const std::string& name) {
+    CylinderZBuffer::State& s = *zbuffer.state_;
+    if (jobs.empty()) throw geo::InputError("add_cylinder: no images to project");
+    std::uint64_t faces = 0;
+    for (const CylinderZBuffer::Job& j : jobs) {
+        if (j.mesh >= s.meshes.size()) throw geo::InputError("add_cylinder: unknown mesh id " + std::to_string(j.mesh));
+        faces += s.meshes[j.mesh].face_count;
+    }
+    if (faces > s.max_faces() || jobs.size() > s.max_images())
+        throw geo::InputError("add_cylinder: " + std::to_string(jobs.size()) + " images of " + std::to_string(faces) +
+                              " faces in all are more than one execution holds on this device (" +
+                              std::to_string(s.max_images()) + " images, " + std::to_string(s.max_faces()) +
+                              " faces); record fewer at a time");
+    const VkDeviceSize image_bytes = VkDeviceSize(jobs.size()) * s.width * s.height * 4;
+    if (image_bytes > s.ctx.device_info().max_storage_buffer_range)
+        throw geo::InputError("add_cylinder: " + std::to_string(jobs.size()) + " images of " + std::to_string(s.width) +
+                              "x" + std::to_string(s.height) + " are more than one buffer holds on this device; record fewer at a time");
+    s.uploaded_geometry();
+    auto batch = s.make_batch(std::uint32_t(jobs.size()), faces);
+    s.write_jobs(*batch, jobs, faces);
+    const Projection p = s.record_projection(graph, batch, name);
+
+    auto images = graph.create_buffer({image_bytes, name + " images"});
+    const AtlasImagesPush push{s.width, s.height, std::uint32_t(jobs.size()), batch->tiles_per_row, batch->atlas_width};
+    graph.add_compute_pass(name + ": images", [&](PassBuilder& b) {
+        b.read(p.keys, Access::ComputeRead);
+        if (p.raster_t) b.read(*p.raster_t, Access::ComputeRead);
+        images = b.write(images, Access::ComputeWrite);
+    }, [p, images, push](Cmd& c) {
+        if (p.raster_t)
+            c.dispatch_threads(kAtlasImagesRaster, {push.width, push.height, push.count}, {p.keys, images, *p.raster_t}, push);
+        else
+            c.dispatch_threads(kAtlasImages, {push.width, push.height, push.count}, {p.keys, images}, push);
+    });
+    return {images, s.width, s.height, std::uint32_t(jobs.size())};
 }
 
 }  // namespace gimg::passes

@@ -28,6 +28,19 @@ void check_sampleable(const geo::Mesh& mesh, std::uint32_t size) {
 
 }  // namespace
 
+ImageHandle add_sample(Graph& graph, BufferHandle positions, BufferHandle parameters, BufferHandle triangles,
+                       std::uint32_t face_count, std::uint32_t size, const std::string& name) {
+    if (face_count == 0) throw geo::InputError("the mesh has no faces to sample");
+    if (size < 2 || size > 16384) throw geo::InputError("sample size must be from 2 to 16384");
+    auto image = graph.create_image({size, size, Format::RGBA32F, name + " position image"});
+    const std::uint32_t vertices = 3 * face_count;
+    graph.add_raster_pass(name, [&](PassBuilder& b) {
+        for (auto h : {positions, parameters, triangles}) b.read(h, Access::VertexRead);
+        image = b.color(image, ClearValue::color(0, 0, 0, 0));
+    }, [=](Cmd& c) { c.draw(kSample, vertices, 1, {positions, parameters, triangles}); });
+    return image;
+}
+
 PositionImage sample_gpu(Context& ctx, const geo::Mesh& mesh, std::uint32_t size) {
     check_sampleable(mesh, size);
     std::vector<float> positions(3 * mesh.vertex_count()), params(2 * mesh.vertex_count());
@@ -45,13 +58,8 @@ PositionImage sample_gpu(Context& ctx, const geo::Mesh& mesh, std::uint32_t size
     Buffer par_buf = upload(params.data(), params.size() * 4, "parameters");
     Buffer tri_buf = upload(mesh.triangles.data(), mesh.triangles.size() * 12, "triangles");
     Graph g(ctx);
-    auto pos = g.import_buffer(pos_buf), par = g.import_buffer(par_buf), tri = g.import_buffer(tri_buf);
-    auto image = g.create_image({size, size, Format::RGBA32F, "position image"});
-    const auto vertices = std::uint32_t(3 * mesh.face_count());
-    g.add_raster_pass("sample", [&](PassBuilder& b) {
-        for (auto h : {pos, par, tri}) b.read(h, Access::VertexRead);
-        image = b.color(image, ClearValue::color(0, 0, 0, 0));
-    }, [=](Cmd& c) { c.draw(kSample, vertices, 1, {pos, par, tri}); });
+    const ImageHandle image = add_sample(g, g.import_buffer(pos_buf), g.import_buffer(par_buf), g.import_buffer(tri_buf),
+                                         std::uint32_t(mesh.face_count()), size);
     g.export_image(image, Access::TransferSrc);
     Plan plan = g.compile();
     plan.execute();

@@ -1,4 +1,4 @@
-// Cylindrical Z-buffer, step 1 (seed 003, ch. 4): per (image, triangle), classify the triangle as
+// Cylindrical Z-buffer, step 1 (the cylindrical-projection thesis, ch. 4): per (image, triangle), classify the triangle as
 // seen from the axis (front: all V.N_xz >= 0, back: all <= 0, exception: mixed), split exception
 // triangles along the plane through the axis where V.N_xz changes sign, and find one pixel
 // rectangle per piece that conservatively covers its curved image in (theta, y) - two for a

@@ -4,8 +4,10 @@
 // clean run also shows gimg cleaned up after itself.
 #include "gimg/engine/context.h"
 #include "gimg/engine/graph.h"
+#include "gimg/geometry/shapes.h"
 #include "gimg/passes/primitives.h"
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 #include <vulkan/vulkan.h>
 
@@ -86,7 +88,10 @@ protected:
         q.queueFamilyIndex = family;
         q.queueCount = 1;
         q.pQueuePriorities = &priority;
-        gimg::RequiredFeatures required;
+        // The optional feature the README example's capabilities use, as an engine would enable it.
+        VkPhysicalDeviceFeatures supported{};
+        vkGetPhysicalDeviceFeatures(physical, &supported);
+        required.features2.features.shaderFloat64 = supported.shaderFloat64;
         auto exts = gimg::required_device_extensions();
         VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO, required.chain()};
         dci.queueCreateInfoCount = 1;
@@ -106,6 +111,7 @@ protected:
         EXPECT_EQ(host_messages.load(), 0) << "validation messages on the host's device";
     }
 
+    gimg::RequiredFeatures required;
     VkInstance instance = VK_NULL_HANDLE;
     VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
     VkPhysicalDevice physical = VK_NULL_HANDLE;
@@ -117,11 +123,15 @@ protected:
 }  // namespace
 
 TEST_F(HostEngine, ReadmeExampleRunsGimgOnTheHostsDevice) {
-    std::vector<std::uint32_t> values(5000);
-    for (std::uint32_t i = 0; i < values.size(); ++i) values[i] = (i * 7919u) % 13u;
-    std::vector<std::uint32_t> expected(values.size());
-    std::inclusive_scan(values.begin(), values.end(), expected.begin());
-    EXPECT_EQ(prefix_sums_on_host_device(instance, physical, device, queue, family, values), expected);
+    if (!required.features2.features.shaderFloat64) GTEST_SKIP() << "the device lacks shaderFloat64";
+    // A sphere of radius 0.4 seen from its centre: every pixel hits it, no jump cuts a block, and
+    // every rebuilt vertex lies on it.
+    const gimg::geo::Mesh sphere = gimg::geo::make_icosphere(0.4, 4);
+    const gimg::geo::Mesh rebuilt = rebuild_on_host_device(
+        {instance, physical, device, queue, family, vkGetInstanceProcAddr, &required.features2}, sphere);
+    EXPECT_EQ(rebuilt.vertex_count(), 256u * 128u);
+    EXPECT_EQ(rebuilt.face_count(), 2u * 256u * 127u);
+    for (const auto& p : rebuilt.positions) ASSERT_NEAR(glm::length(p), 0.4, 1e-3);
 }
 
 TEST_F(HostEngine, PlanRecordsIntoTheHostsCommandBuffer) {

@@ -10,6 +10,7 @@
 // optional per-image 3x4 transform applied in double), so they can agree to rounding.
 
 #include "gimg/engine/context.h"
+#include "gimg/engine/graph.h"
 #include "gimg/engine/plan.h"
 #include "gimg/geometry/image.h"
 #include "gimg/geometry/mesh.h"
@@ -148,8 +149,19 @@ struct CylinderZBufferOptions {
     bool timestamps = false;
 };
 
+class CylinderZBuffer;
+
+// What add_cylinder leaves in a graph: `count` images of width x height, one after another, each
+// row-major from the top row, as float32 d with NaN where no surface was hit (the form
+// add_reconstruct reads). A transient of the graph: export it to read it through the plan.
+struct CylinderImagesHandle {
+    BufferHandle distance;
+    std::uint32_t width = 0, height = 0, count = 0;
+};
+
 // The GPU cylindrical Z-buffer. Meshes are uploaded once; project() renders any number of images
-// (mesh, transform) in one graph execution, tiled into one atlas.
+// (mesh, transform) in one graph execution, tiled into one atlas; add_cylinder records the same
+// passes into a caller's graph.
 class CylinderZBuffer {
 public:
     CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height, const CylinderZBufferOptions& options = {});
@@ -181,11 +193,20 @@ public:
     bool double_precision() const;
 
 private:
+    friend CylinderImagesHandle add_cylinder(Graph&, CylinderZBuffer&, std::span<const Job>, const std::string&);
     std::vector<CylinderImage> project_batch(std::span<const Job> jobs, std::uint64_t faces);
     struct State;
     std::unique_ptr<State> state_;
     double last_gpu_ms_ = 0.0;
     std::uint64_t last_rects_ = 0;
 };
+
+// Records the projection of `jobs` (meshes added to `zbuffer`, each with its transform) into a
+// caller's graph as passes named "<name>: ...", fixed at recording: every execution of the plan
+// projects the same jobs. The plan keeps what it reads alive (it may outlive the zbuffer); meshes
+// added later do not change it. Throws geo::InputError for an unknown mesh id or more images or
+// faces than one execution holds on the device.
+CylinderImagesHandle add_cylinder(Graph& graph, CylinderZBuffer& zbuffer, std::span<const CylinderZBuffer::Job> jobs,
+                                  const std::string& name = "cylinder");
 
 }  // namespace gimg::passes

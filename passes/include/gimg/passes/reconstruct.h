@@ -6,6 +6,7 @@
 // and the CPU reference give the same vertices and triangles in the same order.
 
 #include "gimg/engine/context.h"
+#include "gimg/engine/graph.h"
 #include "gimg/geometry/mesh.h"
 #include "gimg/passes/cylinder.h"
 
@@ -13,6 +14,7 @@
 #include <filesystem>
 #include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace gimg::passes {
@@ -73,5 +75,36 @@ geo::Mesh reconstruct_gpu(Context& ctx, const CylinderImage& image, const Cylind
                           const ReconstructOptions& options = {}, ReconstructStats* stats = nullptr);
 geo::Mesh reconstruct_gpu(Context& ctx, const PositionImage& image, const ReconstructOptions& options = {},
                           ReconstructStats* stats = nullptr);
+
+// What add_reconstruct leaves in a graph, as transients (export_reconstruction keeps them for
+// read_reconstruction, or bind them in later passes: they are ready for compute reads).
+struct ReconstructHandles {
+    BufferHandle vertices;      // 3 float32 a vertex (model coordinates); the first vertex count are used
+    BufferHandle triangles;     // 3 uint32 a triangle; the first triangle count are used
+    BufferHandle vertex_index;  // per pixel, vertices up to it: the last element is the vertex count
+    BufferHandle triangle_end;  // per block, triangles up to it: the last element is the triangle count
+    std::uint32_t width = 0, height = 0;  // after the level-of-detail reduction
+    std::uint64_t pixels = 0, blocks = 0;
+    float threshold = 0.0f;
+};
+
+// The GPU path recorded into a caller's graph as passes named "<name>: ...". The threshold is
+// explicit here (default_cylinder_threshold needs the image on the host; infinity never cuts), and
+// caps are a host step (reconstruct_gpu's fill_caps). Throws geo::InputError for sizes as
+// reconstruct_gpu does.
+// Cylindrical: image `index` of `images` (add_cylinder's output, or any buffer of float32 d with
+// NaN where empty) in the cylinder frame `frame`.
+ReconstructHandles add_reconstruct(Graph& graph, const CylinderImagesHandle& images, std::uint32_t index,
+                                   const CylinderFrame& frame, float threshold, std::uint32_t lod = 0,
+                                   const std::string& name = "reconstruct");
+// Position images: 3 float32 a pixel (x, y, z), NaN in x where empty.
+ReconstructHandles add_reconstruct(Graph& graph, BufferHandle xyz, std::uint32_t width, std::uint32_t height,
+                                   float threshold = std::numeric_limits<float>::infinity(), std::uint32_t lod = 0,
+                                   const std::string& name = "reconstruct");
+// Keeps the handles' buffers past the graph, ready to download.
+void export_reconstruction(Graph& graph, const ReconstructHandles& handles);
+// The mesh an executed plan holds at exported handles (vertex normals computed on the host): the
+// vertices and triangles reconstruct_gpu gives, in the same order.
+geo::Mesh read_reconstruction(Context& ctx, Plan& plan, const ReconstructHandles& handles);
 
 }  // namespace gimg::passes
