@@ -32,8 +32,9 @@ namespace {
 const char* const kExtensions[] = {".off", ".ply", ".obj", ".stl"};
 
 std::filesystem::path scratch(const char* extension) {
-    static const std::filesystem::path dir = std::filesystem::exists("/dev/shm") ? std::filesystem::path("/dev/shm")
-                                                                                 : std::filesystem::temp_directory_path();
+    static const std::filesystem::path dir = std::filesystem::exists("/dev/shm")
+                                                 ? std::filesystem::path("/dev/shm")
+                                                 : std::filesystem::temp_directory_path();
     return dir / ("gimg-fuzz-" + std::to_string(::getpid()) + extension);
 }
 
@@ -89,7 +90,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     try {
         gimg::geo::save_mesh(mesh, saved);
         const gimg::geo::Mesh back = gimg::geo::load_mesh(saved);
-        if (back.positions != mesh.positions || back.triangles != mesh.triangles) bug("a PLY round trip changed the mesh");
+        if (back.positions != mesh.positions || back.triangles != mesh.triangles)
+            bug("a PLY round trip changed the mesh");
     } catch (const std::exception& e) {
         bug(std::string("saving or reloading a loaded mesh failed: ") + e.what());
     }

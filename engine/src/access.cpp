@@ -19,37 +19,42 @@ AccessInfo access_info(Access access) {
     switch (access) {
         case Access::None:
             return {VK_PIPELINE_STAGE_2_NONE, VK_ACCESS_2_NONE, VK_IMAGE_LAYOUT_UNDEFINED, false, false};
-        case Access::ComputeRead: return {kCompute, kStorageRead, kGeneral, true, false};
-        case Access::ComputeWrite: return {kCompute, kStorageWrite, kGeneral, false, true};
-        case Access::ComputeReadWrite: return {kCompute, kStorageRead | kStorageWrite, kGeneral, true, true};
+        case Access::ComputeRead:
+            return {kCompute, kStorageRead, kGeneral, true, false};
+        case Access::ComputeWrite:
+            return {kCompute, kStorageWrite, kGeneral, false, true};
+        case Access::ComputeReadWrite:
+            return {kCompute, kStorageRead | kStorageWrite, kGeneral, true, true};
         case Access::ComputeSampled:
-            return {kCompute, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT,
-                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, true, false};
+            return {kCompute, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, true,
+                    false};
         case Access::ComputeUniform:
             return {kCompute, VK_ACCESS_2_UNIFORM_READ_BIT, kGeneral, true, false};
-        case Access::VertexRead: return {kVertex, kStorageRead, kGeneral, true, false};
-        case Access::FragmentRead: return {kFragment, kStorageRead, kGeneral, true, false};
-        case Access::FragmentWrite: return {kFragment, kStorageWrite, kGeneral, false, true};
+        case Access::VertexRead:
+            return {kVertex, kStorageRead, kGeneral, true, false};
+        case Access::FragmentRead:
+            return {kFragment, kStorageRead, kGeneral, true, false};
+        case Access::FragmentWrite:
+            return {kFragment, kStorageWrite, kGeneral, false, true};
         case Access::FragmentReadWrite:
             return {kFragment, kStorageRead | kStorageWrite, kGeneral, true, true};
         case Access::FragmentSampled:
-            return {kFragment, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT,
-                    VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, true, false};
+            return {kFragment, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, true,
+                    false};
         case Access::GraphicsUniform:
             return {kVertex | kFragment, VK_ACCESS_2_UNIFORM_READ_BIT, kGeneral, true, false};
         case Access::IndexBuffer:
             return {VK_PIPELINE_STAGE_2_INDEX_INPUT_BIT, VK_ACCESS_2_INDEX_READ_BIT, kGeneral, true, false};
         case Access::IndirectArgs:
-            return {VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT,
-                    kGeneral, true, false};
+            return {VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT, kGeneral, true,
+                    false};
         case Access::ColorAttachment:
             return {VK_PIPELINE_STAGE_2_COLOR_ATTACHMENT_OUTPUT_BIT,
                     VK_ACCESS_2_COLOR_ATTACHMENT_READ_BIT | VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT,
                     VK_IMAGE_LAYOUT_ATTACHMENT_OPTIMAL, true, true};
         case Access::DepthAttachment:
             return {VK_PIPELINE_STAGE_2_EARLY_FRAGMENT_TESTS_BIT | VK_PIPELINE_STAGE_2_LATE_FRAGMENT_TESTS_BIT,
-                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT |
-                        VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
+                    VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_READ_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT,
                     VK_IMAGE_LAYOUT_ATTACHMENT_OPTIMAL, true, true};
         case Access::TransferSrc:
             return {kTransfer, VK_ACCESS_2_TRANSFER_READ_BIT, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, true, false};
@@ -65,26 +70,46 @@ AccessInfo access_info(Access access) {
 
 const char* to_string(Access access) {
     switch (access) {
-        case Access::None: return "None";
-        case Access::ComputeRead: return "ComputeRead";
-        case Access::ComputeWrite: return "ComputeWrite";
-        case Access::ComputeReadWrite: return "ComputeReadWrite";
-        case Access::ComputeSampled: return "ComputeSampled";
-        case Access::ComputeUniform: return "ComputeUniform";
-        case Access::VertexRead: return "VertexRead";
-        case Access::FragmentRead: return "FragmentRead";
-        case Access::FragmentWrite: return "FragmentWrite";
-        case Access::FragmentReadWrite: return "FragmentReadWrite";
-        case Access::FragmentSampled: return "FragmentSampled";
-        case Access::GraphicsUniform: return "GraphicsUniform";
-        case Access::IndexBuffer: return "IndexBuffer";
-        case Access::IndirectArgs: return "IndirectArgs";
-        case Access::ColorAttachment: return "ColorAttachment";
-        case Access::DepthAttachment: return "DepthAttachment";
-        case Access::TransferSrc: return "TransferSrc";
-        case Access::TransferDst: return "TransferDst";
-        case Access::HostRead: return "HostRead";
-        case Access::HostWrite: return "HostWrite";
+        case Access::None:
+            return "None";
+        case Access::ComputeRead:
+            return "ComputeRead";
+        case Access::ComputeWrite:
+            return "ComputeWrite";
+        case Access::ComputeReadWrite:
+            return "ComputeReadWrite";
+        case Access::ComputeSampled:
+            return "ComputeSampled";
+        case Access::ComputeUniform:
+            return "ComputeUniform";
+        case Access::VertexRead:
+            return "VertexRead";
+        case Access::FragmentRead:
+            return "FragmentRead";
+        case Access::FragmentWrite:
+            return "FragmentWrite";
+        case Access::FragmentReadWrite:
+            return "FragmentReadWrite";
+        case Access::FragmentSampled:
+            return "FragmentSampled";
+        case Access::GraphicsUniform:
+            return "GraphicsUniform";
+        case Access::IndexBuffer:
+            return "IndexBuffer";
+        case Access::IndirectArgs:
+            return "IndirectArgs";
+        case Access::ColorAttachment:
+            return "ColorAttachment";
+        case Access::DepthAttachment:
+            return "DepthAttachment";
+        case Access::TransferSrc:
+            return "TransferSrc";
+        case Access::TransferDst:
+            return "TransferDst";
+        case Access::HostRead:
+            return "HostRead";
+        case Access::HostWrite:
+            return "HostWrite";
     }
     return "?";
 }
@@ -93,10 +118,10 @@ namespace detail {
 
 // Write bits of an access mask: only writes need an availability operation.
 VkAccessFlags2 write_bits(VkAccessFlags2 access) {
-    constexpr VkAccessFlags2 kWrites =
-        VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_WRITE_BIT |
-        VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT |
-        VK_ACCESS_2_TRANSFER_WRITE_BIT | VK_ACCESS_2_HOST_WRITE_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
+    constexpr VkAccessFlags2 kWrites = VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT | VK_ACCESS_2_SHADER_WRITE_BIT |
+                                       VK_ACCESS_2_COLOR_ATTACHMENT_WRITE_BIT |
+                                       VK_ACCESS_2_DEPTH_STENCIL_ATTACHMENT_WRITE_BIT | VK_ACCESS_2_TRANSFER_WRITE_BIT |
+                                       VK_ACCESS_2_HOST_WRITE_BIT | VK_ACCESS_2_MEMORY_WRITE_BIT;
     return access & kWrites;
 }
 

@@ -41,13 +41,12 @@ std::uint32_t Allocator::choose_type(std::uint32_t type_bits, MemoryUsage usage)
         if (score > best_score) best = int(i), best_score = score;
     }
     if (best < 0)
-        throw Error(ErrorKind::Unsupported, "no Vulkan memory type suits the request (type bits " +
-                                                std::to_string(type_bits) + ")");
+        throw Error(ErrorKind::Unsupported,
+                    "no Vulkan memory type suits the request (type bits " + std::to_string(type_bits) + ")");
     return std::uint32_t(best);
 }
 
-Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryUsage usage,
-                               const std::string& what) {
+Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryUsage usage, const std::string& what) {
     if (max_allocation_size_ && requirements.size > max_allocation_size_)
         throw Error(ErrorKind::OutOfMemory, "'" + what + "' needs " + mib(requirements.size) +
                                                 " in one allocation; the device allows at most " +
@@ -56,16 +55,15 @@ Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryU
     a.memory_type = choose_type(requirements.memoryTypeBits, usage);
     const VkDeviceSize heap = props_.memoryHeaps[props_.memoryTypes[a.memory_type].heapIndex].size;
     if (requirements.size > heap)
-        throw Error(ErrorKind::OutOfMemory, "'" + what + "' needs " + mib(requirements.size) +
-                                                "; the device's memory heap holds " + mib(heap));
+        throw Error(ErrorKind::OutOfMemory,
+                    "'" + what + "' needs " + mib(requirements.size) + "; the device's memory heap holds " + mib(heap));
     VkMemoryAllocateInfo info{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
     info.allocationSize = requirements.size;
     info.memoryTypeIndex = a.memory_type;
     VkResult r = fns_->vkAllocateMemory(device_, &info, nullptr, &a.memory);
     if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
         throw Error(ErrorKind::OutOfMemory,
-                    std::string(r == VK_ERROR_OUT_OF_DEVICE_MEMORY ? "out of device memory"
-                                                                   : "out of host memory") +
+                    std::string(r == VK_ERROR_OUT_OF_DEVICE_MEMORY ? "out of device memory" : "out of host memory") +
                         " allocating " + mib(requirements.size) + " for '" + what + "' (" +
                         mib(stats_.allocated_bytes) + " already allocated by gimg)");
     GIMG_VK_CHECK(r);

@@ -19,8 +19,7 @@ public:
     std::uint32_t choose_type(std::uint32_t type_bits, MemoryUsage usage) const;
     // One vkAllocateMemory, mapped when host-visible. `what` names the resource in errors:
     // running out of memory is reported as "out of device memory allocating N MiB for 'what'".
-    Allocation allocate(const VkMemoryRequirements& requirements, MemoryUsage usage,
-                        const std::string& what);
+    Allocation allocate(const VkMemoryRequirements& requirements, MemoryUsage usage, const std::string& what);
     void free(Allocation& allocation);
     // Makes host writes visible to the device / device writes visible to the host for
     // non-coherent memory (no-ops on coherent memory). The size is implied: to the allocation's end.

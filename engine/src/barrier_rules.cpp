@@ -79,8 +79,8 @@ VkImageMemoryBarrier2 image_barrier(const Barrier& b, VkImage image, Format form
     ib.newLayout = b.new_layout;
     ib.srcQueueFamilyIndex = ib.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
     ib.image = image;
-    ib.subresourceRange = {VkImageAspectFlags(is_depth(format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT), 0,
-                           1, 0, 1};
+    ib.subresourceRange = {VkImageAspectFlags(is_depth(format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
+                           0, 1, 0, 1};
     return ib;
 }
 

@@ -21,7 +21,9 @@ std::string call_name(const char* call) {
 
 const char* result_name(VkResult result) {
     switch (result) {
-#define GIMG_RESULT_CASE(r) case r: return #r;
+#define GIMG_RESULT_CASE(r) \
+    case r:                 \
+        return #r;
         GIMG_RESULT_CASE(VK_SUCCESS)
         GIMG_RESULT_CASE(VK_NOT_READY)
         GIMG_RESULT_CASE(VK_TIMEOUT)
@@ -47,7 +49,8 @@ const char* result_name(VkResult result) {
         GIMG_RESULT_CASE(VK_ERROR_INVALID_OPAQUE_CAPTURE_ADDRESS)
         GIMG_RESULT_CASE(VK_PIPELINE_COMPILE_REQUIRED)
 #undef GIMG_RESULT_CASE
-        default: return "VkResult(unknown)";
+        default:
+            return "VkResult(unknown)";
     }
 }
 

@@ -65,7 +65,8 @@ void Cmd::update(BufferHandle buffer, const void* data, VkDeviceSize size, VkDev
     recorder_->device().fn.vkCmdUpdateBuffer(vk(), recorder_->buffer(buffer.id, "update"), offset, size, data);
 }
 
-void Cmd::copy(BufferHandle src, BufferHandle dst, VkDeviceSize size, VkDeviceSize src_offset, VkDeviceSize dst_offset) {
+void Cmd::copy(BufferHandle src, BufferHandle dst, VkDeviceSize size, VkDeviceSize src_offset,
+               VkDeviceSize dst_offset) {
     VkBuffer s = recorder_->buffer(src.id, "copy source");
     VkBuffer d = recorder_->buffer(dst.id, "copy destination");
     if (size == VK_WHOLE_SIZE) size = recorder_->buffer_size(src.id) - src_offset;
@@ -76,8 +77,8 @@ void Cmd::copy(BufferHandle src, BufferHandle dst, VkDeviceSize size, VkDeviceSi
 namespace {
 VkBufferImageCopy whole(const Image& img) {
     VkBufferImageCopy r{};
-    r.imageSubresource = {VkImageAspectFlags(is_depth(img.format()) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
-                          0, 0, 1};
+    r.imageSubresource = {
+        VkImageAspectFlags(is_depth(img.format()) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT), 0, 0, 1};
     r.imageExtent = {img.width(), img.height(), 1};
     return r;
 }
@@ -105,7 +106,8 @@ void Cmd::clear(ImageHandle image, float r, float g, float b, float a) {
     value.float32[2] = b;
     value.float32[3] = a;
     VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-    recorder_->device().fn.vkCmdClearColorImage(vk(), img.vk(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1, &range);
+    recorder_->device().fn.vkCmdClearColorImage(vk(), img.vk(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, &value, 1,
+                                                &range);
 }
 
 }  // namespace gimg

@@ -19,15 +19,23 @@ ContextOptions ContextOptions::from_environment() {
 std::string DeviceInfo::summary() const {
     const char* kind = "other";
     switch (type) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: kind = "discrete GPU"; break;
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: kind = "integrated GPU"; break;
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: kind = "virtual GPU"; break;
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: kind = "CPU"; break;
-        default: break;
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            kind = "discrete GPU";
+            break;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            kind = "integrated GPU";
+            break;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            kind = "virtual GPU";
+            break;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            kind = "CPU";
+            break;
+        default:
+            break;
     }
-    return name + " (" + kind + ", driver " + driver + ", Vulkan " +
-           std::to_string(VK_API_VERSION_MAJOR(api_version)) + "." +
-           std::to_string(VK_API_VERSION_MINOR(api_version)) + "." +
+    return name + " (" + kind + ", driver " + driver + ", Vulkan " + std::to_string(VK_API_VERSION_MAJOR(api_version)) +
+           "." + std::to_string(VK_API_VERSION_MINOR(api_version)) + "." +
            std::to_string(VK_API_VERSION_PATCH(api_version)) + ")";
 }
 
@@ -82,8 +90,7 @@ std::unique_ptr<Context> Context::borrow(const ExternalDevice& ext, const Contex
     if (d->info.api_version < VK_API_VERSION_1_3)
         throw Error(ErrorKind::Unsupported, "the borrowed device " + d->info.name + " is not Vulkan 1.3");
     d->init_engine_objects();
-    if (options.verbose)
-        std::fprintf(stderr, "gimg: device (borrowed): %s\n", d->info.summary().c_str());
+    if (options.verbose) std::fprintf(stderr, "gimg: device (borrowed): %s\n", d->info.summary().c_str());
     return std::unique_ptr<Context>(new Context(std::move(d)));
 }
 
@@ -97,9 +104,7 @@ const DeviceInfo& Context::device_info() const { return device_->info; }
 bool Context::validation_enabled() const { return device_->validation; }
 std::uint64_t Context::validation_message_count() const { return device_->validation_messages.load(); }
 
-Buffer Context::create_buffer(const BufferDesc& desc, MemoryUsage usage) {
-    return device_->create_buffer(desc, usage);
-}
+Buffer Context::create_buffer(const BufferDesc& desc, MemoryUsage usage) { return device_->create_buffer(desc, usage); }
 
 Image Context::create_image(const ImageDesc& desc) { return device_->create_image(desc); }
 

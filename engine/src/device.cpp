@@ -23,8 +23,9 @@ Device::~Device() {
         if (command_pool) fn.vkDestroyCommandPool(device, command_pool, nullptr);
         if (timeline) fn.vkDestroySemaphore(device, timeline, nullptr);
         if (allocator.stats().allocations != 0)
-            std::fprintf(stderr, "gimg: %u device allocations outlived their Context (destroy "
-                                 "buffers, images and plans first)\n",
+            std::fprintf(stderr,
+                         "gimg: %u device allocations outlived their Context (destroy "
+                         "buffers, images and plans first)\n",
                          allocator.stats().allocations);
         if (owns_device) fn.vkDestroyDevice(device, nullptr);
     }
@@ -68,16 +69,14 @@ void Device::set_name(VkObjectType type, std::uint64_t handle, const std::string
 namespace {
 // Every buffer can serve every purpose: choosing usage per buffer would buy nothing measurable
 // and would make imports fail in passes their creator did not foresee.
-constexpr VkBufferUsageFlags kBufferUsage =
-    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
-    VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT |
-    VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
-    VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+constexpr VkBufferUsageFlags kBufferUsage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT |
+                                            VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT |
+                                            VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
+                                            VK_BUFFER_USAGE_TRANSFER_DST_BIT;
 }  // namespace
 
 Buffer Device::create_buffer_unbound(const BufferDesc& desc) {
-    if (desc.size == 0)
-        throw Error(ErrorKind::InvalidArgument, "buffer '" + desc.name + "' has size 0");
+    if (desc.size == 0) throw Error(ErrorKind::InvalidArgument, "buffer '" + desc.name + "' has size 0");
     Buffer b;
     b.device_ = this;
     b.size_ = desc.size;
@@ -130,10 +129,9 @@ Image Device::create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usag
     if (desc.width == 0 || desc.height == 0)
         throw Error(ErrorKind::InvalidArgument, "image '" + desc.name + "' has a zero size");
     if (desc.width > limits.maxImageDimension2D || desc.height > limits.maxImageDimension2D)
-        throw Error(ErrorKind::Unsupported,
-                    "image '" + desc.name + "' is " + std::to_string(desc.width) + "x" +
-                        std::to_string(desc.height) + "; the device allows at most " +
-                        std::to_string(limits.maxImageDimension2D) + " per side");
+        throw Error(ErrorKind::Unsupported, "image '" + desc.name + "' is " + std::to_string(desc.width) + "x" +
+                                                std::to_string(desc.height) + "; the device allows at most " +
+                                                std::to_string(limits.maxImageDimension2D) + " per side");
     Image img;
     img.device_ = this;
     img.desc_ = desc;
@@ -149,8 +147,8 @@ Image Device::create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usag
     create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
     create.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
     check(fn.vkCreateImage(device, &create, nullptr, &img.image_),
-          "vkCreateImage for '" + desc.name + "' (" + std::to_string(desc.width) + "x" +
-              std::to_string(desc.height) + " " + to_string(desc.format) + ")");
+          "vkCreateImage for '" + desc.name + "' (" + std::to_string(desc.width) + "x" + std::to_string(desc.height) +
+              " " + to_string(desc.format) + ")");
     set_name(VK_OBJECT_TYPE_IMAGE, std::uint64_t(img.image_), desc.name);
     return img;
 }
@@ -180,8 +178,8 @@ void Device::bind(Image& img, const Allocation& a) {
     view.viewType = VK_IMAGE_VIEW_TYPE_2D;
     view.format = to_vk(img.desc_.format);
     view.subresourceRange = {
-        VkImageAspectFlags(is_depth(img.desc_.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
-        0, 1, 0, 1};
+        VkImageAspectFlags(is_depth(img.desc_.format) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT), 0, 1, 0,
+        1};
     GIMG_VK_CHECK(fn.vkCreateImageView(device, &view, nullptr, &img.view_));
 }
 

@@ -21,11 +21,16 @@ struct Candidate {
 
 int type_rank(VkPhysicalDeviceType type) {
     switch (type) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
-        default: return 4;
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return 0;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return 1;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return 3;
+        default:
+            return 4;
     }
 }
 
@@ -67,7 +72,8 @@ std::string missing_requirement(const InstanceFns& ifn, VkPhysicalDevice pd) {
     VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
     ifn.vkGetPhysicalDeviceProperties2(pd, &p2);
     props = p2.properties;
-    if (props.apiVersion < VK_API_VERSION_1_3) return "supports only Vulkan 1." + std::to_string(VK_API_VERSION_MINOR(props.apiVersion));
+    if (props.apiVersion < VK_API_VERSION_1_3)
+        return "supports only Vulkan 1." + std::to_string(VK_API_VERSION_MINOR(props.apiVersion));
     if (!has_device_extension(ifn, pd, VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME)) return "lacks VK_KHR_push_descriptor";
     FeatureChain f(false);
     ifn.vkGetPhysicalDeviceFeatures2(pd, &f.f2);
@@ -109,7 +115,8 @@ const Candidate* best_candidate(const std::vector<Candidate>& candidates, const 
     for (const auto& c : candidates) {
         if (!filter.empty() && lower(c.name).find(lower(filter)) == std::string::npos) continue;
         if (!filter.empty() && !c.problem.empty())
-            throw Error(ErrorKind::Unsupported, "GIMG_DEVICE='" + filter + "' names " + c.name + ", which " + c.problem);
+            throw Error(ErrorKind::Unsupported,
+                        "GIMG_DEVICE='" + filter + "' names " + c.name + ", which " + c.problem);
         if (!c.problem.empty()) continue;
         if (!best || type_rank(c.type) < type_rank(best->type)) best = &c;
     }
@@ -131,9 +138,11 @@ VkPhysicalDevice choose_physical_device(Device& d, const std::string& filter) {
         if (!filter.empty())
             throw Error(ErrorKind::Unsupported,
                         "GIMG_DEVICE='" + filter + "' matches no Vulkan device; devices:" + listing);
-        throw Error(ErrorKind::Unsupported, "no Vulkan device meets gimg's needs (Vulkan 1.3, "
-                                            "synchronization2, dynamic rendering, push descriptors); "
-                                            "devices:" + listing);
+        throw Error(ErrorKind::Unsupported,
+                    "no Vulkan device meets gimg's needs (Vulkan 1.3, "
+                    "synchronization2, dynamic rendering, push descriptors); "
+                    "devices:" +
+                        listing);
     }
     return best->physical;
 }

@@ -67,19 +67,19 @@ std::uint32_t declare(GraphData& g, std::uint32_t pass, std::uint32_t id, std::u
     if (!write && info.writes)
         g.fail("pass '" + p.name + "' declares the write " + to_string(access) + " on '" + r.name() +
                "' with read(): use write(), which returns the new version");
-    if (image && (access == Access::IndexBuffer || access == Access::IndirectArgs ||
-                  access == Access::ComputeUniform || access == Access::GraphicsUniform))
+    if (image && (access == Access::IndexBuffer || access == Access::IndirectArgs || access == Access::ComputeUniform ||
+                  access == Access::GraphicsUniform))
         g.fail("pass '" + p.name + "' declares buffer access " + to_string(access) + " on image '" + r.name() + "'");
     if (!image && (access == Access::ColorAttachment || access == Access::DepthAttachment ||
                    access == Access::ComputeSampled || access == Access::FragmentSampled))
         g.fail("pass '" + p.name + "' declares image access " + to_string(access) + " on buffer '" + r.name() + "'");
-    const bool graphics_access = access == Access::VertexRead || access == Access::FragmentRead ||
-                                 access == Access::FragmentWrite || access == Access::FragmentReadWrite ||
-                                 access == Access::FragmentSampled || access == Access::GraphicsUniform ||
-                                 access == Access::IndexBuffer || access == Access::ColorAttachment ||
-                                 access == Access::DepthAttachment;
+    const bool graphics_access =
+        access == Access::VertexRead || access == Access::FragmentRead || access == Access::FragmentWrite ||
+        access == Access::FragmentReadWrite || access == Access::FragmentSampled || access == Access::GraphicsUniform ||
+        access == Access::IndexBuffer || access == Access::ColorAttachment || access == Access::DepthAttachment;
     if (graphics_access && !p.raster)
-        g.fail("compute pass '" + p.name + "' declares graphics access " + to_string(access) + " on '" + r.name() + "'");
+        g.fail("compute pass '" + p.name + "' declares graphics access " + to_string(access) + " on '" + r.name() +
+               "'");
 
     p.accesses.push_back({id, access});
     // Writes keep the previous producer too: gimg cannot know whether a write covers everything.
@@ -93,7 +93,9 @@ std::uint32_t declare(GraphData& g, std::uint32_t pass, std::uint32_t id, std::u
 
 }  // namespace
 
-void PassBuilder::read(BufferHandle h, Access access) { declare(*graph_, pass_, h.id, h.version, false, access, false); }
+void PassBuilder::read(BufferHandle h, Access access) {
+    declare(*graph_, pass_, h.id, h.version, false, access, false);
+}
 void PassBuilder::read(ImageHandle h, Access access) { declare(*graph_, pass_, h.id, h.version, true, access, false); }
 
 BufferHandle PassBuilder::write(BufferHandle h, Access access) {

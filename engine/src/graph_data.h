@@ -18,7 +18,7 @@ struct ResourceDecl {
     Buffer* imported_buffer = nullptr;  // imports only
     Image* imported_image = nullptr;
     std::optional<Access> export_access;
-    std::uint32_t version = 0;          // the newest version declared so far
+    std::uint32_t version = 0;                      // the newest version declared so far
     std::vector<std::uint32_t> producers{kNoPass};  // producers[v]: the pass that made version v
 
     bool imported() const { return imported_buffer || imported_image; }

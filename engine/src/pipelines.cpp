@@ -14,25 +14,36 @@ constexpr std::uint32_t kPushRangeCap = 128;
 
 VkPrimitiveTopology to_vk(Topology t) {
     switch (t) {
-        case Topology::Lines: return VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
-        case Topology::Points: return VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
-        default: return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        case Topology::Lines:
+            return VK_PRIMITIVE_TOPOLOGY_LINE_LIST;
+        case Topology::Points:
+            return VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+        default:
+            return VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     }
 }
 VkCullModeFlags to_vk(CullMode c) {
     switch (c) {
-        case CullMode::Back: return VK_CULL_MODE_BACK_BIT;
-        case CullMode::Front: return VK_CULL_MODE_FRONT_BIT;
-        default: return VK_CULL_MODE_NONE;
+        case CullMode::Back:
+            return VK_CULL_MODE_BACK_BIT;
+        case CullMode::Front:
+            return VK_CULL_MODE_FRONT_BIT;
+        default:
+            return VK_CULL_MODE_NONE;
     }
 }
 VkCompareOp to_vk(CompareOp c) {
     switch (c) {
-        case CompareOp::LessOrEqual: return VK_COMPARE_OP_LESS_OR_EQUAL;
-        case CompareOp::Greater: return VK_COMPARE_OP_GREATER;
-        case CompareOp::GreaterOrEqual: return VK_COMPARE_OP_GREATER_OR_EQUAL;
-        case CompareOp::Always: return VK_COMPARE_OP_ALWAYS;
-        default: return VK_COMPARE_OP_LESS;
+        case CompareOp::LessOrEqual:
+            return VK_COMPARE_OP_LESS_OR_EQUAL;
+        case CompareOp::Greater:
+            return VK_COMPARE_OP_GREATER;
+        case CompareOp::GreaterOrEqual:
+            return VK_COMPARE_OP_GREATER_OR_EQUAL;
+        case CompareOp::Always:
+            return VK_COMPARE_OP_ALWAYS;
+        default:
+            return VK_COMPARE_OP_LESS;
     }
 }
 }  // namespace
@@ -73,15 +84,14 @@ Pipeline PipelineCache::make_layout(const std::vector<ShaderReflection>& stages,
     std::vector<VkDescriptorSetLayoutBinding> bindings;
     for (const ShaderReflection& r : stages) {
         for (const ReflectedBinding& b : r.bindings) {
-            auto it = std::find_if(bindings.begin(), bindings.end(),
-                                   [&](const auto& x) { return x.binding == b.binding; });
+            auto it =
+                std::find_if(bindings.begin(), bindings.end(), [&](const auto& x) { return x.binding == b.binding; });
             if (it == bindings.end()) {
                 bindings.push_back({b.binding, b.type, 1, VkShaderStageFlags(r.stage), nullptr});
                 p.bindings.push_back(b);
             } else if (it->descriptorType != b.type) {
-                throw Error(ErrorKind::InvalidArgument,
-                            "program " + name + ": binding " + std::to_string(b.binding) +
-                                " has different types in its stages");
+                throw Error(ErrorKind::InvalidArgument, "program " + name + ": binding " + std::to_string(b.binding) +
+                                                            " has different types in its stages");
             } else {
                 it->stageFlags |= r.stage;
             }
@@ -97,10 +107,9 @@ Pipeline PipelineCache::make_layout(const std::vector<ShaderReflection>& stages,
     VkPushConstantRange range{};
     p.push_range_bytes = std::min(device_.limits.maxPushConstantsSize, kPushRangeCap);
     if (p.push_constant_bytes > p.push_range_bytes)
-        throw Error(ErrorKind::InvalidArgument, "program " + name + " declares " +
-                                                    std::to_string(p.push_constant_bytes) +
-                                                    " bytes of push constants; the limit is " +
-                                                    std::to_string(p.push_range_bytes));
+        throw Error(ErrorKind::InvalidArgument,
+                    "program " + name + " declares " + std::to_string(p.push_constant_bytes) +
+                        " bytes of push constants; the limit is " + std::to_string(p.push_range_bytes));
     VkDescriptorSetLayoutCreateInfo set{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
     set.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
     set.bindingCount = std::uint32_t(bindings.size());
@@ -132,10 +141,16 @@ const Pipeline& PipelineCache::compute(const Spirv& shader) {
     p->bind_point = VK_PIPELINE_BIND_POINT_COMPUTE;
     VkShaderModule module = make_module(shader);
     VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
-    info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT,
-                  module, "main", nullptr};
+    info.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO,
+                  nullptr,
+                  0,
+                  VK_SHADER_STAGE_COMPUTE_BIT,
+                  module,
+                  "main",
+                  nullptr};
     info.layout = p->layout;
-    VkResult result = device_.fn.vkCreateComputePipelines(device_.device, VK_NULL_HANDLE, 1, &info, nullptr, &p->pipeline);
+    VkResult result =
+        device_.fn.vkCreateComputePipelines(device_.device, VK_NULL_HANDLE, 1, &info, nullptr, &p->pipeline);
     device_.fn.vkDestroyShaderModule(device_.device, module, nullptr);
     if (result != VK_SUCCESS) destroy_layouts(*p);
     GIMG_VK_CHECK(result);
@@ -148,9 +163,19 @@ const Pipeline& PipelineCache::compute(const Spirv& shader) {
 const Pipeline& PipelineCache::graphics(const RasterProgram& program, const std::vector<VkFormat>& colors,
                                         VkFormat depth) {
     const RasterState& s = program.state;
-    GraphicsKey key{program.vertex.words, program.fragment.words, colors, depth, int(s.topology), int(s.cull),
-                    s.front_counter_clockwise, s.depth_test, s.depth_write, int(s.depth_compare), s.wireframe,
-                    int(s.blend), s.depth_bias};
+    GraphicsKey key{program.vertex.words,
+                    program.fragment.words,
+                    colors,
+                    depth,
+                    int(s.topology),
+                    int(s.cull),
+                    s.front_counter_clockwise,
+                    s.depth_test,
+                    s.depth_write,
+                    int(s.depth_compare),
+                    s.wireframe,
+                    int(s.blend),
+                    s.depth_bias};
     auto it = graphics_.find(key);
     if (it != graphics_.end()) return *it->second;
 
@@ -165,9 +190,10 @@ const Pipeline& PipelineCache::graphics(const RasterProgram& program, const std:
 
     VkShaderModule vm = make_module(program.vertex);
     VkShaderModule fm = make_module(program.fragment);
-    VkPipelineShaderStageCreateInfo stages[2] = {
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_VERTEX_BIT, vm, "main", nullptr},
-        {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_FRAGMENT_BIT, fm, "main", nullptr}};
+    VkPipelineShaderStageCreateInfo stages[2] = {{VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0,
+                                                  VK_SHADER_STAGE_VERTEX_BIT, vm, "main", nullptr},
+                                                 {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0,
+                                                  VK_SHADER_STAGE_FRAGMENT_BIT, fm, "main", nullptr}};
     VkPipelineVertexInputStateCreateInfo vertex_input{VK_STRUCTURE_TYPE_PIPELINE_VERTEX_INPUT_STATE_CREATE_INFO};
     VkPipelineInputAssemblyStateCreateInfo assembly{VK_STRUCTURE_TYPE_PIPELINE_INPUT_ASSEMBLY_STATE_CREATE_INFO};
     assembly.topology = to_vk(s.topology);
@@ -189,8 +215,8 @@ const Pipeline& PipelineCache::graphics(const RasterProgram& program, const std:
     depth_state.depthCompareOp = to_vk(s.depth_compare);
     std::vector<VkPipelineColorBlendAttachmentState> blends(colors.size());
     for (auto& b : blends) {
-        b.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
-                           VK_COLOR_COMPONENT_A_BIT;
+        b.colorWriteMask =
+            VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
         if (s.blend == Blend::Alpha) {
             b.blendEnable = VK_TRUE;
             b.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
@@ -225,7 +251,8 @@ const Pipeline& PipelineCache::graphics(const RasterProgram& program, const std:
     info.pColorBlendState = &blend;
     info.pDynamicState = &dynamic;
     info.layout = p->layout;
-    VkResult result = device_.fn.vkCreateGraphicsPipelines(device_.device, VK_NULL_HANDLE, 1, &info, nullptr, &p->pipeline);
+    VkResult result =
+        device_.fn.vkCreateGraphicsPipelines(device_.device, VK_NULL_HANDLE, 1, &info, nullptr, &p->pipeline);
     device_.fn.vkDestroyShaderModule(device_.device, vm, nullptr);
     device_.fn.vkDestroyShaderModule(device_.device, fm, nullptr);
     if (result != VK_SUCCESS) destroy_layouts(*p);

@@ -44,8 +44,8 @@ public:
     void clear();
 
 private:
-    using GraphicsKey = std::tuple<const std::uint32_t*, const std::uint32_t*, std::vector<VkFormat>,
-                                   VkFormat, int, int, bool, bool, bool, int, bool, int, float>;
+    using GraphicsKey = std::tuple<const std::uint32_t*, const std::uint32_t*, std::vector<VkFormat>, VkFormat, int,
+                                   int, bool, bool, bool, int, bool, int, float>;
     Pipeline make_layout(const std::vector<ShaderReflection>& stages, const std::string& name);
     VkShaderModule make_module(const Spirv& shader);
     void destroy_layouts(Pipeline& p);

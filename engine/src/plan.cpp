@@ -108,13 +108,20 @@ std::string access_text(VkAccessFlags2 a) {
 }
 const char* layout_text(VkImageLayout l) {
     switch (l) {
-        case VK_IMAGE_LAYOUT_UNDEFINED: return "UNDEFINED";
-        case VK_IMAGE_LAYOUT_GENERAL: return "GENERAL";
-        case VK_IMAGE_LAYOUT_ATTACHMENT_OPTIMAL: return "ATTACHMENT";
-        case VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL: return "SHADER_READ_ONLY";
-        case VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL: return "TRANSFER_SRC";
-        case VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL: return "TRANSFER_DST";
-        default: return "OTHER";
+        case VK_IMAGE_LAYOUT_UNDEFINED:
+            return "UNDEFINED";
+        case VK_IMAGE_LAYOUT_GENERAL:
+            return "GENERAL";
+        case VK_IMAGE_LAYOUT_ATTACHMENT_OPTIMAL:
+            return "ATTACHMENT";
+        case VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL:
+            return "SHADER_READ_ONLY";
+        case VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL:
+            return "TRANSFER_SRC";
+        case VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL:
+            return "TRANSFER_DST";
+        default:
+            return "OTHER";
     }
 }
 void describe_barriers(std::ostringstream& out, const char* label, const std::vector<BarrierInfo>& barriers) {
@@ -131,8 +138,8 @@ void describe_barriers(std::ostringstream& out, const char* label, const std::ve
 std::string Plan::describe() const {
     const PlanData& d = *data_;
     std::ostringstream out;
-    out << "plan: " << d.planned.size() << " passes, " << d.culled.size() << " culled, "
-        << physical_resource_count() << " transient resources in " << transient_memory_bytes() << " bytes\n";
+    out << "plan: " << d.planned.size() << " passes, " << d.culled.size() << " culled, " << physical_resource_count()
+        << " transient resources in " << transient_memory_bytes() << " bytes\n";
     for (const PlannedPass& p : d.planned) {
         out << "  " << (p.raster ? "raster " : "compute ") << "'" << p.name << "'";
         if (p.iterations > 1) out << " x" << p.iterations;
@@ -146,7 +153,8 @@ std::string Plan::describe() const {
         const auto& p = d.physicals[i];
         if (p.imported()) continue;
         out << "  resource #" << i << " " << p.name << " passes " << p.first_use << ".." << p.last_use;
-        if (p.placement) out << " at " << p.placement->offset << "+" << p.placement->size << " in block " << p.placement->block;
+        if (p.placement)
+            out << " at " << p.placement->offset << "+" << p.placement->size << " in block " << p.placement->block;
         if (p.exported) out << " (exported)";
         out << "\n";
     }
@@ -155,7 +163,8 @@ std::string Plan::describe() const {
 
 namespace {
 detail::Device& device_of(PlanData& d) {
-    if (!d.device) throw Error(ErrorKind::InvalidArgument, "this plan was compiled without a Context and cannot execute");
+    if (!d.device)
+        throw Error(ErrorKind::InvalidArgument, "this plan was compiled without a Context and cannot execute");
     return *d.device;
 }
 

@@ -75,14 +75,21 @@ VkImageUsageFlags image_usage_of(Access a) {
         case Access::FragmentRead:
         case Access::FragmentWrite:
         case Access::FragmentReadWrite:
-        case Access::VertexRead: return VK_IMAGE_USAGE_STORAGE_BIT;
+        case Access::VertexRead:
+            return VK_IMAGE_USAGE_STORAGE_BIT;
         case Access::ComputeSampled:
-        case Access::FragmentSampled: return VK_IMAGE_USAGE_SAMPLED_BIT;
-        case Access::ColorAttachment: return VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
-        case Access::DepthAttachment: return VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
-        case Access::TransferSrc: return VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-        case Access::TransferDst: return VK_IMAGE_USAGE_TRANSFER_DST_BIT;
-        default: return 0;
+        case Access::FragmentSampled:
+            return VK_IMAGE_USAGE_SAMPLED_BIT;
+        case Access::ColorAttachment:
+            return VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT;
+        case Access::DepthAttachment:
+            return VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT;
+        case Access::TransferSrc:
+            return VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
+        case Access::TransferDst:
+            return VK_IMAGE_USAGE_TRANSFER_DST_BIT;
+        default:
+            return 0;
     }
 }
 
@@ -163,7 +170,8 @@ std::unique_ptr<PlanData> plan_graph(Context* ctx, GraphData&& graph) {
 
     for (const CompiledPass& cp : plan->passes)
         for (const AccessDecl& a : plan->graph.passes[cp.decl].accesses)
-            if (plan->physical_of[a.resource] >= 0) plan->physicals[plan->physical_of[a.resource]].last_access = a.access;
+            if (plan->physical_of[a.resource] >= 0)
+                plan->physicals[plan->physical_of[a.resource]].last_access = a.access;
 
     plan->device = ctx ? &ctx->device() : nullptr;
     place_transient_memory(*plan);

@@ -28,7 +28,7 @@ struct Use {
 struct CompiledPass {
     std::uint32_t decl = 0;  // index into GraphData::passes
     std::vector<Use> uses;
-    int loop = -1;           // index into PlanData::loops
+    int loop = -1;  // index into PlanData::loops
 };
 
 struct CompiledLoop {
@@ -74,8 +74,8 @@ struct PlanData {
     std::vector<PhysicalResource> physicals;
     std::vector<VkDeviceSize> block_sizes;  // aliasing blocks
     std::vector<Allocation> blocks;
-    std::vector<SyncState> wrap_states;     // every resource's state at the end of an execution
-    std::uint64_t executions = 0;           // recorded so far
+    std::vector<SyncState> wrap_states;  // every resource's state at the end of an execution
+    std::uint64_t executions = 0;        // recorded so far
 
     // Inspection results (first execution, from the imports' states at compile time).
     std::vector<PlannedPass> planned;

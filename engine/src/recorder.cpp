@@ -62,7 +62,8 @@ void Recorder::bind_and_push(const Pipeline& p, std::initializer_list<Binding> b
         w.dstBinding = rb.binding;
         w.descriptorCount = 1;
         w.descriptorType = rb.type;
-        const bool wants_buffer = rb.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || rb.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+        const bool wants_buffer =
+            rb.type == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER || rb.type == VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         if (wants_buffer != (b.kind == Binding::Kind::Buffer))
             fail("binding " + std::to_string(rb.binding) + " of " + p.name + " needs " +
                  (wants_buffer ? "a buffer" : "an image"));
@@ -146,8 +147,7 @@ void Recorder::record_pass(std::uint32_t index, std::uint32_t iteration) {
     auto attach = [&](const AttachmentDecl& a, VkRenderingAttachmentInfo& info) {
         Image& img = image(a.resource, "attachment");
         if (extent.width == 0) extent = {img.width(), img.height()};
-        if (extent.width != img.width() || extent.height != img.height())
-            fail("attachments of different sizes");
+        if (extent.width != img.width() || extent.height != img.height()) fail("attachments of different sizes");
         info.imageView = img.view();
         info.imageLayout = VK_IMAGE_LAYOUT_ATTACHMENT_OPTIMAL;
         info.loadOp = a.clear ? VK_ATTACHMENT_LOAD_OP_CLEAR : VK_ATTACHMENT_LOAD_OP_LOAD;

@@ -9,14 +9,9 @@ namespace gimg {
 Buffer::~Buffer() { release(); }
 
 Buffer::Buffer(Buffer&& o) noexcept
-    : device_(std::exchange(o.device_, nullptr)),
-      buffer_(std::exchange(o.buffer_, VK_NULL_HANDLE)),
-      allocation_(std::exchange(o.allocation_, {})),
-      size_(o.size_),
-      name_(std::move(o.name_)),
-      last_access_(o.last_access_),
-      sync_(o.sync_),
-      unbacked_(std::exchange(o.unbacked_, false)) {}
+    : device_(std::exchange(o.device_, nullptr)), buffer_(std::exchange(o.buffer_, VK_NULL_HANDLE)),
+      allocation_(std::exchange(o.allocation_, {})), size_(o.size_), name_(std::move(o.name_)),
+      last_access_(o.last_access_), sync_(o.sync_), unbacked_(std::exchange(o.unbacked_, false)) {}
 
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
     if (this != &o) {
@@ -65,13 +60,9 @@ void Buffer::set_last_access(Access access) {
 Image::~Image() { release(); }
 
 Image::Image(Image&& o) noexcept
-    : device_(std::exchange(o.device_, nullptr)),
-      image_(std::exchange(o.image_, VK_NULL_HANDLE)),
-      view_(std::exchange(o.view_, VK_NULL_HANDLE)),
-      allocation_(std::exchange(o.allocation_, {})),
-      desc_(std::move(o.desc_)),
-      last_access_(o.last_access_),
-      sync_(o.sync_),
+    : device_(std::exchange(o.device_, nullptr)), image_(std::exchange(o.image_, VK_NULL_HANDLE)),
+      view_(std::exchange(o.view_, VK_NULL_HANDLE)), allocation_(std::exchange(o.allocation_, {})),
+      desc_(std::move(o.desc_)), last_access_(o.last_access_), sync_(o.sync_),
       unbacked_(std::exchange(o.unbacked_, false)) {}
 
 Image& Image::operator=(Image&& o) noexcept {

@@ -12,18 +12,43 @@ namespace {
 
 // SPIR-V opcodes, decorations and enums used below (SPIR-V 1.6 unified specification).
 enum Op : std::uint32_t {
-    OpEntryPoint = 15, OpExecutionMode = 16, OpTypeBool = 20, OpTypeInt = 21, OpTypeFloat = 22,
-    OpTypeVector = 23, OpTypeMatrix = 24, OpTypeImage = 25, OpTypeSampler = 26,
-    OpTypeSampledImage = 27, OpTypeArray = 28, OpTypeRuntimeArray = 29, OpTypeStruct = 30,
-    OpTypePointer = 32, OpConstant = 43, OpSpecConstant = 50, OpVariable = 59, OpDecorate = 71,
-    OpMemberDecorate = 72, OpExecutionModeId = 331, OpTypeForwardPointer = 39,
+    OpEntryPoint = 15,
+    OpExecutionMode = 16,
+    OpTypeBool = 20,
+    OpTypeInt = 21,
+    OpTypeFloat = 22,
+    OpTypeVector = 23,
+    OpTypeMatrix = 24,
+    OpTypeImage = 25,
+    OpTypeSampler = 26,
+    OpTypeSampledImage = 27,
+    OpTypeArray = 28,
+    OpTypeRuntimeArray = 29,
+    OpTypeStruct = 30,
+    OpTypePointer = 32,
+    OpConstant = 43,
+    OpSpecConstant = 50,
+    OpVariable = 59,
+    OpDecorate = 71,
+    OpMemberDecorate = 72,
+    OpExecutionModeId = 331,
+    OpTypeForwardPointer = 39,
 };
 enum Decoration : std::uint32_t {
-    DecBlock = 2, DecBufferBlock = 3, DecArrayStride = 6, DecMatrixStride = 7, DecBuiltIn = 11,
-    DecBinding = 33, DecDescriptorSet = 34, DecOffset = 35,
+    DecBlock = 2,
+    DecBufferBlock = 3,
+    DecArrayStride = 6,
+    DecMatrixStride = 7,
+    DecBuiltIn = 11,
+    DecBinding = 33,
+    DecDescriptorSet = 34,
+    DecOffset = 35,
 };
 enum StorageClass : std::uint32_t {
-    UniformConstant = 0, Uniform = 2, PushConstant = 9, StorageBuffer = 12,
+    UniformConstant = 0,
+    Uniform = 2,
+    PushConstant = 9,
+    StorageBuffer = 12,
     PhysicalStorageBuffer = 5349,
 };
 constexpr std::uint32_t kExecutionModeLocalSize = 17, kExecutionModeLocalSizeId = 38;
@@ -42,7 +67,9 @@ struct Parser {
     std::unordered_map<std::uint32_t, bool> block, buffer_block;
     // struct id -> member -> offset / matrix stride
     std::unordered_map<std::uint32_t, std::unordered_map<std::uint32_t, std::uint32_t>> offsets, matrix_strides;
-    struct Variable { std::uint32_t type, id, storage; };
+    struct Variable {
+        std::uint32_t type, id, storage;
+    };
     std::vector<Variable> variables;
 
     [[noreturn]] void fail(const std::string& why) const {
@@ -56,19 +83,21 @@ struct Parser {
         if (it == types.end()) fail("unknown type id " + std::to_string(type_id));
         const TypeInfo& t = it->second;
         switch (t.op) {
-            case OpTypeBool: return 4;
+            case OpTypeBool:
+                return 4;
             case OpTypeInt:
-            case OpTypeFloat: return t.operands.at(0) / 8;
-            case OpTypeVector: return t.operands.at(1) * size_of(t.operands.at(0), 0, depth + 1);
+            case OpTypeFloat:
+                return t.operands.at(0) / 8;
+            case OpTypeVector:
+                return t.operands.at(1) * size_of(t.operands.at(0), 0, depth + 1);
             case OpTypeMatrix:
-                return t.operands.at(1) *
-                       (matrix_stride ? matrix_stride : size_of(t.operands.at(0), 0, depth + 1));
+                return t.operands.at(1) * (matrix_stride ? matrix_stride : size_of(t.operands.at(0), 0, depth + 1));
             case OpTypeArray: {
                 auto stride = array_strides.find(type_id);
                 auto length = constants.find(t.operands.at(1));
                 if (length == constants.end()) fail("array length is not a constant");
-                std::uint32_t elem = stride != array_strides.end() ? stride->second
-                                                                   : size_of(t.operands.at(0), 0, depth + 1);
+                std::uint32_t elem =
+                    stride != array_strides.end() ? stride->second : size_of(t.operands.at(0), 0, depth + 1);
                 return elem * length->second;
             }
             case OpTypeStruct: {
@@ -90,8 +119,10 @@ struct Parser {
                 }
                 return size;
             }
-            case OpTypePointer: return 8;  // buffer device address
-            default: fail("unsupported type in push-constant block (opcode " + std::to_string(t.op) + ")");
+            case OpTypePointer:
+                return 8;  // buffer device address
+            default:
+                fail("unsupported type in push-constant block (opcode " + std::to_string(t.op) + ")");
         }
     }
 
@@ -103,8 +134,7 @@ struct Parser {
             fail("descriptor arrays are not supported (binding " + std::to_string(bindings.at(v.id)) + ")");
         if (v.storage == StorageBuffer) return VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
         if (v.storage == Uniform)
-            return buffer_block.count(pointee) ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER
-                                               : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
+            return buffer_block.count(pointee) ? VK_DESCRIPTOR_TYPE_STORAGE_BUFFER : VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER;
         if (t->op == OpTypeSampledImage) return VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
         if (t->op == OpTypeImage) {
             std::uint32_t sampled = t->operands.at(5);
@@ -117,11 +147,16 @@ struct Parser {
 
 VkShaderStageFlagBits stage_of(std::uint32_t execution_model) {
     switch (execution_model) {
-        case 0: return VK_SHADER_STAGE_VERTEX_BIT;
-        case 3: return VK_SHADER_STAGE_GEOMETRY_BIT;
-        case 4: return VK_SHADER_STAGE_FRAGMENT_BIT;
-        case 5: return VK_SHADER_STAGE_COMPUTE_BIT;
-        default: return VK_SHADER_STAGE_ALL;
+        case 0:
+            return VK_SHADER_STAGE_VERTEX_BIT;
+        case 3:
+            return VK_SHADER_STAGE_GEOMETRY_BIT;
+        case 4:
+            return VK_SHADER_STAGE_FRAGMENT_BIT;
+        case 5:
+            return VK_SHADER_STAGE_COMPUTE_BIT;
+        default:
+            return VK_SHADER_STAGE_ALL;
     }
 }
 
@@ -165,9 +200,18 @@ ShaderReflection reflect_spirv(const Spirv& shader) {
                 if (na >= 4 && a[2] == DecOffset) p.offsets[a[0]][a[1]] = a[3];
                 if (na >= 4 && a[2] == DecMatrixStride) p.matrix_strides[a[0]][a[1]] = a[3];
                 break;
-            case OpTypeBool: case OpTypeInt: case OpTypeFloat: case OpTypeVector: case OpTypeMatrix:
-            case OpTypeImage: case OpTypeSampler: case OpTypeSampledImage: case OpTypeArray:
-            case OpTypeRuntimeArray: case OpTypeStruct: case OpTypePointer:
+            case OpTypeBool:
+            case OpTypeInt:
+            case OpTypeFloat:
+            case OpTypeVector:
+            case OpTypeMatrix:
+            case OpTypeImage:
+            case OpTypeSampler:
+            case OpTypeSampledImage:
+            case OpTypeArray:
+            case OpTypeRuntimeArray:
+            case OpTypeStruct:
+            case OpTypePointer:
                 if (na >= 1) p.types[a[0]] = TypeInfo{op, std::vector<std::uint32_t>(a + 1, a + na)};
                 break;
             case OpConstant:
@@ -177,7 +221,8 @@ ShaderReflection reflect_spirv(const Spirv& shader) {
             case OpVariable:
                 if (na >= 3) p.variables.push_back({a[0], a[1], a[2]});
                 break;
-            default: break;
+            default:
+                break;
         }
         i += count;
     }

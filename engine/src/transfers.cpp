@@ -14,9 +14,8 @@ namespace {
 void check_range(const Buffer& buffer, VkDeviceSize bytes, VkDeviceSize offset, const char* what) {
     if (offset > buffer.size() || bytes > buffer.size() - offset)
         throw Error(ErrorKind::InvalidArgument, std::string(what) + " of " + std::to_string(bytes) +
-                                                    " bytes at offset " + std::to_string(offset) +
-                                                    " exceeds buffer '" + buffer.name() + "' (" +
-                                                    std::to_string(buffer.size()) + " bytes)");
+                                                    " bytes at offset " + std::to_string(offset) + " exceeds buffer '" +
+                                                    buffer.name() + "' (" + std::to_string(buffer.size()) + " bytes)");
 }
 }  // namespace
 
@@ -73,8 +72,7 @@ namespace {
 VkBufferImageCopy whole_image(const Image& image) {
     VkBufferImageCopy region{};
     region.imageSubresource = {
-        VkImageAspectFlags(is_depth(image.format()) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT),
-        0, 0, 1};
+        VkImageAspectFlags(is_depth(image.format()) ? VK_IMAGE_ASPECT_DEPTH_BIT : VK_IMAGE_ASPECT_COLOR_BIT), 0, 0, 1};
     region.imageExtent = {image.width(), image.height(), 1};
     return region;
 }

@@ -99,12 +99,15 @@ void place_transient_memory(PlanData& plan) {
         }
         if (p.exported) {
             if (!d) continue;
-            const MemoryUsage usage = p.export_access == Access::HostRead ? MemoryUsage::Readback : MemoryUsage::DeviceLocal;
+            const MemoryUsage usage =
+                p.export_access == Access::HostRead ? MemoryUsage::Readback : MemoryUsage::DeviceLocal;
             plan.blocks.push_back(d->allocator.allocate(req, usage, p.name));
             Allocation a = plan.blocks.back();
             a.owns_memory = false;  // the plan frees the block
-            if (p.image) d->bind(p.image_object, a);
-            else d->bind(p.buffer, a);
+            if (p.image)
+                d->bind(p.image_object, a);
+            else
+                d->bind(p.buffer, a);
             continue;
         }
         groups[{p.image, req.memoryTypeBits}].push_back({i, req});
@@ -126,8 +129,10 @@ void place_transient_memory(PlanData& plan) {
             a.offset = p.placement->offset;
             a.size = p.placement->size;
             a.mapped = memory.mapped ? static_cast<char*>(memory.mapped) + a.offset : nullptr;
-            if (p.image) d->bind(p.image_object, a);
-            else d->bind(p.buffer, a);
+            if (p.image)
+                d->bind(p.image_object, a);
+            else
+                d->bind(p.buffer, a);
         }
     }
 }

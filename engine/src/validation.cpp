@@ -16,8 +16,7 @@ constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
 
 VKAPI_ATTR VkBool32 VKAPI_CALL on_validation_message(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
                                                      VkDebugUtilsMessageTypeFlagsEXT,
-                                                     const VkDebugUtilsMessengerCallbackDataEXT* data,
-                                                     void* user) {
+                                                     const VkDebugUtilsMessengerCallbackDataEXT* data, void* user) {
     if (severity < VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) return VK_FALSE;
     auto* count = static_cast<std::atomic<std::uint64_t>*>(user);
     count->fetch_add(1);
@@ -54,9 +53,9 @@ void create_instance(Device& d, const ContextOptions& options) {
     std::uint32_t version = VK_API_VERSION_1_0;
     if (d.global.vkEnumerateInstanceVersion) GIMG_VK_CHECK(d.global.vkEnumerateInstanceVersion(&version));
     if (version < VK_API_VERSION_1_3)
-        throw Error(ErrorKind::Unsupported,
-                    "the Vulkan loader supports only Vulkan " + std::to_string(VK_API_VERSION_MAJOR(version)) +
-                        "." + std::to_string(VK_API_VERSION_MINOR(version)) + "; gimg needs 1.3");
+        throw Error(ErrorKind::Unsupported, "the Vulkan loader supports only Vulkan " +
+                                                std::to_string(VK_API_VERSION_MAJOR(version)) + "." +
+                                                std::to_string(VK_API_VERSION_MINOR(version)) + "; gimg needs 1.3");
 
     std::vector<const char*> layers, extensions;
     bool validation = options.validation;
@@ -66,8 +65,9 @@ void create_instance(Device& d, const ContextOptions& options) {
             throw Error(ErrorKind::Unsupported,
                         "validation was requested but VK_LAYER_KHRONOS_validation is not installed "
                         "(Debian package vulkan-validationlayers)");
-        std::fprintf(stderr, "gimg: warning: VK_LAYER_KHRONOS_validation is not installed; "
-                             "running without validation\n");
+        std::fprintf(stderr,
+                     "gimg: warning: VK_LAYER_KHRONOS_validation is not installed; "
+                     "running without validation\n");
         validation = false;
     }
     if (validation) {
@@ -104,10 +104,9 @@ void create_instance(Device& d, const ContextOptions& options) {
 
     if (d.debug_utils) {
         VkDebugUtilsMessengerCreateInfoEXT m{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
-        m.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT |
-                            VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
-        m.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT |
-                        VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+        m.messageSeverity =
+            VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+        m.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
                         VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
         m.pfnUserCallback = on_validation_message;
         m.pUserData = &d.validation_messages;

@@ -19,8 +19,7 @@ PFN_vkGetInstanceProcAddr open_system_loader() {
         return lib;
     }();
     if (!library)
-        throw Error(ErrorKind::Unsupported,
-                    "cannot load the Vulkan loader libvulkan.so.1 (install libvulkan1)");
+        throw Error(ErrorKind::Unsupported, "cannot load the Vulkan loader libvulkan.so.1 (install libvulkan1)");
     return reinterpret_cast<PFN_vkGetInstanceProcAddr>(dlsym(library, "vkGetInstanceProcAddr"));
 }
 
@@ -31,21 +30,18 @@ GlobalFns load_global_functions(PFN_vkGetInstanceProcAddr get_instance_proc_addr
     fns.vkGetInstanceProcAddr = get_instance_proc_addr ? get_instance_proc_addr : open_system_loader();
     if (!fns.vkGetInstanceProcAddr)
         throw Error(ErrorKind::Unsupported, "the Vulkan loader has no vkGetInstanceProcAddr");
-#define GIMG_VK_LOAD(name) \
-    fns.name = reinterpret_cast<PFN_##name>(fns.vkGetInstanceProcAddr(VK_NULL_HANDLE, #name));
+#define GIMG_VK_LOAD(name) fns.name = reinterpret_cast<PFN_##name>(fns.vkGetInstanceProcAddr(VK_NULL_HANDLE, #name));
     GIMG_VK_GLOBAL_FUNCS(GIMG_VK_LOAD)
 #undef GIMG_VK_LOAD
-    if (!fns.vkCreateInstance)
-        throw Error(ErrorKind::Unsupported, "the Vulkan loader provides no vkCreateInstance");
+    if (!fns.vkCreateInstance) throw Error(ErrorKind::Unsupported, "the Vulkan loader provides no vkCreateInstance");
     return fns;
 }
 
 InstanceFns load_instance_functions(const GlobalFns& global, VkInstance instance) {
     InstanceFns fns;
-#define GIMG_VK_LOAD(name)                                                                    \
-    fns.name = reinterpret_cast<PFN_##name>(global.vkGetInstanceProcAddr(instance, #name));  \
-    if (!fns.name)                                                                            \
-        throw Error(ErrorKind::Unsupported, "the Vulkan instance provides no " #name);
+#define GIMG_VK_LOAD(name)                                                                  \
+    fns.name = reinterpret_cast<PFN_##name>(global.vkGetInstanceProcAddr(instance, #name)); \
+    if (!fns.name) throw Error(ErrorKind::Unsupported, "the Vulkan instance provides no " #name);
     GIMG_VK_INSTANCE_FUNCS(GIMG_VK_LOAD)
 #undef GIMG_VK_LOAD
 #define GIMG_VK_LOAD_OPTIONAL(name) \
@@ -57,12 +53,11 @@ InstanceFns load_instance_functions(const GlobalFns& global, VkInstance instance
 
 DeviceFns load_device_functions(const InstanceFns& instance_fns, VkDevice device) {
     DeviceFns fns;
-#define GIMG_VK_LOAD(name)                                                                      \
-    fns.name = reinterpret_cast<PFN_##name>(instance_fns.vkGetDeviceProcAddr(device, #name));  \
-    if (!fns.name)                                                                              \
-        throw Error(ErrorKind::Unsupported,                                                     \
-                    "the Vulkan device provides no " #name                                      \
-                    " (gimg needs Vulkan 1.3 and VK_KHR_push_descriptor)");
+#define GIMG_VK_LOAD(name)                                                                    \
+    fns.name = reinterpret_cast<PFN_##name>(instance_fns.vkGetDeviceProcAddr(device, #name)); \
+    if (!fns.name)                                                                            \
+        throw Error(ErrorKind::Unsupported,                                                   \
+                    "the Vulkan device provides no " #name " (gimg needs Vulkan 1.3 and VK_KHR_push_descriptor)");
     GIMG_VK_DEVICE_FUNCS(GIMG_VK_LOAD)
 #undef GIMG_VK_LOAD
     return fns;

@@ -26,8 +26,7 @@ void check_indices(const Mesh& mesh) {
         const glm::uvec3& t = mesh.triangles[f];
         if (t.x >= v || t.y >= v || t.z >= v)
             throw std::invalid_argument("triangle " + std::to_string(f) +
-                                        " names a vertex index past the vertex count " +
-                                        std::to_string(v));
+                                        " names a vertex index past the vertex count " + std::to_string(v));
     }
 }
 
@@ -53,7 +52,7 @@ void build_vertex_faces(const Mesh& mesh, MeshAdjacency& adj) {
 }
 
 struct HalfEntry {
-    std::uint32_t hi;      // larger endpoint (the bucket is the smaller one)
+    std::uint32_t hi;  // larger endpoint (the bucket is the smaller one)
     std::uint32_t face;
     std::uint32_t corner;  // k: the edge joins corners k and (k + 1) % 3
 };
@@ -91,9 +90,8 @@ void build_edges(const Mesh& mesh, MeshAdjacency& adj) {
     for (std::uint32_t lo = 0; lo < vcount; ++lo) {
         const auto first = entries.begin() + bucket_begin[lo];
         const auto last = entries.begin() + bucket_begin[lo + 1];
-        std::sort(first, last, [](const HalfEntry& x, const HalfEntry& y) {
-            return x.hi != y.hi ? x.hi < y.hi : x.face < y.face;
-        });
+        std::sort(first, last,
+                  [](const HalfEntry& x, const HalfEntry& y) { return x.hi != y.hi ? x.hi < y.hi : x.face < y.face; });
         for (auto it = first; it != last; ++it) {
             const bool new_edge = it == first || it->hi != (it - 1)->hi;
             if (new_edge) {
@@ -135,8 +133,7 @@ void build_vertex_vertices(std::size_t vcount, MeshAdjacency& adj) {
 
 MeshAdjacency build_adjacency(const Mesh& mesh) {
     check_indices(mesh);
-    if (mesh.face_count() > 0xffffffffull / 3)
-        throw std::length_error("mesh too large for 32-bit adjacency indices");
+    if (mesh.face_count() > 0xffffffffull / 3) throw std::length_error("mesh too large for 32-bit adjacency indices");
     MeshAdjacency adj;
     build_vertex_faces(mesh, adj);
     build_edges(mesh, adj);
@@ -188,14 +185,20 @@ std::vector<std::uint8_t> MeshAdjacency::interior_vertices() const {
             return found == 2;
         };
         std::uint32_t f = faces[0], e_out = 0, e_in = 0;
-        if (!edges_at_v(f, e_out, e_in)) { interior[v] = 0; continue; }
+        if (!edges_at_v(f, e_out, e_in)) {
+            interior[v] = 0;
+            continue;
+        }
         std::size_t steps = 0;
         std::uint32_t e = e_out;
         do {
             const auto pair = faces_of_edge(e);
             f = pair[0] == f ? pair[1] : pair[0];
             std::uint32_t a = 0, b = 0;
-            if (!edges_at_v(f, a, b)) { steps = 0; break; }
+            if (!edges_at_v(f, a, b)) {
+                steps = 0;
+                break;
+            }
             e = a == e ? b : a;
             ++steps;
         } while (f != faces[0] && steps <= faces.size());

@@ -29,8 +29,14 @@ constexpr std::size_t kParallelSubtree = 16384;
 struct Box {
     glm::dvec3 lo{std::numeric_limits<double>::infinity()};
     glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
-    void grow(const glm::dvec3& p) { lo = glm::min(lo, p); hi = glm::max(hi, p); }
-    void grow(const Box& b) { lo = glm::min(lo, b.lo); hi = glm::max(hi, b.hi); }
+    void grow(const glm::dvec3& p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void grow(const Box& b) {
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+    }
     double half_area() const {
         const glm::dvec3 d = hi - lo;
         return d.x < 0.0 ? 0.0 : d.x * d.y + d.y * d.z + d.z * d.x;
@@ -192,10 +198,9 @@ private:
         const int axis = best.axis;
         const double lo = range.centroid_bounds.lo[axis];
         const double scale = kBins * (1.0 - 1e-12) / extent[axis];
-        const auto mid = std::partition(prims_.begin() + std::ptrdiff_t(range.begin),
-                                        prims_.begin() + std::ptrdiff_t(range.end), [&](const PrimRef& p) {
-                                            return bin_of(p.centroid()[axis], lo, scale) <= best.bin;
-                                        });
+        const auto mid =
+            std::partition(prims_.begin() + std::ptrdiff_t(range.begin), prims_.begin() + std::ptrdiff_t(range.end),
+                           [&](const PrimRef& p) { return bin_of(p.centroid()[axis], lo, scale) <= best.bin; });
         const auto m = static_cast<std::size_t>(mid - prims_.begin());
         left = {range.begin, m, best.left, best.left_centroids};
         right = {m, range.end, best.right, best.right_centroids};
@@ -244,16 +249,19 @@ TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
     const unsigned threads = options.threads ? options.threads : default_thread_count();
 
     std::vector<PrimRef> prims(fcount);
-    parallel_for_chunks(fcount, 65536, [&](std::size_t, std::size_t begin, std::size_t end) {
-        for (std::size_t f = begin; f < end; ++f) {
-            const glm::uvec3& t = mesh.triangles[f];
-            PrimRef& p = prims[f];
-            p.box.grow(mesh.positions[t.x]);
-            p.box.grow(mesh.positions[t.y]);
-            p.box.grow(mesh.positions[t.z]);
-            p.face = static_cast<std::uint32_t>(f);
-        }
-    }, threads);
+    parallel_for_chunks(
+        fcount, 65536,
+        [&](std::size_t, std::size_t begin, std::size_t end) {
+            for (std::size_t f = begin; f < end; ++f) {
+                const glm::uvec3& t = mesh.triangles[f];
+                PrimRef& p = prims[f];
+                p.box.grow(mesh.positions[t.x]);
+                p.box.grow(mesh.positions[t.y]);
+                p.box.grow(mesh.positions[t.z]);
+                p.face = static_cast<std::uint32_t>(f);
+            }
+        },
+        threads);
     Range root{0, fcount, {}, {}};
     for (const PrimRef& p : prims) {
         root.bounds.grow(p.box);
@@ -269,15 +277,18 @@ TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
     face_order_.resize(fcount);
     slot_of_face_.resize(fcount);
     triangles_.resize(fcount);
-    parallel_for_chunks(fcount, 65536, [&](std::size_t, std::size_t begin, std::size_t end) {
-        for (std::size_t i = begin; i < end; ++i) {
-            const std::uint32_t f = prims[i].face;
-            const glm::uvec3& t = mesh.triangles[f];
-            face_order_[i] = f;
-            slot_of_face_[f] = static_cast<std::uint32_t>(i);
-            triangles_[i] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
-        }
-    }, threads);
+    parallel_for_chunks(
+        fcount, 65536,
+        [&](std::size_t, std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                const std::uint32_t f = prims[i].face;
+                const glm::uvec3& t = mesh.triangles[f];
+                face_order_[i] = f;
+                slot_of_face_[f] = static_cast<std::uint32_t>(i);
+                triangles_[i] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
+            }
+        },
+        threads);
 }
 
 }  // namespace gimg::geo

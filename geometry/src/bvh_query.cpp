@@ -17,8 +17,8 @@ namespace {
 constexpr int kStackSize = 128;
 
 double box_distance_squared(const BvhNode& node, const glm::dvec3& p) {
-    const glm::dvec3 d = glm::max(glm::max(glm::dvec3(node.bounds_min) - p, p - glm::dvec3(node.bounds_max)),
-                                  glm::dvec3(0.0));
+    const glm::dvec3 d =
+        glm::max(glm::max(glm::dvec3(node.bounds_min) - p, p - glm::dvec3(node.bounds_max)), glm::dvec3(0.0));
     return glm::dot(d, d);
 }
 
@@ -58,8 +58,7 @@ struct RaySlabs {
 
 }  // namespace
 
-ClosestPointResult TriangleBvh::closest_point(const glm::dvec3& p, double max_distance,
-                                              std::uint32_t hint_face) const {
+ClosestPointResult TriangleBvh::closest_point(const glm::dvec3& p, double max_distance, std::uint32_t hint_face) const {
     ClosestPointResult best;
     if (nodes_.empty() || !(max_distance >= 0.0)) return best;
     double best_d2 = max_distance * max_distance;
@@ -194,9 +193,8 @@ std::vector<RayHit> TriangleBvh::intersect_all(const Ray& ray) const {
         if (intersect_ray_triangle(ray, t.a, t.b, t.c, h)) hits.push_back({h.t, face_order_[s], h.barycentric});
         return true;
     });
-    std::sort(hits.begin(), hits.end(), [](const RayHit& x, const RayHit& y) {
-        return x.t != y.t ? x.t < y.t : x.face < y.face;
-    });
+    std::sort(hits.begin(), hits.end(),
+              [](const RayHit& x, const RayHit& y) { return x.t != y.t ? x.t < y.t : x.face < y.face; });
     return hits;
 }
 

@@ -22,8 +22,7 @@ std::vector<double> cotangent_weights(const Mesh& mesh, const MeshAdjacency& adj
         for (int k = 0; k < 3; ++k) {
             // Edge (corner k, corner k+1) is opposite corner k+2.
             const glm::dvec3& o = mesh.positions[t[(k + 2) % 3]];
-            const double cot = clamped_cotangent(mesh.positions[t[k]] - o,
-                                                 mesh.positions[t[(k + 1) % 3]] - o);
+            const double cot = clamped_cotangent(mesh.positions[t[k]] - o, mesh.positions[t[(k + 1) % 3]] - o);
             weights[adjacency.face_edges[3 * f + k]] += 0.5 * cot;
         }
     }

@@ -20,8 +20,8 @@ VertexCurvature compute_curvature(const Mesh& mesh, const MeshAdjacency& adjacen
     std::vector<double> angle_sum(vcount, 0.0);
     for (const glm::uvec3& t : mesh.triangles)
         for (int k = 0; k < 3; ++k)
-            angle_sum[t[k]] += corner_angle(mesh.positions[t[k]], mesh.positions[t[(k + 1) % 3]],
-                                            mesh.positions[t[(k + 2) % 3]]);
+            angle_sum[t[k]] +=
+                corner_angle(mesh.positions[t[k]], mesh.positions[t[(k + 1) % 3]], mesh.positions[t[(k + 2) % 3]]);
 
     // sum_j (cot alpha + cot beta)(x_i - x_j) = sum_j 2 w_ij (x_i - x_j), w the edge weight.
     std::vector<glm::dvec3> laplacian(vcount, glm::dvec3(0.0));

@@ -18,7 +18,8 @@ void write_exr(const FloatImage& image, const std::filesystem::path& path) {
         throw InputError("cannot write " + path.string() + ": empty image");
     const std::size_t pixels = std::size_t(image.width) * image.height;
     for (const auto& [name, data] : image.channels)
-        if (data.size() != pixels) throw InputError("cannot write " + path.string() + ": channel " + name + " has the wrong size");
+        if (data.size() != pixels)
+            throw InputError("cannot write " + path.string() + ": channel " + name + " has the wrong size");
     std::filesystem::path tmp = path;
     tmp += ".tmp" + std::to_string(::getpid());
     try {
@@ -62,8 +63,9 @@ FloatImage read_exr(const std::filesystem::path& path) {
             auto& data = image.channels[it.name()];
             data.assign(std::size_t(w) * h, 0.0f);
             // Slices are addressed from the data window's origin.
-            char* base = reinterpret_cast<char*>(data.data()) -
-                         (std::ptrdiff_t(window.min.x) + std::ptrdiff_t(window.min.y) * w) * std::ptrdiff_t(sizeof(float));
+            char* base =
+                reinterpret_cast<char*>(data.data()) -
+                (std::ptrdiff_t(window.min.x) + std::ptrdiff_t(window.min.y) * w) * std::ptrdiff_t(sizeof(float));
             frame.insert(it.name(), Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * std::size_t(w)));
         }
         file.setFrameBuffer(frame);

@@ -47,7 +47,8 @@ ImageDifference compare_images(const RgbaImage& a, const RgbaImage& b, int chann
     d.diff = RgbaImage(a.width, a.height);
     for (std::size_t p = 0; p < a.pixels.size() / 4; ++p) {
         int worst = 0;
-        for (int c = 0; c < 4; ++c) worst = std::max(worst, std::abs(int(a.pixels[4 * p + c]) - int(b.pixels[4 * p + c])));
+        for (int c = 0; c < 4; ++c)
+            worst = std::max(worst, std::abs(int(a.pixels[4 * p + c]) - int(b.pixels[4 * p + c])));
         d.max_abs_difference = std::max(d.max_abs_difference, worst);
         std::uint8_t* out = &d.diff.pixels[4 * p];
         out[3] = 255;

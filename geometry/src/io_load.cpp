@@ -21,9 +21,11 @@ namespace {
 
 std::string format_of(const std::filesystem::path& path) {
     std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext == ".obj" || ext == ".ply" || ext == ".off" || ext == ".stl") return ext.substr(1);
-    if (ext.empty()) throw InputError("no file extension: cannot tell the mesh format (gimg reads .obj, .ply, .off, .stl)");
+    if (ext.empty())
+        throw InputError("no file extension: cannot tell the mesh format (gimg reads .obj, .ply, .off, .stl)");
     throw InputError("unknown mesh format '" + ext + "' (gimg reads .obj, .ply, .off, .stl)");
 }
 
@@ -134,9 +136,10 @@ Mesh load_mesh(const std::filesystem::path& path, const LoadOptions& options, Lo
             r.file_vertices = 3 * scanned.faces;
             r.welded = true;
             r.welded_vertices = r.file_vertices - mesh.vertex_count();
-            r.notes.push_back("STL stores each facet's corners apart: OpenMesh's reader merged corners at the same "
-                              "position (" + std::to_string(r.file_vertices) + " corners, " +
-                              std::to_string(mesh.vertex_count()) + " vertices)");
+            r.notes.push_back(
+                "STL stores each facet's corners apart: OpenMesh's reader merged corners at the same "
+                "position (" +
+                std::to_string(r.file_vertices) + " corners, " + std::to_string(mesh.vertex_count()) + " vertices)");
         }
         if (options.weld) {
             const std::size_t removed = weld_identical_vertices(mesh);

@@ -200,7 +200,8 @@ public:
                 const int err = errno;
                 ::close(fd);
                 std::filesystem::remove(path_, ec);
-                throw std::runtime_error("cannot write a temporary file in " + dir.string() + ": " + std::strerror(err));
+                throw std::runtime_error("cannot write a temporary file in " + dir.string() + ": " +
+                                         std::strerror(err));
             }
             written += static_cast<std::size_t>(n);
         }

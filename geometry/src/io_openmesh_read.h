@@ -27,9 +27,9 @@ struct RawMesh {
     std::vector<glm::vec3> positions;
     std::vector<std::uint32_t> face_offsets{0};  // polygon f: face_indices[offsets[f], offsets[f+1])
     std::vector<std::uint32_t> face_indices;
-    std::vector<glm::vec2> texcoords;            // per vertex when asked for, else empty
-    std::vector<std::uint8_t> texcoord_set;      // 0: none given, 1: given, 2: given different ones
-    std::size_t texcoord_conflicts = 0;          // vertices given two different ones (OBJ seams)
+    std::vector<glm::vec2> texcoords;        // per vertex when asked for, else empty
+    std::vector<std::uint8_t> texcoord_set;  // 0: none given, 1: given, 2: given different ones
+    std::size_t texcoord_conflicts = 0;      // vertices given two different ones (OBJ seams)
 
     std::size_t face_count() const { return face_offsets.size() - 1; }
 };

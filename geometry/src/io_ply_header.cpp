@@ -15,12 +15,10 @@ struct TypeName {
     PlyScalar type;
 };
 constexpr TypeName kTypeNames[] = {
-    {"char", PlyScalar::i8},    {"int8", PlyScalar::i8},     {"uchar", PlyScalar::u8},
-    {"uint8", PlyScalar::u8},   {"short", PlyScalar::i16},   {"int16", PlyScalar::i16},
-    {"ushort", PlyScalar::u16}, {"uint16", PlyScalar::u16},  {"int", PlyScalar::i32},
-    {"int32", PlyScalar::i32},  {"uint", PlyScalar::u32},    {"uint32", PlyScalar::u32},
-    {"float", PlyScalar::f32},  {"float32", PlyScalar::f32}, {"double", PlyScalar::f64},
-    {"float64", PlyScalar::f64},
+    {"char", PlyScalar::i8},   {"int8", PlyScalar::i8},     {"uchar", PlyScalar::u8},   {"uint8", PlyScalar::u8},
+    {"short", PlyScalar::i16}, {"int16", PlyScalar::i16},   {"ushort", PlyScalar::u16}, {"uint16", PlyScalar::u16},
+    {"int", PlyScalar::i32},   {"int32", PlyScalar::i32},   {"uint", PlyScalar::u32},   {"uint32", PlyScalar::u32},
+    {"float", PlyScalar::f32}, {"float32", PlyScalar::f32}, {"double", PlyScalar::f64}, {"float64", PlyScalar::f64},
 };
 
 std::optional<PlyScalar> scalar_from_name(std::string_view name) {
@@ -110,8 +108,8 @@ void assign_face_roles(PlyHeader& h) {
             }
             p.role = PlyRole::indices;
         } else if (p.is_list) {
-            fail(e.line, "list property " + quoted(p.name) +
-                             " in the face element is not supported (only vertex_indices)");
+            fail(e.line,
+                 "list property " + quoted(p.name) + " in the face element is not supported (only vertex_indices)");
         }
     }
 }
@@ -120,14 +118,18 @@ void assign_face_roles(PlyHeader& h) {
 
 std::size_t scalar_size(PlyScalar s) {
     switch (s) {
-    case PlyScalar::i8:
-    case PlyScalar::u8: return 1;
-    case PlyScalar::i16:
-    case PlyScalar::u16: return 2;
-    case PlyScalar::i32:
-    case PlyScalar::u32:
-    case PlyScalar::f32: return 4;
-    case PlyScalar::f64: return 8;
+        case PlyScalar::i8:
+        case PlyScalar::u8:
+            return 1;
+        case PlyScalar::i16:
+        case PlyScalar::u16:
+            return 2;
+        case PlyScalar::i32:
+        case PlyScalar::u32:
+        case PlyScalar::f32:
+            return 4;
+        case PlyScalar::f64:
+            return 8;
     }
     return 0;
 }
@@ -174,10 +176,14 @@ PlyHeader parse_ply_header(std::string_view bytes) {
         if (keyword == "format") {
             if (have_format) fail(n, "a second format line");
             if (args.size() != 2) fail(n, "format needs an encoding and a version");
-            if (args[0] == "ascii") h.encoding = PlyEncoding::ascii;
-            else if (args[0] == "binary_little_endian") h.encoding = PlyEncoding::binary_little_endian;
-            else if (args[0] == "binary_big_endian") h.encoding = PlyEncoding::binary_big_endian;
-            else fail(n, "unknown encoding " + quoted(args[0]));
+            if (args[0] == "ascii")
+                h.encoding = PlyEncoding::ascii;
+            else if (args[0] == "binary_little_endian")
+                h.encoding = PlyEncoding::binary_little_endian;
+            else if (args[0] == "binary_big_endian")
+                h.encoding = PlyEncoding::binary_big_endian;
+            else
+                fail(n, "unknown encoding " + quoted(args[0]));
             h.encoding_name = std::string(args[0]);
             have_format = true;
         } else if (keyword == "element") {
@@ -242,9 +248,12 @@ PlyHeader parse_ply_header(std::string_view bytes) {
 std::string normalised_ply_header(const PlyHeader& h) {
     auto count_type_name = [](PlyScalar s) -> std::string {
         switch (scalar_size(s)) {
-        case 1: return "uchar";
-        case 2: return "uint16";
-        default: return "int";
+            case 1:
+                return "uchar";
+            case 2:
+                return "uint16";
+            default:
+                return "int";
         }
     };
     std::string out = "ply\nformat " + h.encoding_name + " 1.0\n";
@@ -254,17 +263,27 @@ std::string normalised_ply_header(const PlyHeader& h) {
         out += "element " + e.name + " " + std::to_string(e.count) + "\n";
         for (const PlyProperty& p : e.properties) {
             switch (p.role) {
-            case PlyRole::x: out += "property " + p.type_name + " x\n"; break;
-            case PlyRole::y: out += "property " + p.type_name + " y\n"; break;
-            case PlyRole::z: out += "property " + p.type_name + " z\n"; break;
-            case PlyRole::u: out += "property " + p.type_name + " u\n"; break;
-            case PlyRole::v: out += "property " + p.type_name + " v\n"; break;
-            case PlyRole::indices:
-                out += "property list " + count_type_name(p.count_type) + " " + p.type_name + " vertex_indices\n";
-                break;
-            case PlyRole::skip:
-                out += "property " + p.type_name + " gimg_skip_" + std::to_string(skipped++) + "\n";
-                break;
+                case PlyRole::x:
+                    out += "property " + p.type_name + " x\n";
+                    break;
+                case PlyRole::y:
+                    out += "property " + p.type_name + " y\n";
+                    break;
+                case PlyRole::z:
+                    out += "property " + p.type_name + " z\n";
+                    break;
+                case PlyRole::u:
+                    out += "property " + p.type_name + " u\n";
+                    break;
+                case PlyRole::v:
+                    out += "property " + p.type_name + " v\n";
+                    break;
+                case PlyRole::indices:
+                    out += "property list " + count_type_name(p.count_type) + " " + p.type_name + " vertex_indices\n";
+                    break;
+                case PlyRole::skip:
+                    out += "property " + p.type_name + " gimg_skip_" + std::to_string(skipped++) + "\n";
+                    break;
             }
         }
     }

@@ -18,8 +18,8 @@ bool is_float(PlyScalar s);
 enum class PlyRole { skip, x, y, z, u, v, indices };
 
 struct PlyProperty {
-    std::string name;           // as in the file
-    std::string type_name;      // as in the file (OpenMesh knows all 16 PLY type names)
+    std::string name;       // as in the file
+    std::string type_name;  // as in the file (OpenMesh knows all 16 PLY type names)
     PlyScalar type = PlyScalar::f32;
     bool is_list = false;
     PlyScalar count_type = PlyScalar::u8;  // lists only
@@ -45,8 +45,8 @@ struct PlyHeader {
     std::size_t vertex_element = 0;  // indices into elements
     std::size_t face_element = 0;
     bool has_texcoords = false;
-    std::size_t data_start = 0;      // byte offset just past the end_header line
-    std::size_t data_line = 0;       // line number of the first data line (ascii)
+    std::size_t data_start = 0;  // byte offset just past the end_header line
+    std::size_t data_line = 0;   // line number of the first data line (ascii)
     std::vector<std::string> notes;
 };
 

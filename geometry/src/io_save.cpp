@@ -29,9 +29,11 @@ void check_savable(const Mesh& mesh, bool double_precision) {
                          std::to_string(mesh.positions.size()) + " vertices");
     }
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-        const glm::dvec3 p = double_precision ? mesh.positions[i] : glm::dvec3(glm::vec3(mesh.positions[i]));  // as written
+        const glm::dvec3 p =
+            double_precision ? mesh.positions[i] : glm::dvec3(glm::vec3(mesh.positions[i]));  // as written
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
-            throw InputError("cannot save: vertex " + std::to_string(i) + " has a NaN, infinite or out-of-float-range coordinate");
+            throw InputError("cannot save: vertex " + std::to_string(i) +
+                             " has a NaN, infinite or out-of-float-range coordinate");
         }
     }
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
@@ -108,11 +110,12 @@ std::string ply_contents(const Mesh& mesh, bool binary, bool double_precision) {
     out += binary ? "binary_little_endian" : "ascii";
     // The comment goes first: OpenMesh's reader misplaces binary data after a comment just
     // before end_header.
-    out += " 1.0\ncomment written by gimg\nelement vertex " + std::to_string(mesh.vertex_count()) +
-           "\nproperty " + real + " x\nproperty " + real + " y\nproperty " + real + " z\n";
+    out += " 1.0\ncomment written by gimg\nelement vertex " + std::to_string(mesh.vertex_count()) + "\nproperty " +
+           real + " x\nproperty " + real + " y\nproperty " + real + " z\n";
     if (normals) out += "property " + real + " nx\nproperty " + real + " ny\nproperty " + real + " nz\n";
     if (uv) out += "property " + real + " s\nproperty " + real + " t\n";
-    out += "element face " + std::to_string(mesh.face_count()) + "\nproperty list uchar int vertex_indices\nend_header\n";
+    out +=
+        "element face " + std::to_string(mesh.face_count()) + "\nproperty list uchar int vertex_indices\nend_header\n";
     out.reserve(out.size() + mesh.vertex_count() * (binary ? 20 : 40) + mesh.face_count() * (binary ? 13 : 24));
     for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
         if (double_precision) {
@@ -196,7 +199,8 @@ std::string obj_contents(const Mesh& mesh, bool double_precision) {
 
 void save_mesh(const Mesh& mesh, const std::filesystem::path& path, const SaveOptions& options) {
     std::string ext = path.extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
     if (ext != ".ply" && ext != ".obj") {
         throw InputError(path.string() + ": cannot save as '" + ext + "' (gimg writes .ply and .obj)");
     }
@@ -205,7 +209,8 @@ void save_mesh(const Mesh& mesh, const std::filesystem::path& path, const SaveOp
     } catch (const InputError& e) {
         throw InputError(path.string() + ": " + e.what());
     }
-    write_file_atomically(path, ext == ".ply" ? ply_contents(mesh, options.binary, options.double_precision) : obj_contents(mesh, options.double_precision));
+    write_file_atomically(path, ext == ".ply" ? ply_contents(mesh, options.binary, options.double_precision)
+                                              : obj_contents(mesh, options.double_precision));
 }
 
 }  // namespace gimg::geo

@@ -54,8 +54,8 @@ struct KeptFace {
 };
 
 struct ScanResult {
-    std::string format;    // "off", "ply", "obj", "stl"
-    std::string encoding;  // "ascii", "binary_little_endian", "binary_big_endian", "binary"
+    std::string format;                // "off", "ply", "obj", "stl"
+    std::string encoding;              // "ascii", "binary_little_endian", "binary_big_endian", "binary"
     std::string reader_bytes;          // what OpenMesh reads
     std::size_t vertices = 0;          // vertices the reader adds
     std::size_t faces = 0;             // faces (polygons, facets) in the file

@@ -124,13 +124,14 @@ ScanResult scan_obj(std::string_view bytes) {
         if (keyword == "v") ++vertices_seen;
         if (keyword == "vt") ++texcoords_seen;
         if (keyword != "f") continue;
-        const std::string where = "line " + std::to_string(faces.line_number()) + ": face " +
-                                  std::to_string(scan.faces + 1);
+        const std::string where =
+            "line " + std::to_string(faces.line_number()) + ": face " + std::to_string(scan.faces + 1);
         corners.clear();
         while (tokens.next(token)) {
             Corner c;
             if (!parse_corner(token, c)) {
-                throw InputError(where + ": cannot read corner " + quoted(token) + " (expected v, v/vt, v//vn or v/vt/vn)");
+                throw InputError(where + ": cannot read corner " + quoted(token) +
+                                 " (expected v, v/vt, v//vn or v/vt/vn)");
             }
             const std::int64_t v = resolve(c.vertex, vertices_seen, vertex_total);
             if (v < 0) {

@@ -30,13 +30,18 @@ OffHeader parse_keyword(std::string_view keyword) {
         throw InputError("OFF variant " + quoted(keyword) + " is not supported (" + why + ")");
     };
     if (k.size() < 3 || k.substr(k.size() - 3) != "OFF") {
-        throw InputError("not an OFF file: the first line starts with " + quoted(keyword) +
-                         " instead of OFF");
+        throw InputError("not an OFF file: the first line starts with " + quoted(keyword) + " instead of OFF");
     }
     k.remove_suffix(3);
     if (k.substr(0, 2) == "ST") unsupported("texture coordinates");
-    if (!k.empty() && k.front() == 'C') { h.colors = true; k.remove_prefix(1); }
-    if (!k.empty() && k.front() == 'N') { h.normals = true; k.remove_prefix(1); }
+    if (!k.empty() && k.front() == 'C') {
+        h.colors = true;
+        k.remove_prefix(1);
+    }
+    if (!k.empty() && k.front() == 'N') {
+        h.normals = true;
+        k.remove_prefix(1);
+    }
     if (!k.empty() && (k.front() == '4' || k.front() == 'n')) unsupported("only 3D vertices are read");
     if (!k.empty()) unsupported("unknown prefix");
     return h;
@@ -46,8 +51,10 @@ OffHeader parse_keyword(std::string_view keyword) {
 void blank_comments(std::string& text) {
     bool in_comment = false;
     for (char& c : text) {
-        if (c == '\n') in_comment = false;
-        else if (c == '#') in_comment = true;
+        if (c == '\n')
+            in_comment = false;
+        else if (c == '#')
+            in_comment = true;
         if (in_comment) c = ' ';
     }
 }
@@ -104,8 +111,8 @@ ScanResult scan_off(std::string_view bytes) {
     const std::uint64_t body_bytes = text.size() - lines.position();
     if (min_bytes > body_bytes) {
         throw InputError("the OFF header declares " + std::to_string(vertex_count) + " vertices and " +
-                         std::to_string(face_count) + " faces, which need at least " +
-                         std::to_string(min_bytes) + " bytes, but only " + std::to_string(body_bytes) +
+                         std::to_string(face_count) + " faces, which need at least " + std::to_string(min_bytes) +
+                         " bytes, but only " + std::to_string(body_bytes) +
                          " follow (truncated file, or a header that lies)");
     }
 
@@ -120,20 +127,19 @@ ScanResult scan_off(std::string_view bytes) {
     const int coords_per_vertex = header.normals ? 6 : 3;
     for (std::uint32_t v = 0; v < vertex_count; ++v) {
         if (!lines.next_nonblank(line)) {
-            throw InputError("the file ends after " + std::to_string(v) + " of " +
-                             std::to_string(vertex_count) + " vertices (truncated)");
+            throw InputError("the file ends after " + std::to_string(v) + " of " + std::to_string(vertex_count) +
+                             " vertices (truncated)");
         }
         Tokens t(line);
         float xyz[6] = {};
         for (int i = 0; i < coords_per_vertex; ++i) {
             if (!t.next(token)) {
-                throw InputError("line " + std::to_string(lines.line_number()) + ": vertex " +
-                                 std::to_string(v) + " has " + std::to_string(i) + " of " +
-                                 std::to_string(coords_per_vertex) + " numbers");
+                throw InputError("line " + std::to_string(lines.line_number()) + ": vertex " + std::to_string(v) +
+                                 " has " + std::to_string(i) + " of " + std::to_string(coords_per_vertex) + " numbers");
             }
             if (Number status = parse_float(token, xyz[i]); status != Number::ok) {
-                throw InputError("line " + std::to_string(lines.line_number()) + ": vertex " +
-                                 std::to_string(v) + ": " + number_problem(status, token));
+                throw InputError("line " + std::to_string(lines.line_number()) + ": vertex " + std::to_string(v) +
+                                 ": " + number_problem(status, token));
             }
         }
         scan.vertex_fingerprint.add_position(xyz[0], xyz[1], xyz[2]);
@@ -143,8 +149,8 @@ ScanResult scan_off(std::string_view bytes) {
     // face's count, so whatever follows the indices is blanked out (COFF readers skip it).
     for (std::uint32_t f = 0; f < face_count; ++f) {
         if (!lines.next_nonblank(line)) {
-            throw InputError("the file ends after " + std::to_string(f) + " of " +
-                             std::to_string(face_count) + " faces (truncated)");
+            throw InputError("the file ends after " + std::to_string(f) + " of " + std::to_string(face_count) +
+                             " faces (truncated)");
         }
         const std::string where = "line " + std::to_string(lines.line_number()) + ": face " + std::to_string(f);
         Tokens t(line);
@@ -178,8 +184,8 @@ ScanResult scan_off(std::string_view bytes) {
         }
     }
 
-    scan.reader_bytes = header.keyword + "\n" + std::to_string(vertex_count) + " " +
-                        std::to_string(face_count) + " " + std::to_string(counts[2]) + "\n";
+    scan.reader_bytes = header.keyword + "\n" + std::to_string(vertex_count) + " " + std::to_string(face_count) + " " +
+                        std::to_string(counts[2]) + "\n";
     scan.reader_bytes.append(text, body_start, std::string::npos);
     return scan;
 }

@@ -36,14 +36,40 @@ public:
             for (std::size_t i = 0; i < n / 2; ++i) std::swap(b[i], b[n - 1 - i]);
         }
         switch (type) {
-        case PlyScalar::i8: return static_cast<std::int8_t>(b[0]);
-        case PlyScalar::u8: return b[0];
-        case PlyScalar::i16: { std::int16_t v; std::memcpy(&v, b, 2); return v; }
-        case PlyScalar::u16: { std::uint16_t v; std::memcpy(&v, b, 2); return v; }
-        case PlyScalar::i32: { std::int32_t v; std::memcpy(&v, b, 4); return v; }
-        case PlyScalar::u32: { std::uint32_t v; std::memcpy(&v, b, 4); return v; }
-        case PlyScalar::f32: { float v; std::memcpy(&v, b, 4); return v; }
-        case PlyScalar::f64: { double v; std::memcpy(&v, b, 8); return v; }
+            case PlyScalar::i8:
+                return static_cast<std::int8_t>(b[0]);
+            case PlyScalar::u8:
+                return b[0];
+            case PlyScalar::i16: {
+                std::int16_t v;
+                std::memcpy(&v, b, 2);
+                return v;
+            }
+            case PlyScalar::u16: {
+                std::uint16_t v;
+                std::memcpy(&v, b, 2);
+                return v;
+            }
+            case PlyScalar::i32: {
+                std::int32_t v;
+                std::memcpy(&v, b, 4);
+                return v;
+            }
+            case PlyScalar::u32: {
+                std::uint32_t v;
+                std::memcpy(&v, b, 4);
+                return v;
+            }
+            case PlyScalar::f32: {
+                float v;
+                std::memcpy(&v, b, 4);
+                return v;
+            }
+            case PlyScalar::f64: {
+                double v;
+                std::memcpy(&v, b, 8);
+                return v;
+            }
         }
         return 0;
     }

@@ -149,8 +149,8 @@ ScanResult scan_stl(std::string_view bytes) {
             scan_binary(bytes, scan);
         } else if (looks_binary(bytes)) {
             throw InputError("binary STL: the header declares " + std::to_string(count) + " triangles, which need " +
-                             std::to_string(binary_size) + " bytes, but the file has " +
-                             std::to_string(bytes.size()) + " (truncated file, or a header that lies)");
+                             std::to_string(binary_size) + " bytes, but the file has " + std::to_string(bytes.size()) +
+                             " (truncated file, or a header that lies)");
         } else {
             scan_ascii(bytes, scan);
         }

@@ -24,17 +24,26 @@ bool is_decimal_number(std::string_view s) {
     std::size_t i = 0;
     if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
     std::size_t mantissa_digits = 0;
-    while (i < s.size() && is_digit(s[i])) { ++i; ++mantissa_digits; }
+    while (i < s.size() && is_digit(s[i])) {
+        ++i;
+        ++mantissa_digits;
+    }
     if (i < s.size() && s[i] == '.') {
         ++i;
-        while (i < s.size() && is_digit(s[i])) { ++i; ++mantissa_digits; }
+        while (i < s.size() && is_digit(s[i])) {
+            ++i;
+            ++mantissa_digits;
+        }
     }
     if (mantissa_digits == 0) return false;
     if (i < s.size() && (s[i] == 'e' || s[i] == 'E')) {
         ++i;
         if (i < s.size() && (s[i] == '+' || s[i] == '-')) ++i;
         std::size_t exponent_digits = 0;
-        while (i < s.size() && is_digit(s[i])) { ++i; ++exponent_digits; }
+        while (i < s.size() && is_digit(s[i])) {
+            ++i;
+            ++exponent_digits;
+        }
         if (exponent_digits == 0) return false;
     }
     return i == s.size();
@@ -182,10 +191,14 @@ bool parse_int(std::string_view token, std::int64_t& value) {
 
 std::string number_problem(Number status, std::string_view token) {
     switch (status) {
-    case Number::nan_or_inf: return "NaN or infinite coordinate " + quoted(token);
-    case Number::out_of_range: return "coordinate " + quoted(token) + " is out of range for float";
-    case Number::not_a_number: return quoted(token) + " is not a number";
-    case Number::ok: break;
+        case Number::nan_or_inf:
+            return "NaN or infinite coordinate " + quoted(token);
+        case Number::out_of_range:
+            return "coordinate " + quoted(token) + " is out of range for float";
+        case Number::not_a_number:
+            return quoted(token) + " is not a number";
+        case Number::ok:
+            break;
     }
     return "coordinate " + quoted(token);
 }

@@ -12,9 +12,7 @@
 namespace gimg::geo::io {
 
 // Whitespace as operator>> sees it in the "C" locale.
-constexpr bool is_space(char c) {
-    return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r';
-}
+constexpr bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r'; }
 
 // Throws InputError when `text` holds bytes no text mesh file holds (NUL and other control
 // characters): a binary or corrupted file given a text format's extension.
@@ -32,9 +30,9 @@ public:
     bool next(std::string_view& line);
     // The next line holding a token; false at the end.
     bool next_nonblank(std::string_view& line);
-    std::size_t line_number() const { return line_; }   // of the line last returned, 1-based
-    std::size_t line_start() const { return start_; }   // byte offset of that line
-    std::size_t position() const { return pos_; }       // byte offset after that line's '\n'
+    std::size_t line_number() const { return line_; }  // of the line last returned, 1-based
+    std::size_t line_start() const { return start_; }  // byte offset of that line
+    std::size_t position() const { return pos_; }      // byte offset after that line's '\n'
 
 private:
     std::string_view text_;

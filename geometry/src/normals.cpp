@@ -15,8 +15,8 @@ std::vector<glm::dvec3> face_normals(const Mesh& mesh) {
     std::vector<glm::dvec3> normals(mesh.face_count(), glm::dvec3(0.0));
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const glm::uvec3& t = mesh.triangles[f];
-        const glm::dvec3 n = glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
-                                        mesh.positions[t.z] - mesh.positions[t.x]);
+        const glm::dvec3 n =
+            glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]);
         const double len = glm::length(n);
         if (len > 0.0) normals[f] = n / len;
     }
@@ -38,8 +38,8 @@ std::vector<double> corner_angles(const Mesh& mesh) {
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {
         const glm::uvec3& t = mesh.triangles[f];
         for (int k = 0; k < 3; ++k)
-            angles[3 * f + k] = corner_angle(mesh.positions[t[k]], mesh.positions[t[(k + 1) % 3]],
-                                             mesh.positions[t[(k + 2) % 3]]);
+            angles[3 * f + k] =
+                corner_angle(mesh.positions[t[k]], mesh.positions[t[(k + 1) % 3]], mesh.positions[t[(k + 2) % 3]]);
     }
     return angles;
 }

@@ -21,8 +21,7 @@ unsigned default_thread_count() {
 }
 
 void parallel_for_chunks(std::size_t count, std::size_t grain,
-                         const std::function<void(std::size_t, std::size_t, std::size_t)>& body,
-                         unsigned threads) {
+                         const std::function<void(std::size_t, std::size_t, std::size_t)>& body, unsigned threads) {
     if (count == 0) return;
     grain = std::max<std::size_t>(grain, 1);
     const std::size_t chunks = chunk_count(count, grain);

@@ -82,8 +82,8 @@ public:
                 const double p = glm::dot(mesh_.positions[t.x] - center, axis);
                 const double q = glm::dot(mesh_.positions[t.y] - center, axis);
                 const double r = glm::dot(mesh_.positions[t.z] - center, axis);
-                const double h3 = p * p * p + q * q * q + r * r * r + p * p * (q + r) +
-                                  q * q * (p + r) + r * r * (p + q) + p * q * r;
+                const double h3 =
+                    p * p * p + q * q * q + r * r * r + p * p * (q + r) + q * q * (p + r) + r * r * (p + q) + p * q * r;
                 sum += areas_[f] * h3 / 10.0;
             }
         }
@@ -98,8 +98,7 @@ private:
 };
 
 // Picks the sign of `axis` as documented in pca.h.
-glm::dvec3 oriented(const MomentSource& source, const glm::dvec3& center, glm::dvec3 axis,
-                    double variance) {
+glm::dvec3 oriented(const MomentSource& source, const glm::dvec3& center, glm::dvec3 axis, double variance) {
     const double m3 = source.third_moment(center, axis);
     const double sigma = std::sqrt(std::max(variance, 0.0));
     if (std::abs(m3) > 1e-6 * sigma * sigma * sigma && sigma > 0.0) return m3 > 0.0 ? axis : -axis;

@@ -65,8 +65,7 @@ class Collapser {
 public:
     explicit Collapser(const geo::Mesh& mesh)
         : mesh_(mesh), tri_(mesh.triangles), vfaces_(mesh.vertex_count()), quadric_(mesh.vertex_count()),
-          removed_(mesh.vertex_count(), 0), mark_(mesh.vertex_count(), 0),
-          active_(mesh.vertex_count()) {
+          removed_(mesh.vertex_count(), 0), mark_(mesh.vertex_count(), 0), active_(mesh.vertex_count()) {
         for (std::uint32_t f = 0; f < tri_.size(); ++f) {
             const glm::uvec3 t = tri_[f];
             const glm::dvec3 &a = mesh.positions[t.x], &b = mesh.positions[t.y], &c = mesh.positions[t.z];
@@ -225,8 +224,8 @@ private:
     }
 
     const geo::Mesh& mesh_;
-    std::vector<glm::uvec3> tri_;                      // current corners of every face
-    std::vector<std::vector<std::uint32_t>> vfaces_;   // live faces around each vertex
+    std::vector<glm::uvec3> tri_;                     // current corners of every face
+    std::vector<std::vector<std::uint32_t>> vfaces_;  // live faces around each vertex
     std::vector<Quadric> quadric_;
     std::vector<std::uint8_t> removed_;
     std::vector<std::uint32_t> mark_;

@@ -16,11 +16,11 @@ namespace gimg::geo {
 Mesh make_icosphere(double radius, int level, glm::dvec3 center) {
     if (level < 0 || level > 9) throw InputError("icosphere level must be in 0..9");
     const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-    std::vector<glm::dvec3> p{{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                              {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-    std::vector<glm::uvec3> f{{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+    std::vector<glm::dvec3> p{{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                              {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
+    std::vector<glm::uvec3> f{{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
                               {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-                              {3, 8, 9},  {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},  {9, 8, 1}};
+                              {3, 8, 9},   {4, 9, 5},  {2, 4, 11}, {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
     for (auto& v : p) v = glm::normalize(v);
     for (int l = 0; l < level; ++l) {
         std::map<std::pair<unsigned, unsigned>, unsigned> midpoints;
@@ -84,8 +84,8 @@ Mesh make_box(glm::dvec3 size, int divisions) {
     auto vertex = [&](int i, int j, int k) {
         auto [it, inserted] = index.try_emplace({i, j, k}, unsigned(m.positions.size()));
         if (inserted)
-            m.positions.push_back({(double(i) / n - 0.5) * size.x, (double(j) / n - 0.5) * size.y,
-                                   (double(k) / n - 0.5) * size.z});
+            m.positions.push_back(
+                {(double(i) / n - 0.5) * size.x, (double(j) / n - 0.5) * size.y, (double(k) / n - 0.5) * size.z});
         return it->second;
     };
     // Each face: a fixed axis at 0 or n, two running axes chosen so the normal points outward.

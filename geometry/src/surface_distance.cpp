@@ -36,19 +36,21 @@ double vertex_max_distance(const Mesh& from, const TriangleBvh& to, unsigned thr
     std::vector<std::uint8_t> used(from.vertex_count(), 0);
     for (const glm::uvec3& t : from.triangles) used[t.x] = used[t.y] = used[t.z] = 1;
     std::vector<double> chunk_max(chunk_count(from.vertex_count(), kVerticesPerChunk), 0.0);
-    parallel_for_chunks(from.vertex_count(), kVerticesPerChunk,
+    parallel_for_chunks(
+        from.vertex_count(), kVerticesPerChunk,
         [&](std::size_t chunk, std::size_t begin, std::size_t end) {
             double m = 0.0;
             std::uint32_t hint = kInvalidIndex;
             for (std::size_t v = begin; v < end; ++v) {
                 if (!used[v]) continue;
-                const ClosestPointResult r = to.closest_point(from.positions[v],
-                                                              std::numeric_limits<double>::infinity(), hint);
+                const ClosestPointResult r =
+                    to.closest_point(from.positions[v], std::numeric_limits<double>::infinity(), hint);
                 hint = r.face;
                 m = std::max(m, r.distance);
             }
             chunk_max[chunk] = m;
-        }, threads);
+        },
+        threads);
     double m = 0.0;
     for (double x : chunk_max) m = std::max(m, x);
     return m;
@@ -65,7 +67,8 @@ DistanceStats one_sided_distance(const Mesh& from, const TriangleBvh& to, const 
         face_sample_counts(areas, resolve_sample_count(options.sampling, from.face_count()), seed);
 
     std::vector<Partial> partials(chunk_count(from.face_count(), kFacesPerChunk));
-    parallel_for_chunks(from.face_count(), kFacesPerChunk,
+    parallel_for_chunks(
+        from.face_count(), kFacesPerChunk,
         [&](std::size_t chunk, std::size_t begin, std::size_t end) {
             Partial p;
             // Consecutive samples lie on the same or a neighbouring face, so the previous answer
@@ -74,8 +77,8 @@ DistanceStats one_sided_distance(const Mesh& from, const TriangleBvh& to, const 
             for (std::size_t f = begin; f < end; ++f) {
                 const glm::uvec3& t = from.triangles[f];
                 for (std::uint32_t i = 0; i < counts[f]; ++i) {
-                    const glm::dvec3 q = triangle_sample(from.positions[t.x], from.positions[t.y],
-                                                         from.positions[t.z], static_cast<std::uint32_t>(f), i, seed);
+                    const glm::dvec3 q = triangle_sample(from.positions[t.x], from.positions[t.y], from.positions[t.z],
+                                                         static_cast<std::uint32_t>(f), i, seed);
                     const ClosestPointResult r = to.closest_point(q, std::numeric_limits<double>::infinity(), hint);
                     hint = r.face;
                     p.sum += r.distance;
@@ -85,7 +88,8 @@ DistanceStats one_sided_distance(const Mesh& from, const TriangleBvh& to, const 
                 }
             }
             partials[chunk] = p;
-        }, options.threads);
+        },
+        options.threads);
 
     Partial total;
     for (const Partial& p : partials) {

@@ -56,8 +56,8 @@ std::vector<std::uint32_t> face_sample_counts(const std::vector<double>& face_ar
     return counts;
 }
 
-glm::dvec3 triangle_sample(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-                           std::uint32_t face, std::uint32_t i, std::uint64_t seed) {
+glm::dvec3 triangle_sample(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::uint32_t face,
+                           std::uint32_t i, std::uint64_t seed) {
     const std::uint64_t h = splitmix64(seed ^ splitmix64(face));
     const double shift_u = unit_double(h), shift_v = unit_double(splitmix64(h));
     double s = shift_u + kR2StepU * double(i + 1);

@@ -23,8 +23,9 @@ void check_indices(const Mesh& mesh) {
     for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
         for (int k = 0; k < 3; ++k) {
             if (mesh.triangles[f][k] >= mesh.positions.size()) {
-                throw InputError("triangle " + std::to_string(f) + " names vertex " + std::to_string(mesh.triangles[f][k]) +
-                                 ", but the mesh has " + std::to_string(mesh.positions.size()) + " vertices");
+                throw InputError("triangle " + std::to_string(f) + " names vertex " +
+                                 std::to_string(mesh.triangles[f][k]) + ", but the mesh has " +
+                                 std::to_string(mesh.positions.size()) + " vertices");
             }
         }
     }

@@ -49,9 +49,8 @@ EdgeTable build_edge_table(const Mesh& mesh, const std::vector<std::uint8_t>& co
         }
     }
     for (std::size_t v = 0; v < n; ++v)
-        std::sort(t.sides.begin() + bucket[v], t.sides.begin() + bucket[v + 1], [](const Side& x, const Side& y) {
-            return x.b != y.b ? x.b < y.b : x.face < y.face;
-        });
+        std::sort(t.sides.begin() + bucket[v], t.sides.begin() + bucket[v + 1],
+                  [](const Side& x, const Side& y) { return x.b != y.b ? x.b < y.b : x.face < y.face; });
     t.edge_begin.reserve(t.sides.size() / 2 + 2);
     for (std::uint32_t i = 0; i < t.sides.size(); ++i) {
         if (i == 0 || t.sides[i].a != t.sides[i - 1].a || t.sides[i].b != t.sides[i - 1].b) {
@@ -105,7 +104,8 @@ Fans build_fans(const Mesh& mesh, const std::vector<std::uint8_t>& collapsed) {
         std::sort(neighbours.begin(), neighbours.end());
         UnionFind local(e - b);
         for (std::size_t j = 1; j < neighbours.size(); ++j) {
-            if (neighbours[j].first == neighbours[j - 1].first) local.unite(neighbours[j].second, neighbours[j - 1].second);
+            if (neighbours[j].first == neighbours[j - 1].first)
+                local.unite(neighbours[j].second, neighbours[j - 1].second);
         }
         // Number the fans 0, 1, ... in the order of their first face.
         local_root.assign(e - b, UINT32_MAX);

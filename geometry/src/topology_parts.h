@@ -25,14 +25,14 @@ private:
 struct Side {
     std::uint32_t a = 0, b = 0;  // a < b
     std::uint32_t face = 0;
-    bool forward = false;        // the face goes a -> b
-    bool surface = false;        // the face is not collapsed
+    bool forward = false;  // the face goes a -> b
+    bool surface = false;  // the face is not collapsed
 };
 
 struct EdgeTable {
-    std::vector<Side> sides;                 // sorted by (a, b), then face
-    std::vector<std::uint32_t> edge_begin;   // edge e: sides[edge_begin[e], edge_begin[e + 1])
-    std::vector<std::uint32_t> surface;      // surface faces per edge
+    std::vector<Side> sides;                // sorted by (a, b), then face
+    std::vector<std::uint32_t> edge_begin;  // edge e: sides[edge_begin[e], edge_begin[e + 1])
+    std::vector<std::uint32_t> surface;     // surface faces per edge
 
     std::size_t edge_count() const { return edge_begin.size() - 1; }
 };

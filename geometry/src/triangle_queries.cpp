@@ -16,8 +16,7 @@ double closest_on_segment(const glm::dvec3& p, const glm::dvec3& a, const glm::d
     return std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0);
 }
 
-TrianglePoint closest_on_edges(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
-                               const glm::dvec3& c) {
+TrianglePoint closest_on_edges(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
     const glm::dvec3 corner[3] = {a, b, c};
     TrianglePoint best;
     best.distance_squared = std::numeric_limits<double>::infinity();
@@ -43,8 +42,8 @@ TrianglePoint make(const glm::dvec3& p, const glm::dvec3& q, const glm::dvec3& w
 
 }  // namespace
 
-TrianglePoint closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a,
-                                        const glm::dvec3& b, const glm::dvec3& c) {
+TrianglePoint closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+                                        const glm::dvec3& c) {
     const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
     const double d1 = glm::dot(ab, ap), d2 = glm::dot(ac, ap);
     if (d1 <= 0.0 && d2 <= 0.0) return make(p, a, {1, 0, 0});  // corner a
@@ -95,8 +94,8 @@ TrianglePoint closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a
     return make(p, a + ab * v + ac * w, {1.0 - v - w, v, w});
 }
 
-bool intersect_ray_triangle(const Ray& ray, const glm::dvec3& a, const glm::dvec3& b,
-                            const glm::dvec3& c, TriangleHit& hit) {
+bool intersect_ray_triangle(const Ray& ray, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                            TriangleHit& hit) {
     const glm::dvec3 e1 = b - a, e2 = c - a;
     if (ray.front_faces_only && !(glm::dot(glm::cross(e1, e2), ray.direction) < 0.0)) return false;
     const glm::dvec3 pvec = glm::cross(ray.direction, e2);

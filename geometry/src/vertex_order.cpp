@@ -98,7 +98,8 @@ Mesh reorder_vertices(const Mesh& mesh, const std::vector<std::uint32_t>& order)
     out.texcoords = gathered(mesh.texcoords);
     out.normals = gathered(mesh.normals);
     out.triangles.reserve(mesh.face_count());
-    for (const glm::uvec3& t : mesh.triangles) out.triangles.push_back({new_index[t.x], new_index[t.y], new_index[t.z]});
+    for (const glm::uvec3& t : mesh.triangles)
+        out.triangles.push_back({new_index[t.x], new_index[t.y], new_index[t.z]});
     return out;
 }
 

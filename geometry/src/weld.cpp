@@ -35,7 +35,8 @@ std::size_t weld_identical_vertices(Mesh& mesh) {
     std::size_t kept = 0;
     for (std::size_t i = 0; i < n; ++i) {
         const glm::dvec3& p = mesh.positions[i];
-        const auto [it, inserted] = first.try_emplace({bits(p.x), bits(p.y), bits(p.z)}, static_cast<std::uint32_t>(kept));
+        const auto [it, inserted] =
+            first.try_emplace({bits(p.x), bits(p.y), bits(p.z)}, static_cast<std::uint32_t>(kept));
         if (inserted) {
             mesh.positions[kept] = p;
             if (mesh.has_texcoords()) mesh.texcoords[kept] = mesh.texcoords[i];

@@ -55,16 +55,13 @@ void write_cylinder_files(const std::filesystem::path& dir, const CylinderImage&
 
     nlohmann::json j;
     j["rotation"] = nlohmann::json::array();
-    for (int r = 0; r < 3; ++r) j["rotation"].push_back({frame.rotation[0][r], frame.rotation[1][r], frame.rotation[2][r]});
+    for (int r = 0; r < 3; ++r)
+        j["rotation"].push_back({frame.rotation[0][r], frame.rotation[1][r], frame.rotation[2][r]});
     j["translation"] = {frame.translation.x, frame.translation.y, frame.translation.z};
     j["scale"] = frame.scale;
     j["to_cylinder"] = "p_cylinder = scale * rotation * p + translation (rotation as rows)";
-    j["image"] = {{"width", image.width},
-                  {"height", image.height},
-                  {"theta", "2*pi*(u+0.5)/width"},
-                  {"y", "1-(v+0.5)/height"},
-                  {"row_0", "top"},
-                  {"point", "(d*cos(theta), y, d*sin(theta))"},
+    j["image"] = {{"width", image.width},    {"height", image.height}, {"theta", "2*pi*(u+0.5)/width"},
+                  {"y", "1-(v+0.5)/height"}, {"row_0", "top"},         {"point", "(d*cos(theta), y, d*sin(theta))"},
                   {"empty", "mask == 0"}};
     j["source"] = info.source;
     j["method"] = info.method;
@@ -74,14 +71,16 @@ void write_cylinder_files(const std::filesystem::path& dir, const CylinderImage&
 CylinderImage read_cylinder_exr(const std::filesystem::path& path) {
     const geo::FloatImage exr = geo::read_exr(path);
     auto d = exr.channels.find("d");
-    if (d == exr.channels.end()) throw geo::InputError(path.string() + " has no channel \"d\": not a cylindrical geometry image");
+    if (d == exr.channels.end())
+        throw geo::InputError(path.string() + " has no channel \"d\": not a cylindrical geometry image");
     auto mask = exr.channels.find("mask");
     CylinderImage image(exr.width, exr.height);
     for (std::size_t i = 0; i < image.distance.size(); ++i) {
         const float v = d->second[i];
         const bool covered = mask != exr.channels.end() ? mask->second[i] > 0.5f : std::isfinite(v);
         if (covered && !(std::abs(v) <= 1.0f))
-            throw geo::InputError(path.string() + ": d = " + std::to_string(v) + " outside [-1, 1] at pixel " + std::to_string(i));
+            throw geo::InputError(path.string() + ": d = " + std::to_string(v) + " outside [-1, 1] at pixel " +
+                                  std::to_string(i));
         image.covered[i] = covered;
         image.distance[i] = covered ? v : 0.0f;
     }
@@ -98,7 +97,8 @@ CylinderFrame read_cylinder_frame(const std::filesystem::path& path) {
             for (int c = 0; c < 3; ++c) f.rotation[c][r] = j.at("rotation").at(r).at(c).get<double>();
         for (int k = 0; k < 3; ++k) f.translation[k] = j.at("translation").at(k).get<double>();
         f.scale = j.at("scale").get<double>();
-        if (!(f.scale > 0.0) || !std::isfinite(f.scale)) throw geo::InputError(path.string() + ": scale must be positive");
+        if (!(f.scale > 0.0) || !std::isfinite(f.scale))
+            throw geo::InputError(path.string() + ": scale must be positive");
         return f;
     } catch (const nlohmann::json::exception& e) {
         throw geo::InputError(path.string() + " is not a gimg frame.json: " + e.what());

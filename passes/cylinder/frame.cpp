@@ -41,7 +41,8 @@ CylinderFrame fit_cylinder_frame(const geo::Mesh& mesh, bool align) {
         y_max = std::max(y_max, q.y);
     }
     const double extent = std::max(r_max, y_max - y_min);
-    if (!(extent > 0.0) || !std::isfinite(extent)) throw geo::InputError("the mesh has no extent to fit into the cylinder");
+    if (!(extent > 0.0) || !std::isfinite(extent))
+        throw geo::InputError("the mesh has no extent to fit into the cylinder");
     frame.scale = kMargin / extent;
     // p_cyl = s R (p - c) + (0, y0, 0) with the model centred in height.
     const double y0 = 0.5 - frame.scale * 0.5 * (y_min + y_max);

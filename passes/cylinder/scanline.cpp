@@ -54,8 +54,8 @@ struct Raster {
     double columns_per_radian = 0.0;
     std::vector<ColumnRay> rays;
     std::vector<std::array<double, 2>> directions;  // (cos, sin) of theta_u, cylinder_directions()
-    std::vector<double> row_y;  // y_v, computed once so every decision sees the same values
-    float* depth = nullptr;     // the Z-buffer, W x H, row-major from the top
+    std::vector<double> row_y;                      // y_v, computed once so every decision sees the same values
+    float* depth = nullptr;                         // the Z-buffer, W x H, row-major from the top
 };
 
 Raster make_raster(std::uint32_t width, std::uint32_t height, float* depth) {
@@ -145,7 +145,7 @@ std::pair<long, long> rows_between(const Raster& r, double y_lo, double y_hi, lo
     const double h = double(r.height);
     const double top = h * (1.0 - y_hi) - 0.5, bottom = h * (1.0 - y_lo) - 0.5;
     if (!(top < double(row_end)) || !(bottom > double(row_begin) - 1.0)) return {1, 0};
-    long first = top > double(row_begin) ? long(top) : row_begin;  // at most one row early
+    long first = top > double(row_begin) ? long(top) : row_begin;               // at most one row early
     long last = bottom < double(row_end - 1) ? long(bottom) + 1 : row_end - 1;  // at most two rows late
     while (first < row_end && r.row_y[std::size_t(first)] > y_hi) ++first;
     while (first > row_begin && r.row_y[std::size_t(first) - 1] <= y_hi) --first;
@@ -214,7 +214,7 @@ void scan_triangle(const Raster& r, const Point& a, const Point& b, const Point&
     const bool any_front = s[0] > 0.0 || s[1] > 0.0 || s[2] > 0.0;
     const bool any_back = s[0] < 0.0 || s[1] < 0.0 || s[2] < 0.0;
     const bool exception = any_front && any_back;  // (z1.c)
-    const bool back = any_back && !any_front;       // (z1.b); all >= 0 is (z1.a)
+    const bool back = any_back && !any_front;      // (z1.b); all >= 0 is (z1.a)
 
     const Edge long_edge = make_edge(lo, hi), lower = make_edge(lo, mid), upper = make_edge(mid, hi);
 
@@ -234,8 +234,7 @@ void scan_triangle(const Raster& r, const Point& a, const Point& b, const Point&
         const Point q_short = y < mid.y ? cut(lower, y) : y > mid.y ? cut(upper, y) : mid;
         // An exception triangle's two pieces lie on either side of the horizontal line where
         // V . N_xz changes sign; on a row it has one sign, that of the cut's k.
-        const bool row_back =
-            exception ? nx * (q_long.x + q_short.x) + nz * (q_long.z + q_short.z) < 0.0 : back;
+        const bool row_back = exception ? nx * (q_long.x + q_short.x) + nz * (q_long.z + q_short.z) < 0.0 : back;
         const bool long_left = long_left_if_front != row_back;
         const Point& left = long_left ? q_long : q_short;
         const Point& right = long_left ? q_short : q_long;
@@ -244,7 +243,7 @@ void scan_triangle(const Raster& r, const Point& a, const Point& b, const Point&
 }
 
 struct Geometry {
-    std::vector<Point> points;     // in the cylinder frame, in double
+    std::vector<Point> points;  // in the cylinder frame, in double
     const std::vector<std::uint32_t>* triangles = nullptr;
 
     void scan(const Raster& r, std::size_t f, long row_begin, long row_end) const {
@@ -348,8 +347,7 @@ CylinderImage cylinder_scanline(const CylinderMesh& mesh, std::uint32_t width, s
     }
     threads = std::clamp(threads, 1u, height);
     if (threads <= 1) {
-        for (std::size_t f = 0; f < faces; ++f)
-            g.scan(r, f, 0, long(height));
+        for (std::size_t f = 0; f < faces; ++f) g.scan(r, f, 0, long(height));
     } else {
         scan_in_bands(r, g, faces, threads);
     }

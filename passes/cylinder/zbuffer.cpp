@@ -38,8 +38,8 @@ const Spirv kLargePieces = GIMG_SPIRV(gimg_spv_cylinder_large_pieces_comp);
 const Spirv kLargePiecesFloat = GIMG_SPIRV(gimg_spv_cylinder_large_pieces_float_comp);
 const Spirv kAtlasImages = GIMG_SPIRV(gimg_spv_cylinder_atlas_images_comp);
 const Spirv kAtlasImagesRaster = GIMG_SPIRV(gimg_spv_cylinder_atlas_images_raster_comp);
-const RasterState kDepthMax{.cull = CullMode::None, .depth_test = true, .depth_write = true,
-                            .depth_compare = CompareOp::Less};
+const RasterState kDepthMax{
+    .cull = CullMode::None, .depth_test = true, .depth_write = true, .depth_compare = CompareOp::Less};
 const RasterProgram kZBuffer{GIMG_SPIRV(gimg_spv_cylinder_zbuffer_vert), GIMG_SPIRV(gimg_spv_cylinder_zbuffer_frag),
                              kDepthMax};
 const RasterProgram kZBufferFloat{GIMG_SPIRV(gimg_spv_cylinder_zbuffer_vert),
@@ -160,10 +160,10 @@ struct CylinderZBuffer::State {
                 std::memcpy(&texels[u], f, 8);
             }
         }
-        directions = std::make_shared<Image>(
-            upload_texel_array(ctx, std::move(texels), Format::RGBA32U, "cylinder directions"));
-        args_readback = ctx.create_buffer({sizeof(PieceArgs), "cylinder large-piece arguments readback"},
-                                          MemoryUsage::Readback);
+        directions =
+            std::make_shared<Image>(upload_texel_array(ctx, std::move(texels), Format::RGBA32U, "cylinder directions"));
+        args_readback =
+            ctx.create_buffer({sizeof(PieceArgs), "cylinder large-piece arguments readback"}, MemoryUsage::Readback);
     }
 
     const Geometry& uploaded_geometry() {
@@ -233,8 +233,8 @@ struct CylinderZBuffer::State {
             prefix += m.face_count;
         }
         ctx.upload(b.jobs_upload, gpu.data(), gpu.size() * sizeof(JobGpu));
-        b.classify = {std::uint32_t(faces), std::uint32_t(jobs.size()), width,         height,
-                      b.rect_capacity,      small_pixels,              b.atlas_width};
+        b.classify = {std::uint32_t(faces), std::uint32_t(jobs.size()), width, height, b.rect_capacity, small_pixels,
+                      b.atlas_width};
         b.draw = {{float(b.atlas_width), float(b.atlas_height)}, {width, height}};
         return gpu;
     }
@@ -253,69 +253,81 @@ struct CylinderZBuffer::State {
         auto jobs = g.create_buffer({jobs_bytes, name + " jobs"});
         auto rects = g.create_buffer({VkDeviceSize(bt->rect_capacity) * 16, name + " rectangles"});
         auto args = g.create_buffer({sizeof(PieceArgs), name + " large-piece arguments"});
-        auto keys = g.create_buffer(
-            {VkDeviceSize(bt->atlas_width) * bt->atlas_height * 4, name + " distance keys"});
+        auto keys = g.create_buffer({VkDeviceSize(bt->atlas_width) * bt->atlas_height * 4, name + " distance keys"});
         const bool graphics_pass = graphics, dbl = use_double;
-        g.add_compute_pass(name + ": reset", [&](PassBuilder& b) {
-            b.read(jobs_in, Access::TransferSrc);
-            if (graphics_pass) jobs = b.write(jobs, Access::TransferDst);  // only the graphics pipeline reads it
-            job_texels = b.write(job_texels, Access::TransferDst);
-            args = b.write(args, Access::TransferDst);
-            keys = b.write(keys, Access::TransferDst);
-        }, [graphics_pass, jobs_bytes, jobs_in, jobs, job_texels, args, keys, bt](Cmd& c) {
-            if (graphics_pass) c.copy(jobs_in, jobs, jobs_bytes);
-            c.copy(jobs_in, job_texels);
-            const PieceArgs init{0, 1, 0, 0, 0, 1, 1, 0};
-            c.update(args, &init, sizeof init);
-            c.fill(keys, 0);
-        });
-        g.add_compute_pass(name + ": classify, split, small pieces", [&](PassBuilder& b) {
-            b.read(pos, Access::ComputeRead);
-            b.read(tri, Access::ComputeRead);
-            b.read(job_texels, Access::ComputeRead);
-            b.read(dirs, Access::ComputeRead);
-            rects = b.write(rects, Access::ComputeWrite);
-            args = b.write(args, Access::ComputeReadWrite);
-            keys = b.write(keys, Access::ComputeReadWrite);
-        }, [dbl, bt, geo_ptr, dirs_ptr, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
-            const std::uint32_t groups =
-                (bt->classify.total_faces + GIMG_CYL_CLASSIFY_GROUP - 1) / GIMG_CYL_CLASSIFY_GROUP;
-            const std::uint32_t gx = std::min(groups, 65535u), gy = (groups + gx - 1) / std::max(gx, 1u);
-            c.dispatch(dbl ? kClassify : kClassifyFloat, {gx, gy, 1}, {pos, tri, job_texels, rects, args, dirs, keys},
-                       bt->classify);
-        });
+        g.add_compute_pass(
+            name + ": reset",
+            [&](PassBuilder& b) {
+                b.read(jobs_in, Access::TransferSrc);
+                if (graphics_pass) jobs = b.write(jobs, Access::TransferDst);  // only the graphics pipeline reads it
+                job_texels = b.write(job_texels, Access::TransferDst);
+                args = b.write(args, Access::TransferDst);
+                keys = b.write(keys, Access::TransferDst);
+            },
+            [graphics_pass, jobs_bytes, jobs_in, jobs, job_texels, args, keys, bt](Cmd& c) {
+                if (graphics_pass) c.copy(jobs_in, jobs, jobs_bytes);
+                c.copy(jobs_in, job_texels);
+                const PieceArgs init{0, 1, 0, 0, 0, 1, 1, 0};
+                c.update(args, &init, sizeof init);
+                c.fill(keys, 0);
+            });
+        g.add_compute_pass(
+            name + ": classify, split, small pieces",
+            [&](PassBuilder& b) {
+                b.read(pos, Access::ComputeRead);
+                b.read(tri, Access::ComputeRead);
+                b.read(job_texels, Access::ComputeRead);
+                b.read(dirs, Access::ComputeRead);
+                rects = b.write(rects, Access::ComputeWrite);
+                args = b.write(args, Access::ComputeReadWrite);
+                keys = b.write(keys, Access::ComputeReadWrite);
+            },
+            [dbl, bt, geo_ptr, dirs_ptr, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
+                const std::uint32_t groups =
+                    (bt->classify.total_faces + GIMG_CYL_CLASSIFY_GROUP - 1) / GIMG_CYL_CLASSIFY_GROUP;
+                const std::uint32_t gx = std::min(groups, 65535u), gy = (groups + gx - 1) / std::max(gx, 1u);
+                c.dispatch(dbl ? kClassify : kClassifyFloat, {gx, gy, 1},
+                           {pos, tri, job_texels, rects, args, dirs, keys}, bt->classify);
+            });
         Projection out{keys, args, std::nullopt};
         if (graphics_pass) {
             auto raster_t = g.create_image({bt->atlas_width, bt->atlas_height, Format::R32F, name + " atlas"});
             auto depth = g.create_image({bt->atlas_width, bt->atlas_height, Format::D32F, name + " depth"});
-            g.add_raster_pass(name + ": z-buffer", [&](PassBuilder& b) {
-                b.read(rects, Access::VertexRead);
-                b.read(jobs, Access::VertexRead);
-                b.read(jobs, Access::FragmentRead);
-                b.read(pos, Access::FragmentRead);
-                b.read(tri, Access::FragmentRead);
-                b.read(dirs, Access::FragmentRead);
-                b.read(args, Access::IndirectArgs);
-                raster_t = b.color(raster_t, ClearValue::color(float(GIMG_CYL_EMPTY)));
-                depth = b.depth(depth, ClearValue::depth(1.0f));
-            }, [dbl, bt, geo_ptr, rects, jobs, pos, tri, dirs, args](Cmd& c) {
-                c.draw_indirect(dbl ? kZBuffer : kZBufferFloat, args, 0, 1, {rects, jobs, pos, tri, dirs}, bt->draw);
-            });
+            g.add_raster_pass(
+                name + ": z-buffer",
+                [&](PassBuilder& b) {
+                    b.read(rects, Access::VertexRead);
+                    b.read(jobs, Access::VertexRead);
+                    b.read(jobs, Access::FragmentRead);
+                    b.read(pos, Access::FragmentRead);
+                    b.read(tri, Access::FragmentRead);
+                    b.read(dirs, Access::FragmentRead);
+                    b.read(args, Access::IndirectArgs);
+                    raster_t = b.color(raster_t, ClearValue::color(float(GIMG_CYL_EMPTY)));
+                    depth = b.depth(depth, ClearValue::depth(1.0f));
+                },
+                [dbl, bt, geo_ptr, rects, jobs, pos, tri, dirs, args](Cmd& c) {
+                    c.draw_indirect(dbl ? kZBuffer : kZBufferFloat, args, 0, 1, {rects, jobs, pos, tri, dirs},
+                                    bt->draw);
+                });
             out.raster_t = raster_t;
         } else {
-            g.add_compute_pass(name + ": large pieces", [&](PassBuilder& b) {
-                b.read(pos, Access::ComputeRead);
-                b.read(tri, Access::ComputeRead);
-                b.read(job_texels, Access::ComputeRead);
-                b.read(rects, Access::ComputeRead);
-                b.read(args, Access::IndirectArgs);
-                b.read(args, Access::ComputeRead);
-                b.read(dirs, Access::ComputeRead);
-                keys = b.write(keys, Access::ComputeReadWrite);
-            }, [dbl, bt, geo_ptr, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
-                c.dispatch_indirect(dbl ? kLargePieces : kLargePiecesFloat, args, kDispatchArgsOffset,
-                                    {pos, tri, job_texels, rects, args, dirs, keys}, bt->classify);
-            });
+            g.add_compute_pass(
+                name + ": large pieces",
+                [&](PassBuilder& b) {
+                    b.read(pos, Access::ComputeRead);
+                    b.read(tri, Access::ComputeRead);
+                    b.read(job_texels, Access::ComputeRead);
+                    b.read(rects, Access::ComputeRead);
+                    b.read(args, Access::IndirectArgs);
+                    b.read(args, Access::ComputeRead);
+                    b.read(dirs, Access::ComputeRead);
+                    keys = b.write(keys, Access::ComputeReadWrite);
+                },
+                [dbl, bt, geo_ptr, pos, tri, job_texels, rects, args, dirs, keys](Cmd& c) {
+                    c.dispatch_indirect(dbl ? kLargePieces : kLargePiecesFloat, args, kDispatchArgsOffset,
+                                        {pos, tri, job_texels, rects, args, dirs, keys}, bt->classify);
+                });
             out.keys = keys;
         }
         return out;
@@ -344,18 +356,21 @@ struct CylinderZBuffer::State {
         auto keys_out = g.import_buffer(keys_readback), args_out = g.import_buffer(args_readback);
         std::optional<BufferHandle> raster_out;
         if (graphics) raster_out = g.import_buffer(raster_readback);
-        g.add_compute_pass("cylinder: read back", [&](PassBuilder& b) {
-            if (p.raster_t) b.read(*p.raster_t, Access::TransferSrc);
-            b.read(p.keys, Access::TransferSrc);
-            b.read(p.args, Access::TransferSrc);
-            if (raster_out) raster_out = b.write(*raster_out, Access::TransferDst);
-            keys_out = b.write(keys_out, Access::TransferDst);
-            args_out = b.write(args_out, Access::TransferDst);
-        }, [p, raster_out, keys_out, args_out](Cmd& c) {
-            if (p.raster_t) c.copy(*p.raster_t, *raster_out);
-            c.copy(p.keys, keys_out);
-            c.copy(p.args, args_out);
-        });
+        g.add_compute_pass(
+            "cylinder: read back",
+            [&](PassBuilder& b) {
+                if (p.raster_t) b.read(*p.raster_t, Access::TransferSrc);
+                b.read(p.keys, Access::TransferSrc);
+                b.read(p.args, Access::TransferSrc);
+                if (raster_out) raster_out = b.write(*raster_out, Access::TransferDst);
+                keys_out = b.write(keys_out, Access::TransferDst);
+                args_out = b.write(args_out, Access::TransferDst);
+            },
+            [p, raster_out, keys_out, args_out](Cmd& c) {
+                if (p.raster_t) c.copy(*p.raster_t, *raster_out);
+                c.copy(p.keys, keys_out);
+                c.copy(p.args, args_out);
+            });
         if (raster_out) g.export_buffer(*raster_out, Access::HostRead);
         g.export_buffer(keys_out, Access::HostRead);
         g.export_buffer(args_out, Access::HostRead);
@@ -429,7 +444,8 @@ std::vector<CylinderImage> CylinderZBuffer::project(std::span<const Job> jobs) {
             faces += s.meshes[jobs[end++].mesh].face_count;
         if (faces > max_faces)
             throw geo::InputError("a mesh of " + std::to_string(faces) +
-                                  " faces is more than this device can project at once (" + std::to_string(max_faces) + ")");
+                                  " faces is more than this device can project at once (" + std::to_string(max_faces) +
+                                  ")");
         auto images = project_batch(jobs.subspan(begin, end - begin), faces);
         for (auto& img : images) out.push_back(std::move(img));
         gpu_ms += last_gpu_ms_;
@@ -502,7 +518,8 @@ CylinderImagesHandle add_cylinder(Graph& graph, CylinderZBuffer& zbuffer, std::s
     const VkDeviceSize image_bytes = VkDeviceSize(jobs.size()) * s.width * s.height * 4;
     if (image_bytes > s.ctx.device_info().max_storage_buffer_range)
         throw geo::InputError("add_cylinder: " + std::to_string(jobs.size()) + " images of " + std::to_string(s.width) +
-                              "x" + std::to_string(s.height) + " are more than one buffer holds on this device; record fewer at a time");
+                              "x" + std::to_string(s.height) +
+                              " are more than one buffer holds on this device; record fewer at a time");
     s.uploaded_geometry();
     auto batch = s.make_batch(std::uint32_t(jobs.size()), faces);
     s.write_jobs(*batch, jobs, faces);
@@ -510,16 +527,20 @@ CylinderImagesHandle add_cylinder(Graph& graph, CylinderZBuffer& zbuffer, std::s
 
     auto images = graph.create_buffer({image_bytes, name + " images"});
     const AtlasImagesPush push{s.width, s.height, std::uint32_t(jobs.size()), batch->tiles_per_row, batch->atlas_width};
-    graph.add_compute_pass(name + ": images", [&](PassBuilder& b) {
-        b.read(p.keys, Access::ComputeRead);
-        if (p.raster_t) b.read(*p.raster_t, Access::ComputeRead);
-        images = b.write(images, Access::ComputeWrite);
-    }, [p, images, push](Cmd& c) {
-        if (p.raster_t)
-            c.dispatch_threads(kAtlasImagesRaster, {push.width, push.height, push.count}, {p.keys, images, *p.raster_t}, push);
-        else
-            c.dispatch_threads(kAtlasImages, {push.width, push.height, push.count}, {p.keys, images}, push);
-    });
+    graph.add_compute_pass(
+        name + ": images",
+        [&](PassBuilder& b) {
+            b.read(p.keys, Access::ComputeRead);
+            if (p.raster_t) b.read(*p.raster_t, Access::ComputeRead);
+            images = b.write(images, Access::ComputeWrite);
+        },
+        [p, images, push](Cmd& c) {
+            if (p.raster_t)
+                c.dispatch_threads(kAtlasImagesRaster, {push.width, push.height, push.count},
+                                   {p.keys, images, *p.raster_t}, push);
+            else
+                c.dispatch_threads(kAtlasImages, {push.width, push.height, push.count}, {p.keys, images}, push);
+        });
     return {images, s.width, s.height, std::uint32_t(jobs.size())};
 }
 

@@ -31,20 +31,30 @@ BufferHandle add_inclusive_scan(Graph& graph, BufferHandle in, BufferHandle out,
     require_elements(count, name);
     const std::uint32_t blocks = blocks_of(count);
     auto block_sums = graph.create_buffer({VkDeviceSize(blocks) * 4, name + " block sums"});
-    graph.add_compute_pass(name + " blocks", [&](PassBuilder& b) {
-        b.read(in, Access::ComputeRead);
-        out = b.write(out, Access::ComputeWrite);
-        block_sums = b.write(block_sums, Access::ComputeWrite);
-    }, [=](Cmd& c) { c.dispatch(kScanBlocks, {blocks}, {in, out, block_sums}, count); });
+    graph.add_compute_pass(
+        name + " blocks",
+        [&](PassBuilder& b) {
+            b.read(in, Access::ComputeRead);
+            out = b.write(out, Access::ComputeWrite);
+            block_sums = b.write(block_sums, Access::ComputeWrite);
+        },
+        [=](Cmd& c) {
+            c.dispatch(kScanBlocks, {blocks}, {in, out, block_sums}, count);
+        });
     if (blocks == 1) return out;
 
     // Scan the block totals (recursively: each level divides the count by 1024), then add them.
     auto scanned = graph.create_buffer({VkDeviceSize(blocks) * 4, name + " scanned block sums"});
     scanned = add_inclusive_scan(graph, block_sums, scanned, blocks, name + "/");
-    graph.add_compute_pass(name + " add offsets", [&](PassBuilder& b) {
-        out = b.write(out, Access::ComputeReadWrite);
-        b.read(scanned, Access::ComputeRead);
-    }, [=](Cmd& c) { c.dispatch_threads(kScanAddOffsets, {count}, {out, scanned}, count); });
+    graph.add_compute_pass(
+        name + " add offsets",
+        [&](PassBuilder& b) {
+            out = b.write(out, Access::ComputeReadWrite);
+            b.read(scanned, Access::ComputeRead);
+        },
+        [=](Cmd& c) {
+            c.dispatch_threads(kScanAddOffsets, {count}, {out, scanned}, count);
+        });
     return out;
 }
 
@@ -56,10 +66,15 @@ BufferHandle add_reduce_sum(Graph& graph, BufferHandle in, BufferHandle out, std
         const std::string pass = name + " level " + std::to_string(level);
         // The last level (one block) writes the result; earlier ones write per-block partial sums.
         BufferHandle dst = blocks == 1 ? out : graph.create_buffer({VkDeviceSize(blocks) * 4, pass + " partial sums"});
-        graph.add_compute_pass(pass, [&](PassBuilder& b) {
-            b.read(in, Access::ComputeRead);
-            dst = b.write(dst, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch(kReduceSum, {blocks}, {in, dst}, count); });
+        graph.add_compute_pass(
+            pass,
+            [&](PassBuilder& b) {
+                b.read(in, Access::ComputeRead);
+                dst = b.write(dst, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch(kReduceSum, {blocks}, {in, dst}, count);
+            });
         if (blocks == 1) return dst;
         in = dst;
         count = blocks;
@@ -80,12 +95,17 @@ BufferHandle add_reduce_sum_f64(Graph& graph, BufferHandle in, BufferHandle out,
     for (int level = 0;; ++level) {
         const std::uint32_t blocks = blocks_of(count);
         const std::string pass = name + " level " + std::to_string(level);
-        BufferHandle dst = blocks == 1 ? out
-                                       : graph.create_buffer({VkDeviceSize(blocks) * 8 * width, pass + " partial sums"});
-        graph.add_compute_pass(pass, [&](PassBuilder& b) {
-            b.read(in, Access::ComputeRead);
-            dst = b.write(dst, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch(shader, {blocks}, {in, dst}, Push{count, width}); });
+        BufferHandle dst =
+            blocks == 1 ? out : graph.create_buffer({VkDeviceSize(blocks) * 8 * width, pass + " partial sums"});
+        graph.add_compute_pass(
+            pass,
+            [&](PassBuilder& b) {
+                b.read(in, Access::ComputeRead);
+                dst = b.write(dst, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch(shader, {blocks}, {in, dst}, Push{count, width});
+            });
         if (blocks == 1) return dst;
         in = dst;
         count = blocks;

@@ -95,7 +95,8 @@ geo::Mesh reconstruct_cpu(const CylinderImage& input, const CylinderFrame& frame
     }
     auto jump_ok = [&](std::size_t c[4]) {
         double lo = image.distance[c[0]], hi = lo;
-        for (int k = 1; k < 4; ++k) lo = std::min(lo, double(image.distance[c[k]])), hi = std::max(hi, double(image.distance[c[k]]));
+        for (int k = 1; k < 4; ++k)
+            lo = std::min(lo, double(image.distance[c[k]])), hi = std::max(hi, double(image.distance[c[k]]));
         return hi - lo <= double(threshold);
     };
     auto faces_plus = [&](std::size_t c[4]) {
@@ -125,7 +126,8 @@ geo::Mesh reconstruct_cpu(const PositionImage& input, const ReconstructOptions& 
             for (int b = a + 1; b < 4; ++b) worst = std::max(worst, squared(g.points[c[a]], g.points[c[b]]));
         return worst <= t2;
     };
-    geo::Mesh mesh = mesh_from_grid(g, jump_ok, [](std::size_t*) { return false; }, stats);
+    geo::Mesh mesh = mesh_from_grid(
+        g, jump_ok, [](std::size_t*) { return false; }, stats);
     detail::finish_mesh(mesh);
     if (stats) stats->width = image.width, stats->height = image.height, stats->threshold = threshold;
     return mesh;

@@ -78,10 +78,15 @@ ReconstructHandles record_grid(Graph& g, BufferHandle image, const Grid& in, std
         w /= 2, h /= 2;
         auto reduced = g.create_buffer({std::uint64_t(w) * h * in.channels * 4, name + " reduced image"});
         const ReducePush push{w, h, in.channels};
-        g.add_compute_pass(name + ": reduce " + std::to_string(k + 1), [&](PassBuilder& b) {
-            b.read(image, Access::ComputeRead);
-            reduced = b.write(reduced, Access::ComputeWrite);
-        }, [=, src = image, dst = reduced](Cmd& c) { c.dispatch_threads(kReduce, {w, h}, {src, dst}, push); });
+        g.add_compute_pass(
+            name + ": reduce " + std::to_string(k + 1),
+            [&](PassBuilder& b) {
+                b.read(image, Access::ComputeRead);
+                reduced = b.write(reduced, Access::ComputeWrite);
+            },
+            [=, src = image, dst = reduced](Cmd& c) {
+                c.dispatch_threads(kReduce, {w, h}, {src, dst}, push);
+            });
         image = reduced;
     }
     auto points = g.create_buffer({pixels * 16, name + " points"});
@@ -101,59 +106,86 @@ ReconstructHandles record_grid(Graph& g, BufferHandle image, const Grid& in, std
         std::memcpy(frame_bytes->data(), f, sizeof f);
         auto dir_buf = g.create_buffer({dir_bytes->size(), name + " directions"});
         auto frame_buf = g.create_buffer({frame_bytes->size(), name + " frame"});
-        g.add_compute_pass(name + ": frame", [&](PassBuilder& b) {
-            dir_buf = b.write(dir_buf, Access::TransferDst);
-            frame_buf = b.write(frame_buf, Access::TransferDst);
-        }, [=](Cmd& c) {
-            update_in_pieces(c, dir_buf, *dir_bytes);
-            update_in_pieces(c, frame_buf, *frame_bytes);
-        });
-        g.add_compute_pass(name + ": points", [&](PassBuilder& b) {
-            b.read(image, Access::ComputeRead);
-            b.read(dir_buf, Access::ComputeRead);
-            b.read(frame_buf, Access::ComputeRead);
-            points = b.write(points, Access::ComputeWrite);
-            valid = b.write(valid, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch_threads(kCylinderPoints, {W, H}, {image, dir_buf, frame_buf, points, valid}, size); });
+        g.add_compute_pass(
+            name + ": frame",
+            [&](PassBuilder& b) {
+                dir_buf = b.write(dir_buf, Access::TransferDst);
+                frame_buf = b.write(frame_buf, Access::TransferDst);
+            },
+            [=](Cmd& c) {
+                update_in_pieces(c, dir_buf, *dir_bytes);
+                update_in_pieces(c, frame_buf, *frame_bytes);
+            });
+        g.add_compute_pass(
+            name + ": points",
+            [&](PassBuilder& b) {
+                b.read(image, Access::ComputeRead);
+                b.read(dir_buf, Access::ComputeRead);
+                b.read(frame_buf, Access::ComputeRead);
+                points = b.write(points, Access::ComputeWrite);
+                valid = b.write(valid, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch_threads(kCylinderPoints, {W, H}, {image, dir_buf, frame_buf, points, valid}, size);
+            });
     } else {
-        g.add_compute_pass(name + ": points", [&](PassBuilder& b) {
-            b.read(image, Access::ComputeRead);
-            points = b.write(points, Access::ComputeWrite);
-            valid = b.write(valid, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch_threads(kPositionPoints, {W, H}, {image, points, valid}, size); });
+        g.add_compute_pass(
+            name + ": points",
+            [&](PassBuilder& b) {
+                b.read(image, Access::ComputeRead);
+                points = b.write(points, Access::ComputeWrite);
+                valid = b.write(valid, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch_threads(kPositionPoints, {W, H}, {image, points, valid}, size);
+            });
     }
     auto counts = g.create_buffer({std::max<std::uint64_t>(blocks, 1) * 4, name + " block triangle counts"});
     const std::uint32_t blocks_per_row = in.cylindrical ? W : W - 1;
     const BlocksPush blocks_push{W, H, in.cylindrical ? 1u : 0u, in.cylindrical ? 1u : 0u, threshold};
-    g.add_compute_pass(name + ": occlusion test", [&](PassBuilder& b) {
-        b.read(points, Access::ComputeRead);
-        b.read(image, Access::ComputeRead);
-        counts = b.write(counts, Access::ComputeWrite);
-    }, [=](Cmd& c) { c.dispatch_threads(kBlocks, {blocks_per_row, H - 1}, {points, image, counts}, blocks_push); });
+    g.add_compute_pass(
+        name + ": occlusion test",
+        [&](PassBuilder& b) {
+            b.read(points, Access::ComputeRead);
+            b.read(image, Access::ComputeRead);
+            counts = b.write(counts, Access::ComputeWrite);
+        },
+        [=](Cmd& c) {
+            c.dispatch_threads(kBlocks, {blocks_per_row, H - 1}, {points, image, counts}, blocks_push);
+        });
     auto vertex_index = add_inclusive_scan(g, valid, g.create_buffer({pixels * 4, name + " vertex index"}),
                                            std::uint32_t(pixels), name + ": vertex scan");
-    auto triangle_end = add_inclusive_scan(g, counts, g.create_buffer({std::max<std::uint64_t>(blocks, 1) * 4, name + " triangle ends"}),
-                                           std::uint32_t(blocks), name + ": triangle scan");
+    auto triangle_end = add_inclusive_scan(
+        g, counts, g.create_buffer({std::max<std::uint64_t>(blocks, 1) * 4, name + " triangle ends"}),
+        std::uint32_t(blocks), name + ": triangle scan");
     auto verts = g.create_buffer({std::max<std::uint64_t>(pixels, 1) * 12, name + " vertices"});
     const std::uint32_t count = std::uint32_t(pixels);
-    g.add_compute_pass(name + ": emit vertices", [&](PassBuilder& b) {
-        b.read(points, Access::ComputeRead);
-        b.read(vertex_index, Access::ComputeRead);
-        verts = b.write(verts, Access::ComputeWrite);
-    }, [=](Cmd& c) { c.dispatch_threads(kEmitVertices, {count}, {points, vertex_index, verts}, count); });
+    g.add_compute_pass(
+        name + ": emit vertices",
+        [&](PassBuilder& b) {
+            b.read(points, Access::ComputeRead);
+            b.read(vertex_index, Access::ComputeRead);
+            verts = b.write(verts, Access::ComputeWrite);
+        },
+        [=](Cmd& c) {
+            c.dispatch_threads(kEmitVertices, {count}, {points, vertex_index, verts}, count);
+        });
     auto tris = g.create_buffer({std::max<std::uint64_t>(2 * blocks, 1) * 12, name + " triangles"});
     const EmitPush emit_push{W, H, in.cylindrical ? 1u : 0u, in.cylindrical ? 1u : 0u};
-    g.add_compute_pass(name + ": emit triangles", [&](PassBuilder& b) {
-        b.read(points, Access::ComputeRead);
-        b.read(image, Access::ComputeRead);
-        b.read(counts, Access::ComputeRead);
-        b.read(triangle_end, Access::ComputeRead);
-        b.read(vertex_index, Access::ComputeRead);
-        tris = b.write(tris, Access::ComputeWrite);
-    }, [=](Cmd& c) {
-        c.dispatch_threads(kEmitTriangles, {blocks_per_row, H - 1}, {points, image, counts, triangle_end, vertex_index, tris},
-                           emit_push);
-    });
+    g.add_compute_pass(
+        name + ": emit triangles",
+        [&](PassBuilder& b) {
+            b.read(points, Access::ComputeRead);
+            b.read(image, Access::ComputeRead);
+            b.read(counts, Access::ComputeRead);
+            b.read(triangle_end, Access::ComputeRead);
+            b.read(vertex_index, Access::ComputeRead);
+            tris = b.write(tris, Access::ComputeWrite);
+        },
+        [=](Cmd& c) {
+            c.dispatch_threads(kEmitTriangles, {blocks_per_row, H - 1},
+                               {points, image, counts, triangle_end, vertex_index, tris}, emit_push);
+        });
     return {verts, tris, vertex_index, triangle_end, W, H, pixels, blocks, threshold};
 }
 
@@ -199,17 +231,22 @@ geo::Mesh run(Context& ctx, const std::vector<float>& values, const Grid& in, st
 }  // namespace
 
 ReconstructHandles add_reconstruct(Graph& graph, const CylinderImagesHandle& images, std::uint32_t index,
-                                   const CylinderFrame& frame, float threshold, std::uint32_t lod, const std::string& name) {
+                                   const CylinderFrame& frame, float threshold, std::uint32_t lod,
+                                   const std::string& name) {
     if (index >= images.count)
-        throw geo::InputError("add_reconstruct: image " + std::to_string(index) + " of " + std::to_string(images.count));
+        throw geo::InputError("add_reconstruct: image " + std::to_string(index) + " of " +
+                              std::to_string(images.count));
     BufferHandle image = images.distance;
     if (images.count > 1) {  // its own buffer, so the passes read it from offset 0
         const VkDeviceSize bytes = VkDeviceSize(images.width) * images.height * 4;
         auto one = graph.create_buffer({bytes, name + " image"});
-        graph.add_compute_pass(name + ": pick image", [&](PassBuilder& b) {
-            b.read(image, Access::TransferSrc);
-            one = b.write(one, Access::TransferDst);
-        }, [=](Cmd& c) { c.copy(image, one, bytes, bytes * index, 0); });
+        graph.add_compute_pass(
+            name + ": pick image",
+            [&](PassBuilder& b) {
+                b.read(image, Access::TransferSrc);
+                one = b.write(one, Access::TransferDst);
+            },
+            [=](Cmd& c) { c.copy(image, one, bytes, bytes * index, 0); });
         image = one;
     }
     return record_grid(graph, image, {1, images.width, images.height, true}, lod, threshold, &frame, name);
@@ -240,11 +277,14 @@ geo::Mesh reconstruct_gpu(Context& ctx, const CylinderImage& image, const Cylind
     for (std::size_t i = 0; i < values.size(); ++i)
         values[i] = image.covered[i] ? image.distance[i] : std::numeric_limits<float>::quiet_NaN();
     // The default threshold comes from the image the triangles are made from.
-    const float threshold = options.threshold ? *options.threshold
-                                              : default_cylinder_threshold(options.lod ? lod_reduce(image, options.lod) : image);
+    const float threshold = options.threshold
+                                ? *options.threshold
+                                : default_cylinder_threshold(options.lod ? lod_reduce(image, options.lod) : image);
     geo::Mesh mesh = run(ctx, values, {1, image.width, image.height, true}, options.lod, threshold, &frame, stats);
     const CylinderImage reduced = options.lod ? lod_reduce(image, options.lod) : image;
-    if (stats) stats->holes = detail::full_blocks(reduced.covered, reduced.width, reduced.height, true) - mesh.face_count() / 2;
+    if (stats)
+        stats->holes =
+            detail::full_blocks(reduced.covered, reduced.width, reduced.height, true) - mesh.face_count() / 2;
     if (options.fill_caps) detail::add_caps(mesh, reduced, frame);
     detail::finish_mesh(mesh);
     return mesh;
@@ -261,7 +301,8 @@ geo::Mesh reconstruct_gpu(Context& ctx, const PositionImage& image, const Recons
     geo::Mesh mesh = run(ctx, values, {3, image.width, image.height, false}, options.lod, threshold, nullptr, stats);
     if (stats) {
         const PositionImage reduced = options.lod ? lod_reduce(image, options.lod) : image;
-        stats->holes = detail::full_blocks(reduced.covered, reduced.width, reduced.height, false) - mesh.face_count() / 2;
+        stats->holes =
+            detail::full_blocks(reduced.covered, reduced.width, reduced.height, false) - mesh.face_count() / 2;
     }
     detail::finish_mesh(mesh);
     return mesh;

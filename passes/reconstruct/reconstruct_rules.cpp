@@ -18,7 +18,8 @@ BlockTriangles block_triangles(bool diagonal_ad, bool faces_plus) {
     return t;
 }
 
-std::size_t full_blocks(const std::vector<std::uint8_t>& covered, std::uint32_t width, std::uint32_t height, bool wrap) {
+std::size_t full_blocks(const std::vector<std::uint8_t>& covered, std::uint32_t width, std::uint32_t height,
+                        bool wrap) {
     std::size_t n = 0;
     for (std::uint32_t v = 0; v + 1 < height; ++v)
         for (std::uint32_t u = 0; u < (wrap ? width : width - 1); ++u) {
@@ -34,9 +35,9 @@ void check_reconstructible(std::uint32_t width, std::uint32_t height, std::uint3
     if (lod > 16) throw geo::InputError("--lod " + std::to_string(lod) + " is more reductions than any image allows");
     const std::uint32_t step = 1u << lod;
     if (width % step != 0 || height % step != 0 || width / step < 2 || height / step < 2)
-        throw geo::InputError("a " + std::to_string(width) + "x" + std::to_string(height) + " image cannot be reduced " +
-                              std::to_string(lod) + " times (both sides must divide by " + std::to_string(step) +
-                              " and stay at least 2)");
+        throw geo::InputError("a " + std::to_string(width) + "x" + std::to_string(height) +
+                              " image cannot be reduced " + std::to_string(lod) + " times (both sides must divide by " +
+                              std::to_string(step) + " and stay at least 2)");
 }
 
 void add_caps(geo::Mesh& mesh, const CylinderImage& image, const CylinderFrame& frame) {

@@ -34,7 +34,8 @@ Camera fit_camera(const std::vector<glm::dvec3>& points, const View& view, doubl
     for (const auto& p : points) {
         const glm::dvec3 d = p - center;
         const double z = glm::dot(d, back);
-        distance = std::max({distance, z + std::abs(glm::dot(d, right)) / tan_x, z + std::abs(glm::dot(d, up)) / tan_y});
+        distance =
+            std::max({distance, z + std::abs(glm::dot(d, right)) / tan_x, z + std::abs(glm::dot(d, up)) / tan_y});
     }
     distance = std::max(distance, 1e-3 * radius + radius);
     Camera c;

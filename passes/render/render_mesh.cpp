@@ -113,11 +113,21 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
     const double cells = mesh.has_texcoords() ? o.checker_cells : o.checker_cells / std::max(bounds.diagonal(), 1e-12);
     push.scalar_range = {range.first, range.second, float(cells), 1.1f * float(ss)};
     switch (o.color) {
-        case MeshColor::Plain: push.color_mode = GIMG_COLOR_PLAIN; break;
-        case MeshColor::Normal: push.color_mode = GIMG_COLOR_NORMAL; break;
-        case MeshColor::Checker: push.color_mode = GIMG_COLOR_CHECKER; break;
-        case MeshColor::Scalar: push.color_mode = GIMG_COLOR_SCALAR; break;
-        case MeshColor::Diverging: push.color_mode = GIMG_COLOR_DIVERGING; break;
+        case MeshColor::Plain:
+            push.color_mode = GIMG_COLOR_PLAIN;
+            break;
+        case MeshColor::Normal:
+            push.color_mode = GIMG_COLOR_NORMAL;
+            break;
+        case MeshColor::Checker:
+            push.color_mode = GIMG_COLOR_CHECKER;
+            break;
+        case MeshColor::Scalar:
+            push.color_mode = GIMG_COLOR_SCALAR;
+            break;
+        case MeshColor::Diverging:
+            push.color_mode = GIMG_COLOR_DIVERGING;
+            break;
     }
     push.flags = (o.wireframe ? GIMG_RENDER_WIREFRAME : 0u) | (mesh.has_texcoords() ? GIMG_RENDER_HAS_TEXCOORDS : 0u) |
                  (o.smooth ? GIMG_RENDER_SMOOTH : 0u);
@@ -129,16 +139,26 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
     auto depth = g.create_image({o.width * ss, o.height * ss, Format::D32F, "depth"});
     auto picture = g.create_image({o.width, o.height, Format::RGBA8, "picture"});
     const std::uint32_t vertex_count = std::uint32_t(3 * mesh.face_count());
-    g.add_raster_pass("draw mesh", [&](PassBuilder& b) {
-        for (auto h : {pos, tri, nrm, sca, tex}) b.read(h, Access::VertexRead);
-        samples = b.color(samples, ClearValue::color(0, 0, 0, 0));
-        depth = b.depth(depth, ClearValue::depth(1.0f));
-    }, [=](Cmd& c) { c.draw(kMeshProgram, vertex_count, 1, {pos, tri, nrm, sca, tex}, push); });
+    g.add_raster_pass(
+        "draw mesh",
+        [&](PassBuilder& b) {
+            for (auto h : {pos, tri, nrm, sca, tex}) b.read(h, Access::VertexRead);
+            samples = b.color(samples, ClearValue::color(0, 0, 0, 0));
+            depth = b.depth(depth, ClearValue::depth(1.0f));
+        },
+        [=](Cmd& c) {
+            c.draw(kMeshProgram, vertex_count, 1, {pos, tri, nrm, sca, tex}, push);
+        });
     DownsamplePush dpush{{o.width, o.height}, ss, 0, {o.background[0], o.background[1], o.background[2], 1.0f}};
-    g.add_compute_pass("downsample", [&](PassBuilder& b) {
-        b.read(samples, Access::ComputeRead);
-        picture = b.write(picture, Access::ComputeWrite);
-    }, [=](Cmd& c) { c.dispatch_threads(kDownsample, {o.width, o.height}, {samples, picture}, dpush); });
+    g.add_compute_pass(
+        "downsample",
+        [&](PassBuilder& b) {
+            b.read(samples, Access::ComputeRead);
+            picture = b.write(picture, Access::ComputeWrite);
+        },
+        [=](Cmd& c) {
+            c.dispatch_threads(kDownsample, {o.width, o.height}, {samples, picture}, dpush);
+        });
     g.export_image(picture, Access::TransferSrc);
     Plan plan = g.compile();
     plan.execute();
@@ -155,8 +175,9 @@ geo::RgbaImage render_side_by_side(Context& ctx, const geo::Mesh& left, const ge
     both.insert(both.end(), right.positions.begin(), right.positions.end());
     const Camera camera = fit_camera(both, options.view, double(options.width) / double(options.height));
     RenderOptions right_options = options;
-    if (options.color == MeshColor::Scalar || options.color == MeshColor::Diverging) right_options.scalars.clear(),
-        right_options.color = MeshColor::Plain;  // scalars belong to one mesh
+    if (options.color == MeshColor::Scalar || options.color == MeshColor::Diverging)
+        right_options.scalars.clear(),
+            right_options.color = MeshColor::Plain;  // scalars belong to one mesh
     geo::RgbaImage l = render_mesh(ctx, left, options, camera);
     geo::RgbaImage r = render_mesh(ctx, right, right_options, camera);
     geo::RgbaImage out(2 * options.width, options.height);

@@ -20,8 +20,7 @@ const RasterProgram kSample{GIMG_SPIRV(gimg_spv_sample_sample_vert), GIMG_SPIRV(
                             RasterState{.depth_test = false, .depth_write = false}};
 
 void check_sampleable(const geo::Mesh& mesh, std::uint32_t size) {
-    if (!mesh.has_texcoords())
-        throw geo::InputError("the mesh has no per-vertex texture coordinates to sample it by");
+    if (!mesh.has_texcoords()) throw geo::InputError("the mesh has no per-vertex texture coordinates to sample it by");
     if (mesh.face_count() == 0) throw geo::InputError("the mesh has no faces to sample");
     if (size < 2 || size > 16384) throw geo::InputError("sample size must be from 2 to 16384");
 }
@@ -34,10 +33,15 @@ ImageHandle add_sample(Graph& graph, BufferHandle positions, BufferHandle parame
     if (size < 2 || size > 16384) throw geo::InputError("sample size must be from 2 to 16384");
     auto image = graph.create_image({size, size, Format::RGBA32F, name + " position image"});
     const std::uint32_t vertices = 3 * face_count;
-    graph.add_raster_pass(name, [&](PassBuilder& b) {
-        for (auto h : {positions, parameters, triangles}) b.read(h, Access::VertexRead);
-        image = b.color(image, ClearValue::color(0, 0, 0, 0));
-    }, [=](Cmd& c) { c.draw(kSample, vertices, 1, {positions, parameters, triangles}); });
+    graph.add_raster_pass(
+        name,
+        [&](PassBuilder& b) {
+            for (auto h : {positions, parameters, triangles}) b.read(h, Access::VertexRead);
+            image = b.color(image, ClearValue::color(0, 0, 0, 0));
+        },
+        [=](Cmd& c) {
+            c.draw(kSample, vertices, 1, {positions, parameters, triangles});
+        });
     return image;
 }
 
@@ -58,8 +62,8 @@ PositionImage sample_gpu(Context& ctx, const geo::Mesh& mesh, std::uint32_t size
     Buffer par_buf = upload(params.data(), params.size() * 4, "parameters");
     Buffer tri_buf = upload(mesh.triangles.data(), mesh.triangles.size() * 12, "triangles");
     Graph g(ctx);
-    const ImageHandle image = add_sample(g, g.import_buffer(pos_buf), g.import_buffer(par_buf), g.import_buffer(tri_buf),
-                                         std::uint32_t(mesh.face_count()), size);
+    const ImageHandle image = add_sample(g, g.import_buffer(pos_buf), g.import_buffer(par_buf),
+                                         g.import_buffer(tri_buf), std::uint32_t(mesh.face_count()), size);
     g.export_image(image, Access::TransferSrc);
     Plan plan = g.compile();
     plan.execute();
@@ -86,8 +90,10 @@ PositionImage sample_cpu(const geo::Mesh& mesh, std::uint32_t size) {
         if (area == 0.0) continue;
         const double lo_x = std::min({p[0].x, p[1].x, p[2].x}), hi_x = std::max({p[0].x, p[1].x, p[2].x});
         const double lo_y = std::min({p[0].y, p[1].y, p[2].y}), hi_y = std::max({p[0].y, p[1].y, p[2].y});
-        const long i0 = std::max(0L, long(std::ceil(lo_x - 0.5))), i1 = std::min(long(size) - 1, long(std::floor(hi_x - 0.5)));
-        const long j0 = std::max(0L, long(std::ceil(lo_y - 0.5))), j1 = std::min(long(size) - 1, long(std::floor(hi_y - 0.5)));
+        const long i0 = std::max(0L, long(std::ceil(lo_x - 0.5))),
+                   i1 = std::min(long(size) - 1, long(std::floor(hi_x - 0.5)));
+        const long j0 = std::max(0L, long(std::ceil(lo_y - 0.5))),
+                   j1 = std::min(long(size) - 1, long(std::floor(hi_y - 0.5)));
         for (long j = j0; j <= j1; ++j)
             for (long i = i0; i <= i1; ++i) {
                 const glm::dvec2 c{double(i) + 0.5, double(j) + 0.5};

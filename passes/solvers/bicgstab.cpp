@@ -143,49 +143,80 @@ Plan& GpuBicgstab::plan_for(std::uint32_t iterations) {
     auto t = g.import_image(t_);
     auto scalars = g.import_buffer(scalars_);
     auto rv = g.import_buffer(sums_rv_), ts = g.import_buffer(sums_ts_), rr = g.import_buffer(sums_rr_);
-    auto terms = g.create_buffer({VkDeviceSize(std::max<std::uint32_t>(rows_, 1)) * 4 * sizeof(double), "bicgstab terms"});
+    auto terms =
+        g.create_buffer({VkDeviceSize(std::max<std::uint32_t>(rows_, 1)) * 4 * sizeof(double), "bicgstab terms"});
     const std::uint32_t n = rows_;
     auto add_scalars = [&](BufferHandle sums, std::uint32_t step, const std::string& name) {
-        g.add_compute_pass(name, [&](PassBuilder& b) {
-            b.read(sums, Access::ComputeRead);
-            scalars = b.write(scalars, Access::ComputeReadWrite);
-        }, [=, sc = scalars](Cmd& c) { c.dispatch(kScalars, {1}, {sc, sums}, step); });
+        g.add_compute_pass(
+            name,
+            [&](PassBuilder& b) {
+                b.read(sums, Access::ComputeRead);
+                scalars = b.write(scalars, Access::ComputeReadWrite);
+            },
+            [=, sc = scalars](Cmd& c) {
+                c.dispatch(kScalars, {1}, {sc, sums}, step);
+            });
     };
     g.add_loop(iterations, [&] {
         add_scalars(rr, 0, "bicgstab beta");
-        g.add_compute_pass("bicgstab direction", [&](PassBuilder& b) {
-            for (ImageHandle h : {rows_img, r, v}) b.read(h, Access::ComputeRead);
-            b.read(scalars, Access::ComputeRead);
-            p = b.write(p, Access::ComputeReadWrite);
-            y = b.write(y, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch_threads(kDirection, {n}, {scalars, rows_img, r, v, p, y}, n); });
-        g.add_compute_pass("bicgstab v = A y", [&](PassBuilder& b) {
-            for (ImageHandle h : {rows_img, entries, y, r0}) b.read(h, Access::ComputeRead);
-            v = b.write(v, Access::ComputeWrite);
-            terms = b.write(terms, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch_threads(kApply, {n}, {rows_img, entries, y, r0, v, terms}, RowsAndMode{n, 0}); });
+        g.add_compute_pass(
+            "bicgstab direction",
+            [&](PassBuilder& b) {
+                for (ImageHandle h : {rows_img, r, v}) b.read(h, Access::ComputeRead);
+                b.read(scalars, Access::ComputeRead);
+                p = b.write(p, Access::ComputeReadWrite);
+                y = b.write(y, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch_threads(kDirection, {n}, {scalars, rows_img, r, v, p, y}, n);
+            });
+        g.add_compute_pass(
+            "bicgstab v = A y",
+            [&](PassBuilder& b) {
+                for (ImageHandle h : {rows_img, entries, y, r0}) b.read(h, Access::ComputeRead);
+                v = b.write(v, Access::ComputeWrite);
+                terms = b.write(terms, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch_threads(kApply, {n}, {rows_img, entries, y, r0, v, terms}, RowsAndMode{n, 0});
+            });
         rv = add_reduce_sum_f64(g, terms, rv, n, 4, "bicgstab r0.v");
         add_scalars(rv, 1, "bicgstab alpha");
-        g.add_compute_pass("bicgstab s", [&](PassBuilder& b) {
-            for (ImageHandle h : {rows_img, r, v}) b.read(h, Access::ComputeRead);
-            b.read(scalars, Access::ComputeRead);
-            s = b.write(s, Access::ComputeWrite);
-            z = b.write(z, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch_threads(kHalf, {n}, {scalars, rows_img, r, v, s, z}, n); });
-        g.add_compute_pass("bicgstab t = A z", [&](PassBuilder& b) {
-            for (ImageHandle h : {rows_img, entries, z, s}) b.read(h, Access::ComputeRead);
-            t = b.write(t, Access::ComputeWrite);
-            terms = b.write(terms, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch_threads(kApply, {n}, {rows_img, entries, z, s, t, terms}, RowsAndMode{n, 1}); });
+        g.add_compute_pass(
+            "bicgstab s",
+            [&](PassBuilder& b) {
+                for (ImageHandle h : {rows_img, r, v}) b.read(h, Access::ComputeRead);
+                b.read(scalars, Access::ComputeRead);
+                s = b.write(s, Access::ComputeWrite);
+                z = b.write(z, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch_threads(kHalf, {n}, {scalars, rows_img, r, v, s, z}, n);
+            });
+        g.add_compute_pass(
+            "bicgstab t = A z",
+            [&](PassBuilder& b) {
+                for (ImageHandle h : {rows_img, entries, z, s}) b.read(h, Access::ComputeRead);
+                t = b.write(t, Access::ComputeWrite);
+                terms = b.write(terms, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch_threads(kApply, {n}, {rows_img, entries, z, s, t, terms}, RowsAndMode{n, 1});
+            });
         ts = add_reduce_sum_f64(g, terms, ts, n, 4, "bicgstab t.s t.t");
         add_scalars(ts, 2, "bicgstab omega");
-        g.add_compute_pass("bicgstab update", [&](PassBuilder& b) {
-            for (ImageHandle h : {y, z, s, t, r0}) b.read(h, Access::ComputeRead);
-            b.read(scalars, Access::ComputeRead);
-            x = b.write(x, Access::ComputeReadWrite);
-            r = b.write(r, Access::ComputeWrite);
-            terms = b.write(terms, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch_threads(kUpdate, {n}, {scalars, y, z, s, t, r0, x, r, terms}, n); });
+        g.add_compute_pass(
+            "bicgstab update",
+            [&](PassBuilder& b) {
+                for (ImageHandle h : {y, z, s, t, r0}) b.read(h, Access::ComputeRead);
+                b.read(scalars, Access::ComputeRead);
+                x = b.write(x, Access::ComputeReadWrite);
+                r = b.write(r, Access::ComputeWrite);
+                terms = b.write(terms, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch_threads(kUpdate, {n}, {scalars, y, z, s, t, r0, x, r, terms}, n);
+            });
         rr = add_reduce_sum_f64(g, terms, rr, n, 4, "bicgstab r0.r r.r");
     });
     g.export_buffer(rr, Access::HostRead);

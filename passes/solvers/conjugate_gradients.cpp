@@ -73,7 +73,8 @@ std::uint32_t iterations_to_reach(double tolerance, double before, double after,
     const double rate = std::pow(after / before, 1.0 / double(iterations));
     if (!(rate > 0.0 && rate < 1.0) || !(after > tolerance)) return per_check;
     const double needed = std::ceil(std::log(tolerance / after) / std::log(rate));
-    return std::clamp<std::uint32_t>(std::uint32_t(std::min(needed, double(per_check))), 1, std::max<std::uint32_t>(per_check, 1));
+    return std::clamp<std::uint32_t>(std::uint32_t(std::min(needed, double(per_check))), 1,
+                                     std::max<std::uint32_t>(per_check, 1));
 }
 
 CgState start_cg(const SpdSystem& problem, const Multigrid& mg) {
@@ -84,10 +85,12 @@ CgState start_cg(const SpdSystem& problem, const Multigrid& mg) {
     for (std::size_t i = 0; i < m; ++i) state.r[i] = problem.rhs[i] - row_times(mg.finest(), state.x, i);
     // From zero (the harmonic start's free vertices) r is b: one cycle on the CPU, not two
     // (7-10 ms each on armadillo_loop1); else the cycle of b runs on a second thread beside r's.
-    const bool from_zero = std::all_of(state.x.begin(), state.x.end(), [](const glm::dvec2& v) { return v == glm::dvec2(0.0); });
+    const bool from_zero =
+        std::all_of(state.x.begin(), state.x.end(), [](const glm::dvec2& v) { return v == glm::dvec2(0.0); });
     std::future<double> rz_rhs;
     if (!from_zero)
-        rz_rhs = std::async(std::launch::async, [&] { return rounded_dot_sum(problem.rhs, apply_multigrid_cpu(mg, problem.rhs)); });
+        rz_rhs = std::async(std::launch::async,
+                            [&] { return rounded_dot_sum(problem.rhs, apply_multigrid_cpu(mg, problem.rhs)); });
     state.p = apply_multigrid_cpu(mg, state.r);
     state.rz = rounded_dot_sum(state.r, state.p);
     state.rz_rhs = from_zero ? state.rz : rz_rhs.get();
@@ -153,9 +156,13 @@ Plan& GpuConjugateGradients::plan_for(std::uint32_t iterations) {
         ImageHandle rows, entries;
         std::uint32_t count;
     };
-    auto import = [&](TexelMatrix& m) { return MatrixHandles{g.import_image(m.rows), g.import_image(m.entries), m.row_count}; };
+    auto import = [&](TexelMatrix& m) {
+        return MatrixHandles{g.import_image(m.rows), g.import_image(m.entries), m.row_count};
+    };
     // The cycle's vectors, in float.
-    auto vector = [&](std::uint32_t rows, const std::string& name) { return g.create_image(float_vector_desc(rows, name)); };
+    auto vector = [&](std::uint32_t rows, const std::string& name) {
+        return g.create_image(float_vector_desc(rows, name));
+    };
     // Per level: its operator (and its entries divided by their column's diagonal), transfers,
     // and the cycle's vectors (multigrid.h names them). Level 0's right-hand side is the
     // conjugate gradients' r and its result their z.
@@ -169,10 +176,10 @@ Plan& GpuConjugateGradients::plan_for(std::uint32_t iterations) {
         Level& level = levels_[l];
         const std::string name = "plane mg " + std::to_string(l);
         const std::uint32_t n = level.a.row_count;
-        levels.push_back({import(level.a), import(level.prolong), import(level.restrict_), g.import_image(level.ad_entries),
-                          l ? vector(n, name + " b") : ImageHandle{}, vector(n, name + " mix"), vector(n, name + " x"),
-                          vector(n, name + " r"), vector(n, name + " x1"), l ? vector(n, name + " out") : ImageHandle{},
-                          level.smoother});
+        levels.push_back({import(level.a), import(level.prolong), import(level.restrict_),
+                          g.import_image(level.ad_entries), l ? vector(n, name + " b") : ImageHandle{},
+                          vector(n, name + " mix"), vector(n, name + " x"), vector(n, name + " r"),
+                          vector(n, name + " x1"), l ? vector(n, name + " out") : ImageHandle{}, level.smoother});
     }
     const MatrixHandles finest{levels.empty() ? g.import_image(apply_rows_) : levels.front().a.rows,
                                g.import_image(apply_entries_), rows_};
@@ -199,93 +206,141 @@ Plan& GpuConjugateGradients::plan_for(std::uint32_t iterations) {
             ImageHandle& coarse_b = l + 1 < depth ? levels[l + 1].b : coarsest_b;
             const std::string name = "plane mg " + std::to_string(l);
             const SmootherPush push = smoother_push(level.a.count, false, level.smoother);
-            g.add_compute_pass(name + " presmooth 1" + suffix, [&](PassBuilder& pb) {
-                for (ImageHandle h : {level.a.rows, level.ad_entries, b}) pb.read(h, Access::ComputeRead);
-                level.mix = pb.write(level.mix, Access::ComputeWrite);
-            }, [=, a = level.a, ad = level.ad_entries, mix = level.mix](Cmd& cmd) {
-                cmd.dispatch_threads(kPresmoothFirst, {a.count}, {a.rows, ad, b, mix}, push);
-            });
-            g.add_compute_pass(name + " presmooth 2" + suffix, [&](PassBuilder& pb) {
-                for (ImageHandle h : {level.a.rows, level.ad_entries, b, level.mix}) pb.read(h, Access::ComputeRead);
-                level.x = pb.write(level.x, Access::ComputeWrite);
-                level.r = pb.write(level.r, Access::ComputeWrite);
-            }, [=, a = level.a, ad = level.ad_entries, mix = level.mix, lx = level.x, lr = level.r](Cmd& cmd) {
-                cmd.dispatch_threads(kPresmoothSecond, {a.count}, {a.rows, ad, b, mix, lx, lr}, push);
-            });
-            g.add_compute_pass(name + " restrict" + suffix, [&](PassBuilder& pb) {
-                for (ImageHandle h : {level.restrict_.rows, level.restrict_.entries, level.r}) pb.read(h, Access::ComputeRead);
-                coarse_b = pb.write(coarse_b, Access::ComputeWrite);
-            }, [=, m = level.restrict_, v = level.r, y = coarse_b](Cmd& cmd) {
-                cmd.dispatch_threads(kTransfer, {m.count}, {m.rows, m.entries, v, y}, RowsAndSwitch{m.count, 0});
-            });
+            g.add_compute_pass(
+                name + " presmooth 1" + suffix,
+                [&](PassBuilder& pb) {
+                    for (ImageHandle h : {level.a.rows, level.ad_entries, b}) pb.read(h, Access::ComputeRead);
+                    level.mix = pb.write(level.mix, Access::ComputeWrite);
+                },
+                [=, a = level.a, ad = level.ad_entries, mix = level.mix](Cmd& cmd) {
+                    cmd.dispatch_threads(kPresmoothFirst, {a.count}, {a.rows, ad, b, mix}, push);
+                });
+            g.add_compute_pass(
+                name + " presmooth 2" + suffix,
+                [&](PassBuilder& pb) {
+                    for (ImageHandle h : {level.a.rows, level.ad_entries, b, level.mix})
+                        pb.read(h, Access::ComputeRead);
+                    level.x = pb.write(level.x, Access::ComputeWrite);
+                    level.r = pb.write(level.r, Access::ComputeWrite);
+                },
+                [=, a = level.a, ad = level.ad_entries, mix = level.mix, lx = level.x, lr = level.r](Cmd& cmd) {
+                    cmd.dispatch_threads(kPresmoothSecond, {a.count}, {a.rows, ad, b, mix, lx, lr}, push);
+                });
+            g.add_compute_pass(
+                name + " restrict" + suffix,
+                [&](PassBuilder& pb) {
+                    for (ImageHandle h : {level.restrict_.rows, level.restrict_.entries, level.r})
+                        pb.read(h, Access::ComputeRead);
+                    coarse_b = pb.write(coarse_b, Access::ComputeWrite);
+                },
+                [=, m = level.restrict_, v = level.r, y = coarse_b](Cmd& cmd) {
+                    cmd.dispatch_threads(kTransfer, {m.count}, {m.rows, m.entries, v, y}, RowsAndSwitch{m.count, 0});
+                });
         }
         // With no smoothed level the dense solve is the whole cycle and writes r.z's terms.
         const bool alone = depth == 0;
         const ImageHandle dense_b = alone ? r32 : coarsest_b;
         ImageHandle& dense_x = alone ? z : coarsest_x;
-        g.add_compute_pass("plane mg coarsest" + suffix, [&](PassBuilder& pb) {
-            pb.read(coarsest_inverse, Access::ComputeRead);
-            pb.read(dense_b, Access::ComputeRead);
-            dense_x = pb.write(dense_x, Access::ComputeWrite);
-            if (alone) terms = pb.write(terms, Access::ComputeWrite);
-            else pb.read(terms, Access::ComputeRead);  // bound, not written
-        }, [=, inv = coarsest_inverse, out = dense_x, t = terms](Cmd& cmd) {
-            cmd.dispatch_threads(kCoarsest, {coarsest_rows}, {inv, dense_b, out, t}, RowsAndSwitch{coarsest_rows, alone ? 1u : 0u});
-        });
+        g.add_compute_pass(
+            "plane mg coarsest" + suffix,
+            [&](PassBuilder& pb) {
+                pb.read(coarsest_inverse, Access::ComputeRead);
+                pb.read(dense_b, Access::ComputeRead);
+                dense_x = pb.write(dense_x, Access::ComputeWrite);
+                if (alone)
+                    terms = pb.write(terms, Access::ComputeWrite);
+                else
+                    pb.read(terms, Access::ComputeRead);  // bound, not written
+            },
+            [=, inv = coarsest_inverse, out = dense_x, t = terms](Cmd& cmd) {
+                cmd.dispatch_threads(kCoarsest, {coarsest_rows}, {inv, dense_b, out, t},
+                                     RowsAndSwitch{coarsest_rows, alone ? 1u : 0u});
+            });
         for (std::size_t l = depth; l-- > 0;) {
             LevelHandles& level = levels[l];
             const ImageHandle b = l ? level.b : r32;
             const ImageHandle coarse_x = l + 1 < depth ? levels[l + 1].out : coarsest_x;
             const std::string name = "plane mg " + std::to_string(l);
-            g.add_compute_pass(name + " prolong" + suffix, [&](PassBuilder& pb) {
-                for (ImageHandle h : {level.prolong.rows, level.prolong.entries, coarse_x}) pb.read(h, Access::ComputeRead);
-                level.x = pb.write(level.x, Access::ComputeReadWrite);
-            }, [=, m = level.prolong, y = level.x](Cmd& cmd) {
-                cmd.dispatch_threads(kTransfer, {m.count}, {m.rows, m.entries, coarse_x, y}, RowsAndSwitch{m.count, 1});
-            });
-            g.add_compute_pass(name + " postsmooth 1" + suffix, [&](PassBuilder& pb) {
-                for (ImageHandle h : {level.a.rows, level.a.entries, b, level.x}) pb.read(h, Access::ComputeRead);
-                level.x1 = pb.write(level.x1, Access::ComputeWrite);
-            }, [=, a = level.a, lx = level.x, x1 = level.x1, push = smoother_push(level.a.count, false, level.smoother)](Cmd& cmd) {
-                cmd.dispatch_threads(kPostsmoothFirst, {a.count}, {a.rows, a.entries, b, lx, x1}, push);
-            });
+            g.add_compute_pass(
+                name + " prolong" + suffix,
+                [&](PassBuilder& pb) {
+                    for (ImageHandle h : {level.prolong.rows, level.prolong.entries, coarse_x})
+                        pb.read(h, Access::ComputeRead);
+                    level.x = pb.write(level.x, Access::ComputeReadWrite);
+                },
+                [=, m = level.prolong, y = level.x](Cmd& cmd) {
+                    cmd.dispatch_threads(kTransfer, {m.count}, {m.rows, m.entries, coarse_x, y},
+                                         RowsAndSwitch{m.count, 1});
+                });
+            g.add_compute_pass(
+                name + " postsmooth 1" + suffix,
+                [&](PassBuilder& pb) {
+                    for (ImageHandle h : {level.a.rows, level.a.entries, b, level.x}) pb.read(h, Access::ComputeRead);
+                    level.x1 = pb.write(level.x1, Access::ComputeWrite);
+                },
+                [=, a = level.a, lx = level.x, x1 = level.x1,
+                 push = smoother_push(level.a.count, false, level.smoother)](Cmd& cmd) {
+                    cmd.dispatch_threads(kPostsmoothFirst, {a.count}, {a.rows, a.entries, b, lx, x1}, push);
+                });
             ImageHandle& out = l ? level.out : z;
             // Only the finest level writes r.z's terms; the others bind them unwritten.
-            g.add_compute_pass(name + " postsmooth 2" + suffix, [&](PassBuilder& pb) {
-                for (ImageHandle h : {level.a.rows, level.a.entries, b, level.x, level.x1}) pb.read(h, Access::ComputeRead);
-                out = pb.write(out, Access::ComputeWrite);
-                if (l == 0) terms = pb.write(terms, Access::ComputeWrite);
-                else pb.read(terms, Access::ComputeRead);
-            }, [=, a = level.a, lx = level.x, x1 = level.x1, o = out, t = terms,
-                push = smoother_push(level.a.count, l == 0, level.smoother)](Cmd& cmd) {
-                cmd.dispatch_threads(kPostsmoothSecond, {a.count}, {a.rows, a.entries, b, lx, x1, o, t}, push);
-            });
+            g.add_compute_pass(
+                name + " postsmooth 2" + suffix,
+                [&](PassBuilder& pb) {
+                    for (ImageHandle h : {level.a.rows, level.a.entries, b, level.x, level.x1})
+                        pb.read(h, Access::ComputeRead);
+                    out = pb.write(out, Access::ComputeWrite);
+                    if (l == 0)
+                        terms = pb.write(terms, Access::ComputeWrite);
+                    else
+                        pb.read(terms, Access::ComputeRead);
+                },
+                [=, a = level.a, lx = level.x, x1 = level.x1, o = out, t = terms,
+                 push = smoother_push(level.a.count, l == 0, level.smoother)](Cmd& cmd) {
+                    cmd.dispatch_threads(kPostsmoothSecond, {a.count}, {a.rows, a.entries, b, lx, x1, o, t}, push);
+                });
         }
     };
 
     // One iteration whose old r.z is in rz[from] and new r.z goes to the other.
     auto add_iteration = [&](int from, const std::string& suffix) {
         const BufferHandle rz_old = rz[from];
-        g.add_compute_pass("plane cg apply" + suffix, [&](PassBuilder& b) {
-            for (ImageHandle h : {p, finest.rows, finest.entries}) b.read(h, Access::ComputeRead);
-            q = b.write(q, Access::ComputeWrite);
-            terms = b.write(terms, Access::ComputeWrite);
-        }, [=](Cmd& cmd) { cmd.dispatch_threads(kApply, {rows}, {p, finest.rows, finest.entries, q, terms}, rows); });
+        g.add_compute_pass(
+            "plane cg apply" + suffix,
+            [&](PassBuilder& b) {
+                for (ImageHandle h : {p, finest.rows, finest.entries}) b.read(h, Access::ComputeRead);
+                q = b.write(q, Access::ComputeWrite);
+                terms = b.write(terms, Access::ComputeWrite);
+            },
+            [=](Cmd& cmd) {
+                cmd.dispatch_threads(kApply, {rows}, {p, finest.rows, finest.entries, q, terms}, rows);
+            });
         pq = add_reduce_sum_f64(g, terms, pq, rows, 1, "plane cg p.q" + suffix);
-        g.add_compute_pass("plane cg step" + suffix, [&](PassBuilder& b) {
-            for (BufferHandle h : {pq, rz_old}) b.read(h, Access::ComputeRead);
-            for (ImageHandle h : {p, q}) b.read(h, Access::ComputeRead);
-            x = b.write(x, Access::ComputeReadWrite);
-            r = b.write(r, Access::ComputeReadWrite);
-            r32 = b.write(r32, Access::ComputeWrite);
-        }, [=](Cmd& cmd) { cmd.dispatch_threads(kStep, {rows}, {pq, rz_old, p, q, x, r, r32}, rows); });
+        g.add_compute_pass(
+            "plane cg step" + suffix,
+            [&](PassBuilder& b) {
+                for (BufferHandle h : {pq, rz_old}) b.read(h, Access::ComputeRead);
+                for (ImageHandle h : {p, q}) b.read(h, Access::ComputeRead);
+                x = b.write(x, Access::ComputeReadWrite);
+                r = b.write(r, Access::ComputeReadWrite);
+                r32 = b.write(r32, Access::ComputeWrite);
+            },
+            [=](Cmd& cmd) {
+                cmd.dispatch_threads(kStep, {rows}, {pq, rz_old, p, q, x, r, r32}, rows);
+            });
         add_cycle(suffix);
-        const BufferHandle rz_new = rz[1 - from] = add_reduce_sum_f64(g, terms, rz[1 - from], rows, 1, "plane cg r.z" + suffix);
-        g.add_compute_pass("plane cg direction" + suffix, [&](PassBuilder& b) {
-            for (BufferHandle h : {rz_old, rz_new}) b.read(h, Access::ComputeRead);
-            b.read(z, Access::ComputeRead);
-            p = b.write(p, Access::ComputeReadWrite);
-        }, [=](Cmd& cmd) { cmd.dispatch_threads(kDirection, {rows}, {rz_old, rz_new, z, p}, rows); });
+        const BufferHandle rz_new = rz[1 - from] =
+            add_reduce_sum_f64(g, terms, rz[1 - from], rows, 1, "plane cg r.z" + suffix);
+        g.add_compute_pass(
+            "plane cg direction" + suffix,
+            [&](PassBuilder& b) {
+                for (BufferHandle h : {rz_old, rz_new}) b.read(h, Access::ComputeRead);
+                b.read(z, Access::ComputeRead);
+                p = b.write(p, Access::ComputeReadWrite);
+            },
+            [=](Cmd& cmd) {
+                cmd.dispatch_threads(kDirection, {rows}, {rz_old, rz_new, z, p}, rows);
+            });
     };
     // The loop body runs two iterations, so that r.z goes back to the buffer it came from; an odd
     // count ends with one more, and r.z is then in the other buffer.
@@ -322,8 +377,8 @@ std::vector<glm::dvec2> GpuConjugateGradients::solution() {
 }
 
 CgSolve solve_cg_gpu(Context& ctx, const SpdSystem& problem, const Multigrid& mg, double tolerance,
-                           std::uint32_t per_check, std::size_t max_iterations, bool timestamps,
-                           const std::function<void(std::size_t, double)>& progress) {
+                     std::uint32_t per_check, std::size_t max_iterations, bool timestamps,
+                     const std::function<void(std::size_t, double)>& progress) {
     GpuConjugateGradients cg(ctx, problem, mg);
     cg.set_timestamps(timestamps);
     CgSolve solve;

@@ -84,8 +84,8 @@ private:
     double rz_rhs_ = 0.0;
     double start_residual_ = 1.0;
     std::vector<Level> levels_;
-    Image apply_entries_;  // the finest operator's entries in double, for q = A p
-    Image apply_rows_;     // its rows when there is no smoothed level (else level 0's)
+    Image apply_entries_;     // the finest operator's entries in double, for q = A p
+    Image apply_rows_;        // its rows when there is no smoothed level (else level 0's)
     Image coarsest_inverse_;  // row-major, one double a texel
     std::uint32_t coarsest_rows_ = 0;
     Image x_, r_, p_, q_;
@@ -100,7 +100,7 @@ struct CgSolve {
     std::vector<glm::dvec2> x;
     double residual = 1.0;  // relative_residual at the end: NaN when conjugate gradients broke down
     std::size_t iterations = 0;
-    double gpu_ms = 0.0;    // pass timestamps, when on
+    double gpu_ms = 0.0;  // pass timestamps, when on
     bool converged(double tolerance) const { return residual <= tolerance; }
 };
 
@@ -117,7 +117,7 @@ std::uint32_t iterations_to_reach(double tolerance, double before, double after,
 // 4-8 iterations a solve). `progress` (may be empty) hears the iterations and the residual after
 // every check.
 CgSolve solve_cg_gpu(Context& ctx, const SpdSystem& problem, const Multigrid& mg, double tolerance,
-                           std::uint32_t per_check, std::size_t max_iterations, bool timestamps,
-                           const std::function<void(std::size_t, double)>& progress = {});
+                     std::uint32_t per_check, std::size_t max_iterations, bool timestamps,
+                     const std::function<void(std::size_t, double)>& progress = {});
 
 }  // namespace gimg::passes::detail

@@ -32,7 +32,8 @@ double at(const std::vector<double>& v, std::size_t i) { return v.empty() ? 0.0 
 void check_system(const LinearSystem& s) {
     const SparseMatrix& a = s.a;
     const std::size_t n = a.size, k = s.rhs_count;
-    if (k < 1 || k > 4) throw geo::InputError("linear system: " + std::to_string(k) + " right-hand sides (1 to 4 allowed)");
+    if (k < 1 || k > 4)
+        throw geo::InputError("linear system: " + std::to_string(k) + " right-hand sides (1 to 4 allowed)");
     if (a.offsets.size() != n + 1 || a.offsets.front() != 0 || a.columns.size() != a.values.size() ||
         a.offsets.back() != a.columns.size())
         throw geo::InputError("linear system: the matrix's compressed rows do not match its size " + std::to_string(n));
@@ -41,13 +42,15 @@ void check_system(const LinearSystem& s) {
             throw geo::InputError("linear system: row " + std::to_string(i) + " ends before it begins");
     for (std::size_t e = 0; e < a.columns.size(); ++e) {
         if (a.columns[e] >= n)
-            throw geo::InputError("linear system: column " + std::to_string(a.columns[e]) + " out of range (size " + std::to_string(n) + ")");
+            throw geo::InputError("linear system: column " + std::to_string(a.columns[e]) + " out of range (size " +
+                                  std::to_string(n) + ")");
         if (!std::isfinite(a.values[e])) throw geo::InputError("linear system: a matrix entry is not finite");
     }
     auto check_vector = [&](const std::vector<double>& v, const char* name, bool optional) {
         if (optional && v.empty()) return;
         if (v.size() != n * k)
-            throw geo::InputError(std::string("linear system: ") + name + " has " + std::to_string(v.size()) + " values, not " + std::to_string(n * k));
+            throw geo::InputError(std::string("linear system: ") + name + " has " + std::to_string(v.size()) +
+                                  " values, not " + std::to_string(n * k));
         for (double x : v)
             if (!std::isfinite(x)) throw geo::InputError(std::string("linear system: ") + name + " is not finite");
     };
@@ -55,7 +58,8 @@ void check_system(const LinearSystem& s) {
     check_vector(s.fixed_values, "fixed_values", true);
     check_vector(s.start, "start", true);
     if (!s.fixed.empty() && s.fixed.size() != n)
-        throw geo::InputError("linear system: fixed has " + std::to_string(s.fixed.size()) + " entries, not " + std::to_string(n));
+        throw geo::InputError("linear system: fixed has " + std::to_string(s.fixed.size()) + " entries, not " +
+                              std::to_string(n));
 }
 
 FreeSystem free_system(const LinearSystem& s) {
@@ -127,11 +131,13 @@ void check_symmetric(const FreeSystem& f) {
     const std::size_t m = f.free_rows.size();
     std::vector<std::vector<std::pair<std::uint32_t, double>>> rows(m);
     for (std::size_t i = 0; i < m; ++i) {
-        for (std::uint32_t e = f.a.offsets[i]; e < f.a.offsets[i + 1]; ++e) rows[i].emplace_back(f.a.columns[e], f.a.values[e]);
+        for (std::uint32_t e = f.a.offsets[i]; e < f.a.offsets[i + 1]; ++e)
+            rows[i].emplace_back(f.a.columns[e], f.a.values[e]);
         std::sort(rows[i].begin(), rows[i].end());
     }
     auto entry = [&](std::size_t i, std::uint32_t j) {
-        auto it = std::lower_bound(rows[i].begin(), rows[i].end(), std::make_pair(j, -std::numeric_limits<double>::infinity()));
+        auto it = std::lower_bound(rows[i].begin(), rows[i].end(),
+                                   std::make_pair(j, -std::numeric_limits<double>::infinity()));
         return it != rows[i].end() && it->first == j ? it->second : 0.0;
     };
     for (std::size_t i = 0; i < m; ++i)
@@ -139,8 +145,9 @@ void check_symmetric(const FreeSystem& f) {
             const double other = entry(j, std::uint32_t(i));
             const double scale = std::sqrt(std::abs(f.diagonal[i] * f.diagonal[j]));
             if (std::abs(value - other) > 1e-12 * std::max(scale, std::abs(value)))
-                throw geo::InputError("linear system: the matrix is not symmetric (entry " + std::to_string(f.free_rows[i]) + ", " +
-                                      std::to_string(f.free_rows[j]) + "): use solve_general");
+                throw geo::InputError("linear system: the matrix is not symmetric (entry " +
+                                      std::to_string(f.free_rows[i]) + ", " + std::to_string(f.free_rows[j]) +
+                                      "): use solve_general");
         }
     for (std::size_t i = 0; i < m; ++i)
         if (!(f.diagonal[i] > 0.0))
@@ -195,7 +202,6 @@ SolveResult solve_symmetric_with(const LinearSystem& s, const SolveOptions& o, R
     return r;
 }
 
-
 // |r| / |b| per right-hand side of a pair, the larger (a zero b counts |r|).
 double pair_residual(glm::dvec2 rr, glm::dvec2 bb, bool second) {
     auto rel = [](double r2, double b2) { return b2 > 0.0 ? std::sqrt(r2 / b2) : std::sqrt(r2); };
@@ -224,13 +230,15 @@ SolveResult solve_general_with(const LinearSystem& s, const SolveOptions& o, Sol
         double res = pair_residual(start.rr, bb, second);
         std::size_t it = 0;
         while (it < o.max_iterations && res > o.tolerance) {
-            const std::uint32_t chunk = std::uint32_t(std::min<std::size_t>(std::max<std::uint32_t>(o.iterations_per_check, 1), o.max_iterations - it));
+            const std::uint32_t chunk = std::uint32_t(
+                std::min<std::size_t>(std::max<std::uint32_t>(o.iterations_per_check, 1), o.max_iterations - it));
             const auto [r0r, rr] = solver.run(chunk);
             it += chunk;
             res = pair_residual(rr, bb, second);
             if (!std::isfinite(res)) breakdown("BiCGSTAB", "the residual is not finite");
             if (res > o.tolerance && (r0r.x == 0.0 || (second && r0r.y == 0.0)))
-                breakdown("BiCGSTAB", "r0 . r = 0 before convergence: restart from another guess or use a direct solver");
+                breakdown("BiCGSTAB",
+                          "r0 . r = 0 before convergence: restart from another guess or use a direct solver");
         }
         const std::vector<glm::dvec2> sol = solver.solution();
         for (std::size_t i = 0; i < m; ++i) {

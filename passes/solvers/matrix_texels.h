@@ -83,7 +83,8 @@ inline std::vector<glm::uvec4> entry_texels(const CsrMatrix& m) {
 
 // A matrix's entries as texels (column, value's bits) in float, each value times its column's
 // `scale` when one is given (one per column; empty for none) before the rounding.
-inline Image upload_float_entries(Context& ctx, const CsrMatrix& m, const std::vector<double>& scale, const std::string& name) {
+inline Image upload_float_entries(Context& ctx, const CsrMatrix& m, const std::vector<double>& scale,
+                                  const std::string& name) {
     std::vector<glm::uvec2> entries(m.values.size());
     for (std::size_t k = 0; k < entries.size(); ++k) {
         const float value = float(scale.empty() ? m.values[k] : m.values[k] * scale[m.columns[k]]);
@@ -101,7 +102,8 @@ struct TexelMatrix {
     std::uint32_t row_count = 0;
 };
 
-inline Image upload_rows(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values, const std::string& name) {
+inline Image upload_rows(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values,
+                         const std::string& name) {
     std::vector<glm::uvec4> rows(m.rows());
     for (std::size_t i = 0; i < m.rows(); ++i)
         rows[i] = texel_of(m.offsets[i], m.offsets[i + 1], row_values.empty() ? 0.0 : row_values[i]);
@@ -110,7 +112,8 @@ inline Image upload_rows(Context& ctx, const CsrMatrix& m, const std::vector<dou
 
 inline TexelMatrix upload_matrix_texels(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values,
                                         const std::string& name) {
-    return {upload_rows(ctx, m, row_values, name), upload_float_entries(ctx, m, {}, name + " entries"), std::uint32_t(m.rows())};
+    return {upload_rows(ctx, m, row_values, name), upload_float_entries(ctx, m, {}, name + " entries"),
+            std::uint32_t(m.rows())};
 }
 
 }  // namespace gimg::passes::detail

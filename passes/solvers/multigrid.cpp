@@ -207,7 +207,8 @@ double largest_jacobi_eigenvalue(const Sparse& a, const Eigen::VectorXd& diagona
 Eigen::Index aggregate(const Sparse& a, const Eigen::VectorXd& diagonal, std::vector<int>& of) {
     const Eigen::Index n = a.rows();
     auto strong = [&](Eigen::Index i, const Sparse::InnerIterator& it) {
-        return it.col() != i && std::abs(it.value()) >= kStrongConnection * std::sqrt(std::abs(diagonal[i] * diagonal[it.col()]));
+        return it.col() != i &&
+               std::abs(it.value()) >= kStrongConnection * std::sqrt(std::abs(diagonal[i] * diagonal[it.col()]));
     };
     of.assign(std::size_t(n), -1);
     int count = 0;
@@ -257,7 +258,8 @@ using Vectors = std::vector<Vec2<T>>;
 // Row i of m v in T, each entry rounded to T (times its column's `scale`, when one is given,
 // before the rounding), summed in the shaders' order.
 template <class T>
-Vec2<T> row_times_in(const CsrMatrix& m, const Vectors<T>& v, std::size_t i, const std::vector<double>* scale = nullptr) {
+Vec2<T> row_times_in(const CsrMatrix& m, const Vectors<T>& v, std::size_t i,
+                     const std::vector<double>* scale = nullptr) {
     Vec2<T> sum(T(0));
     for (std::uint32_t k = m.offsets[i]; k < m.offsets[i + 1]; ++k) {
         const double entry = scale ? m.values[k] * (*scale)[m.columns[k]] : m.values[k];
@@ -342,7 +344,9 @@ ChebyshevSmoother chebyshev_smoother(double rho) {
     return s;
 }
 
-glm::dvec2 row_times(const CsrMatrix& m, const std::vector<glm::dvec2>& v, std::size_t i) { return row_times_in(m, v, i); }
+glm::dvec2 row_times(const CsrMatrix& m, const std::vector<glm::dvec2>& v, std::size_t i) {
+    return row_times_in(m, v, i);
+}
 
 Multigrid build_multigrid(const SpdSystem& problem) {
     Multigrid mg;

@@ -53,16 +53,16 @@ struct ChebyshevSmoother {
 ChebyshevSmoother chebyshev_smoother(double rho);
 
 struct MultigridLevel {
-    CsrMatrix a;                          // the level's operator: A on the finest, Galerkin products below
+    CsrMatrix a;                           // the level's operator: A on the finest, Galerkin products below
     std::vector<double> inverse_diagonal;  // 1 / a_ii
     ChebyshevSmoother smoother;
-    CsrMatrix prolong;             // this level's rows, the next level's columns
-    CsrMatrix restrict_;           // prolong transposed
+    CsrMatrix prolong;    // this level's rows, the next level's columns
+    CsrMatrix restrict_;  // prolong transposed
 };
 
 struct Multigrid {
-    std::vector<MultigridLevel> levels;  // the smoothed levels, finest first (none for tiny problems)
-    CsrMatrix coarsest;                  // the operator of the dense level
+    std::vector<MultigridLevel> levels;    // the smoothed levels, finest first (none for tiny problems)
+    CsrMatrix coarsest;                    // the operator of the dense level
     std::vector<double> coarsest_inverse;  // row-major, coarsest.rows() squared
     std::size_t coarsest_rows() const { return coarsest.rows(); }
     const CsrMatrix& finest() const { return levels.empty() ? coarsest : levels.front().a; }

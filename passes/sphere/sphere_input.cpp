@@ -28,22 +28,24 @@ void check_sphere_input(const geo::Mesh& mesh) {
     if (mesh.face_count() == 0) throw geo::InputError("the mesh has no faces" + need + "a closed surface");
     const geo::MeshInfo info = geo::analyze_topology(mesh);
     if (info.nonfinite_vertices)
-        throw geo::InputError(plural(info.nonfinite_vertices, "vertex has", "vertices have") + " NaN or infinite coordinates");
+        throw geo::InputError(plural(info.nonfinite_vertices, "vertex has", "vertices have") +
+                              " NaN or infinite coordinates");
     if (info.components > 1) throw geo::InputError(std::to_string(info.components) + " separate pieces" + need + "one");
     if (info.non_manifold_edges) {
         const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
         for (std::size_t e = 0; e < adj.edge_count(); ++e)
             if (adj.edge_face_count(e) > 2)
-                throw geo::InputError("non-manifold edge at " +
-                                      at(0.5 * (mesh.positions[adj.edges[2 * e]] + mesh.positions[adj.edges[2 * e + 1]])) +
-                                      " (" + plural(info.non_manifold_edges, "such edge", "such edges") + ")" + need +
-                                      "a manifold surface");
+                throw geo::InputError(
+                    "non-manifold edge at " +
+                    at(0.5 * (mesh.positions[adj.edges[2 * e]] + mesh.positions[adj.edges[2 * e + 1]])) + " (" +
+                    plural(info.non_manifold_edges, "such edge", "such edges") + ")" + need + "a manifold surface");
     }
     if (info.non_manifold_vertices)
         throw geo::InputError(plural(info.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") +
                               " (faces meeting at a point only)" + need + "a manifold surface");
     if (info.boundary_loops)
-        throw geo::InputError(plural(info.boundary_loops, "boundary loop", "boundary loops") + need + "a closed surface");
+        throw geo::InputError(plural(info.boundary_loops, "boundary loop", "boundary loops") + need +
+                              "a closed surface");
     if (!info.component_info.empty() && info.component_info.front().genus.value_or(0) != 0)
         throw geo::InputError("genus " + std::to_string(*info.component_info.front().genus) + need + "genus 0");
     if (!info.oriented)
@@ -54,10 +56,11 @@ void check_sphere_input(const geo::Mesh& mesh) {
         throw geo::InputError(plural(info.degenerate_faces, "degenerate face", "degenerate faces") +
                               " (zero area or a repeated vertex)" + need + "proper triangles");
     if (info.duplicate_faces)
-        throw geo::InputError(plural(info.duplicate_faces, "duplicate face", "duplicate faces") + need + "a simple surface");
+        throw geo::InputError(plural(info.duplicate_faces, "duplicate face", "duplicate faces") + need +
+                              "a simple surface");
     if (info.isolated_vertices)
-        throw geo::InputError(plural(info.isolated_vertices, "vertex belongs", "vertices belong") + " to no face" + need +
-                              "every vertex on the surface");
+        throw geo::InputError(plural(info.isolated_vertices, "vertex belongs", "vertices belong") + " to no face" +
+                              need + "every vertex on the surface");
 }
 
 }  // namespace gimg::passes

@@ -54,7 +54,8 @@ SphereMetrics sphere_metrics(const geo::Mesh& mesh, const std::vector<glm::dvec3
         corner_angles(mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z], on_mesh);
         corner_angles(y[t.x], y[t.y], y[t.z], on_sphere);
         for (int k = 0; k < 3; ++k) errors.push_back(std::abs(on_sphere[k] - on_mesh[k]) * 180.0 / std::numbers::pi);
-        area_mesh[f] = 0.5 * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x], mesh.positions[t.z] - mesh.positions[t.x]));
+        area_mesh[f] = 0.5 * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
+                                                    mesh.positions[t.z] - mesh.positions[t.x]));
         area_sphere[f] = 0.5 * glm::length(glm::cross(y[t.y] - y[t.x], y[t.z] - y[t.x]));
         total_mesh += area_mesh[f];
         total_sphere += area_sphere[f];

@@ -58,8 +58,8 @@ bool in_kernel(std::span<const std::uint32_t> faces, const std::vector<glm::uvec
 // the vertex's place o: with d = p - o, G(p) = G(o) - 2 d.L + W d.d, L = sum_u w_u (y(u) - o).
 // A constant outside pull f (a Lagrange multiplier) adds -2 p.f: fold it into L.
 struct VertexEnergy {
-    glm::dvec3 origin{0.0};     // o
-    glm::dvec3 laplacian{0.0};  // L (+ f)
+    glm::dvec3 origin{0.0};       // o
+    glm::dvec3 laplacian{0.0};    // L (+ f)
     double weight_sum = 0.0;      // W = sum_u w_u
     double abs_weight_sum = 0.0;  // sum_u |w_u| (cotangent weights can be negative)
     double at_origin = 0.0;       // G(o)

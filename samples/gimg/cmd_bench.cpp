@@ -35,7 +35,7 @@ struct BenchOptions {
     std::string json;
 
     passes::CylinderZBufferOptions zbuffer(bool timestamps = false) const {
-        const auto large = large_pieces == "graphics" ? passes::CylinderLargePieces::Graphics
+        const auto large = large_pieces == "graphics"  ? passes::CylinderLargePieces::Graphics
                            : large_pieces == "compute" ? passes::CylinderLargePieces::Compute
                                                        : passes::CylinderLargePieces::Auto;
         return {.small_pixels = small_pixels, .large_pieces = large, .timestamps = timestamps};
@@ -47,9 +47,14 @@ std::vector<std::string> default_meshes() {
     const auto shared = shared_mesh_dir();
     const auto large = large_mesh_dir();
     std::vector<std::string> out;
-    for (const auto& p : {shared / "armadillo.off", shared / "bunny.off", large / "derived/bunny_loop1.off", large / "dragon.ply"}) {
-        if (std::filesystem::exists(p)) out.push_back(p.string());
-        else std::fprintf(stderr, "gimg bench: skipping %s (not found; ../shared/meshes/fetch_large.sh fetches the large ones)\n", p.c_str());
+    for (const auto& p :
+         {shared / "armadillo.off", shared / "bunny.off", large / "derived/bunny_loop1.off", large / "dragon.ply"}) {
+        if (std::filesystem::exists(p))
+            out.push_back(p.string());
+        else
+            std::fprintf(
+                stderr, "gimg bench: skipping %s (not found; ../shared/meshes/fetch_large.sh fetches the large ones)\n",
+                p.c_str());
     }
     return out;
 }
@@ -144,10 +149,11 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
     // lavapipe's timestamps see the graphics pipeline only, not compute work: no GPU time on CPU devices.
     const bool gpu_times = ctx->device_info().type != VK_PHYSICAL_DEVICE_TYPE_CPU;
     j["large_pieces"] = graphics ? "graphics" : "compute";
-    std::printf("gimg bench cylinder on %s; medians of %d runs; times in ms; zbuffer: pieces of <= %u pixels in the "
-                "classify pass, larger ones %s\n",
-                ctx->device_info().summary().c_str(), runs, o.small_pixels,
-                graphics ? "through the graphics pipeline" : "in the large-piece compute pass");
+    std::printf(
+        "gimg bench cylinder on %s; medians of %d runs; times in ms; zbuffer: pieces of <= %u pixels in the "
+        "classify pass, larger ones %s\n",
+        ctx->device_info().summary().c_str(), runs, o.small_pixels,
+        graphics ? "through the graphics pipeline" : "in the large-piece compute pass");
     std::printf("%-22s %8s %9s | %9s %9s %9s %9s | %9s %9s | %9s %9s | %9s %9s | %7s %7s %7s\n", "mesh", "faces",
                 "size", "zbuf GPU", "zbuf wall", "zbuf new", "gfx only", "ray BVH", "ray img", "scan", "scan 1t",
                 "embree BVH", "embree img", "ray/zb", "scan/zb", "emb/zb");
@@ -155,7 +161,8 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
         const geo::Mesh mesh = geo::load_mesh(path);
         const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, passes::fit_cylinder_frame(mesh));
         for (const std::string& size_text : o.sizes) {
-            const auto size = size_text == "auto" ? passes::auto_cylinder_size(mesh.face_count()) : parse_size(size_text);
+            const auto size =
+                size_text == "auto" ? passes::auto_cylinder_size(mesh.face_count()) : parse_size(size_text);
             const Row r = bench_one(*ctx, path, mesh, cyl, size[0], size[1], runs, o);
             const double zb = r.zbuffer_ms;
             char embree[64] = "        -         - ";
@@ -166,30 +173,31 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
             }
             char gpu_ms[16] = "        -";
             if (gpu_times) std::snprintf(gpu_ms, sizeof gpu_ms, "%9.2f", r.zbuffer_gpu_ms);
-            std::printf("%-22s %8zu %4ux%-4u | %s %9.2f %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %s | %7.2f %7.2f %s\n",
-                        r.mesh.c_str(), r.faces, r.width, r.height, gpu_ms, r.zbuffer_ms, r.zbuffer_new_mesh_ms,
-                        r.zbuffer_graphics_only_ms, r.raycast_bvh_ms, r.raycast_ms, r.scanline_ms, r.scanline_1t_ms, embree, r.raycast_ms / zb,
-                        r.scanline_ms / zb, embree_ratio);
-            j["projections"].push_back({{"mesh", r.mesh},
-                                        {"faces", r.faces},
-                                        {"width", r.width},
-                                        {"height", r.height},
-                                        {"zbuffer_gpu_ms",
-                                         gpu_times ? nlohmann::json(r.zbuffer_gpu_ms) : nlohmann::json()},
-                                        {"zbuffer_ms", r.zbuffer_ms},
-                                        {"zbuffer_new_mesh_ms", r.zbuffer_new_mesh_ms},
-                                        {"zbuffer_graphics_only_ms", r.zbuffer_graphics_only_ms},
-                                        {"raycast_bvh_ms", r.raycast_bvh_ms},
-                                        {"raycast_ms", r.raycast_ms},
-                                        {"scanline_ms", r.scanline_ms},
-                                        {"scanline_single_thread_ms", r.scanline_1t_ms},
-                                        {"embree_bvh_ms", r.embree_bvh_ms},
-                                        {"embree_ms", r.embree_ms},
-                                        {"raycast_over_zbuffer", r.raycast_ms / zb},
-                                        {"scanline_over_zbuffer", r.scanline_ms / zb},
-                                        {"embree_over_zbuffer", r.embree_ms > 0 ? r.embree_ms / zb : 0.0},
-                                        {"embree_new_mesh_over_zbuffer_new_mesh",
-                                         r.embree_ms > 0 ? (r.embree_bvh_ms + r.embree_ms) / r.zbuffer_new_mesh_ms : 0.0}});
+            std::printf(
+                "%-22s %8zu %4ux%-4u | %s %9.2f %9.2f %9.2f | %9.2f %9.2f | %9.2f %9.2f | %s | %7.2f %7.2f %s\n",
+                r.mesh.c_str(), r.faces, r.width, r.height, gpu_ms, r.zbuffer_ms, r.zbuffer_new_mesh_ms,
+                r.zbuffer_graphics_only_ms, r.raycast_bvh_ms, r.raycast_ms, r.scanline_ms, r.scanline_1t_ms, embree,
+                r.raycast_ms / zb, r.scanline_ms / zb, embree_ratio);
+            j["projections"].push_back(
+                {{"mesh", r.mesh},
+                 {"faces", r.faces},
+                 {"width", r.width},
+                 {"height", r.height},
+                 {"zbuffer_gpu_ms", gpu_times ? nlohmann::json(r.zbuffer_gpu_ms) : nlohmann::json()},
+                 {"zbuffer_ms", r.zbuffer_ms},
+                 {"zbuffer_new_mesh_ms", r.zbuffer_new_mesh_ms},
+                 {"zbuffer_graphics_only_ms", r.zbuffer_graphics_only_ms},
+                 {"raycast_bvh_ms", r.raycast_bvh_ms},
+                 {"raycast_ms", r.raycast_ms},
+                 {"scanline_ms", r.scanline_ms},
+                 {"scanline_single_thread_ms", r.scanline_1t_ms},
+                 {"embree_bvh_ms", r.embree_bvh_ms},
+                 {"embree_ms", r.embree_ms},
+                 {"raycast_over_zbuffer", r.raycast_ms / zb},
+                 {"scanline_over_zbuffer", r.scanline_ms / zb},
+                 {"embree_over_zbuffer", r.embree_ms > 0 ? r.embree_ms / zb : 0.0},
+                 {"embree_new_mesh_over_zbuffer_new_mesh",
+                  r.embree_ms > 0 ? (r.embree_bvh_ms + r.embree_ms) / r.zbuffer_new_mesh_ms : 0.0}});
         }
     }
 
@@ -219,10 +227,16 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
         const double per_second = 1000.0 * o.batch_images / median(wall);
         char gpu_ms[32] = "";
         if (gpu_times) std::snprintf(gpu_ms, sizeof gpu_ms, " (%.1f ms GPU)", median(gpu));
-        std::printf("batch: %u images of 144x144 from %zu meshes of ~10K faces per execution: %.1f ms wall%s, "
-                    "%.0f images/s\n", o.batch_images, batch.size(), median(wall), gpu_ms, per_second);
-        j["batch"] = {{"images", o.batch_images}, {"width", 144}, {"height", 144}, {"meshes", batch},
-                      {"wall_ms", median(wall)}, {"gpu_ms", gpu_times ? nlohmann::json(median(gpu)) : nlohmann::json()},
+        std::printf(
+            "batch: %u images of 144x144 from %zu meshes of ~10K faces per execution: %.1f ms wall%s, "
+            "%.0f images/s\n",
+            o.batch_images, batch.size(), median(wall), gpu_ms, per_second);
+        j["batch"] = {{"images", o.batch_images},
+                      {"width", 144},
+                      {"height", 144},
+                      {"meshes", batch},
+                      {"wall_ms", median(wall)},
+                      {"gpu_ms", gpu_times ? nlohmann::json(median(gpu)) : nlohmann::json()},
                       {"images_per_second", per_second}};
     }
     add_machine_figures(j, ctx.get());
@@ -257,15 +271,21 @@ void run_reconstruct_bench(const ReconstructBenchOptions& o, const GlobalOptions
         std::size_t vertices = 0;
         for (int k = 0; k < runs; ++k) {
             passes::ReconstructStats stats;
-            wall.push_back(time_ms([&] { vertices = passes::reconstruct_gpu(*ctx, image, frame, {}, &stats).vertex_count(); }));
+            wall.push_back(
+                time_ms([&] { vertices = passes::reconstruct_gpu(*ctx, image, frame, {}, &stats).vertex_count(); }));
             gpu.push_back(stats.gpu_ms);
             cpu.push_back(time_ms([&] { passes::reconstruct_cpu(image, frame); }));
         }
         const std::string name = std::filesystem::path(path).filename().string();
-        std::printf("%-22s %9zu %9.2f %9.2f %9.2f %7.2f\n", name.c_str(), vertices, median(gpu), median(wall), median(cpu),
-                    median(cpu) / median(wall));
-        j["reconstructions"].push_back({{"mesh", name}, {"width", size[0]}, {"height", size[1]}, {"vertices", vertices},
-                                        {"gpu_ms", median(gpu)}, {"gpu_wall_ms", median(wall)}, {"cpu_ms", median(cpu)}});
+        std::printf("%-22s %9zu %9.2f %9.2f %9.2f %7.2f\n", name.c_str(), vertices, median(gpu), median(wall),
+                    median(cpu), median(cpu) / median(wall));
+        j["reconstructions"].push_back({{"mesh", name},
+                                        {"width", size[0]},
+                                        {"height", size[1]},
+                                        {"vertices", vertices},
+                                        {"gpu_ms", median(gpu)},
+                                        {"gpu_wall_ms", median(wall)},
+                                        {"cpu_ms", median(cpu)}});
     }
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);

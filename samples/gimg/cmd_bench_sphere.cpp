@@ -42,8 +42,13 @@ std::vector<std::string> default_sphere_meshes() {
     candidates.push_back(large / "derived/armadillo_loop1.off");
     candidates.push_back(large / "derived/bunny_loop1.off");
     for (const auto& p : candidates) {
-        if (std::filesystem::exists(p)) out.push_back(p.string());
-        else std::fprintf(stderr, "gimg bench sphere: skipping %s (not found; ../shared/meshes/fetch_large.sh fetches the large ones)\n", p.c_str());
+        if (std::filesystem::exists(p))
+            out.push_back(p.string());
+        else
+            std::fprintf(
+                stderr,
+                "gimg bench sphere: skipping %s (not found; ../shared/meshes/fetch_large.sh fetches the large ones)\n",
+                p.c_str());
     }
     return out;
 }
@@ -74,7 +79,8 @@ void run_sphere_bench(const SphereBenchOptions& o, const GlobalOptions& global) 
             if (method == "gu" && mesh.vertex_count() > o.gu_max_vertices) continue;
             std::vector<double> wall;
             passes::SphereResult result;
-            for (int k = 0; k < runs; ++k) wall.push_back(time_ms([&] { result = solve(*ctx, method, mesh); }) / 1000.0);
+            for (int k = 0; k < runs; ++k)
+                wall.push_back(time_ms([&] { result = solve(*ctx, method, mesh); }) / 1000.0);
             const double seconds = median(wall);
             seconds_of[method] = seconds;
             const passes::SphereMetrics m = passes::sphere_metrics(mesh, result.positions);
@@ -111,10 +117,12 @@ void run_sphere_bench(const SphereBenchOptions& o, const GlobalOptions& global) 
 void add_bench_sphere_command(CLI::App& bench, const GlobalOptions& global) {
     auto o = std::make_shared<SphereBenchOptions>();
     auto* cmd = bench.add_subcommand("sphere", "harmonic vs linear vs kanai vs gu spherical maps, time and quality");
-    cmd->add_option("--mesh", o->meshes,
-                    "Closed genus-0 meshes (default: those of ../shared/meshes and the fetched derived/armadillo_loop1, "
-                    "derived/bunny_loop1)");
-    cmd->add_option("--method", o->methods, "Methods to run (default: harmonic linear kanai gu; gpu is an alias of harmonic)")
+    cmd->add_option(
+        "--mesh", o->meshes,
+        "Closed genus-0 meshes (default: those of ../shared/meshes and the fetched derived/armadillo_loop1, "
+        "derived/bunny_loop1)");
+    cmd->add_option("--method", o->methods,
+                    "Methods to run (default: harmonic linear kanai gu; gpu is an alias of harmonic)")
         ->transform(CLI::Transformer(std::map<std::string, std::string>{{"gpu", "harmonic"}}))
         ->check(CLI::IsMember({"harmonic", "kanai", "gu", "linear"}));
     cmd->add_option("--runs", o->runs, "Runs per case; the median is reported (default 3)");

@@ -6,7 +6,6 @@
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/surface_distance.h"
 
-
 #include <chrono>
 #include <cstdint>
 #include <cstdio>
@@ -25,13 +24,11 @@ struct CompareOptions {
     std::uint64_t seed = geo::SurfaceSamplingOptions{}.seed;
 };
 
-nlohmann::json stats_json(const geo::DistanceStats& s) {
-    return {{"mean", s.mean}, {"rms", s.rms}, {"max", s.max}};
-}
+nlohmann::json stats_json(const geo::DistanceStats& s) { return {{"mean", s.mean}, {"rms", s.rms}, {"max", s.max}}; }
 
 void print_row(const char* label, const geo::DistanceStats& abs, const geo::DistanceStats& rel) {
-    std::printf("%-10s %12.6g %12.6g %12.6g   %12.6g %12.6g %12.6g\n", label, abs.mean, abs.rms, abs.max,
-                rel.mean, rel.rms, rel.max);
+    std::printf("%-10s %12.6g %12.6g %12.6g   %12.6g %12.6g %12.6g\n", label, abs.mean, abs.rms, abs.max, rel.mean,
+                rel.rms, rel.max);
 }
 
 void run_compare(const CompareOptions& o, const GlobalOptions& global) {
@@ -39,8 +36,8 @@ void run_compare(const CompareOptions& o, const GlobalOptions& global) {
     const geo::Mesh a = geo::load_mesh(o.a);
     const geo::Mesh b = geo::load_mesh(o.b);
     if (global.verbose)
-        std::fprintf(stderr, "gimg compare: A %zu vertices, %zu faces; B %zu vertices, %zu faces\n",
-                     a.vertex_count(), a.face_count(), b.vertex_count(), b.face_count());
+        std::fprintf(stderr, "gimg compare: A %zu vertices, %zu faces; B %zu vertices, %zu faces\n", a.vertex_count(),
+                     a.face_count(), b.vertex_count(), b.face_count());
 
     geo::SurfaceDistanceOptions options;
     options.sampling.sample_count = o.samples;
@@ -52,12 +49,11 @@ void run_compare(const CompareOptions& o, const GlobalOptions& global) {
     const double distance_seconds = std::chrono::duration<double>(end - measure_start).count();
 
     if (!global.quiet) {
-        std::printf("A: %s (%zu faces)\nB: %s (%zu faces)\n", o.a.c_str(), a.face_count(), o.b.c_str(),
-                    b.face_count());
+        std::printf("A: %s (%zu faces)\nB: %s (%zu faces)\n", o.a.c_str(), a.face_count(), o.b.c_str(), b.face_count());
         std::printf("bounding-box diagonal of A: %.6g; samples: %zu on A, %zu on B\n", d.bbox_diagonal,
                     d.a_to_b.samples, d.b_to_a.samples);
-        std::printf("%-10s %12s %12s %12s   %12s %12s %12s\n", "", "mean", "rms", "max", "mean/diag",
-                    "rms/diag", "max/diag");
+        std::printf("%-10s %12s %12s %12s   %12s %12s %12s\n", "", "mean", "rms", "max", "mean/diag", "rms/diag",
+                    "max/diag");
         print_row("A -> B", d.a_to_b, d.relative(d.a_to_b));
         print_row("B -> A", d.b_to_a, d.relative(d.b_to_a));
         print_row("symmetric", d.symmetric, d.relative(d.symmetric));
@@ -89,9 +85,10 @@ void run_compare(const CompareOptions& o, const GlobalOptions& global) {
 
 void add_compare_command(CLI::App& app, const GlobalOptions& global) {
     auto options = std::make_shared<CompareOptions>();
-    CLI::App* cmd = app.add_subcommand(
-        "compare", "Surface distance between meshes A and B (Metro-style: mean, RMS and max each way "
-                   "and symmetric, absolute and relative to A's bounding-box diagonal)");
+    CLI::App* cmd =
+        app.add_subcommand("compare",
+                           "Surface distance between meshes A and B (Metro-style: mean, RMS and max each way "
+                           "and symmetric, absolute and relative to A's bounding-box diagonal)");
     cmd->add_option("a", options->a, "Reference mesh A")->required();
     cmd->add_option("b", options->b, "Mesh B")->required();
     cmd->add_option("--json", options->json, "Also write the figures to this JSON file");

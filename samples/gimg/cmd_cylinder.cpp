@@ -50,9 +50,10 @@ void run_cylinder(const CylinderOptions& o, const GlobalOptions& global) {
         if (ctx) std::printf(", %.3f ms GPU", gpu_ms);
         std::printf("\nwrote %s/{distance.exr, distance.png, frame.json}\n", o.out.c_str());
     }
-    nlohmann::json j{{"mesh", o.mesh},     {"faces", mesh.face_count()},  {"width", size[0]},
-                     {"height", size[1]},  {"method", o.method},          {"aligned", !o.no_align},
-                     {"covered_pixels", covered}, {"seconds", seconds}, {"scale", frame.scale}};
+    nlohmann::json j{
+        {"mesh", o.mesh},      {"faces", mesh.face_count()}, {"width", size[0]},          {"height", size[1]},
+        {"method", o.method},  {"aligned", !o.no_align},     {"covered_pixels", covered}, {"seconds", seconds},
+        {"scale", frame.scale}};
     if (ctx) j["gpu_ms"] = gpu_ms;
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);

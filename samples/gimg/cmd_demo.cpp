@@ -57,12 +57,15 @@ std::string index_html(const std::string& device, const std::string& cylinder, c
     };
     return "<!doctype html>\n<html><head><meta charset=\"utf-8\"><title>gimg demo</title>"
            "<style>body{font-family:sans-serif;max-width:900px;margin:2em auto}img{border:1px solid #ccc}</style>"
-           "</head><body>\n<h1>gimg demo</h1>\n<p>A lumpy sphere of 81,920 faces built in code, on " + device + ".</p>\n" +
+           "</head><body>\n<h1>gimg demo</h1>\n<p>A lumpy sphere of 81,920 faces built in code, on " +
+           device + ".</p>\n" +
            section("The model", "Rendered by the headless renderer (colour = normal).", img("model.png", "the model")) +
            section("Cylindrical geometry image", cylinder, img("distance.png", "cylindrical geometry image")) +
-           section("Reconstruction from the image", reconstruction, img("reconstruction.png", "the reconstructed mesh")) +
+           section("Reconstruction from the image", reconstruction,
+                   img("reconstruction.png", "the reconstructed mesh")) +
            section("Conformal map onto the sphere", sphere,
-                   img("checker.png", "the model textured through its spherical map") + img("sphere.png", "the sphere mesh")) +
+                   img("checker.png", "the model textured through its spherical map") +
+                       img("sphere.png", "the sphere mesh")) +
            "</body></html>\n";
 }
 
@@ -83,7 +86,8 @@ void run_demo(const std::string& out, const GlobalOptions& global) {
     std::size_t covered = 0, differ = 0;
     for (std::size_t i = 0; i < gpu.covered.size(); ++i) {
         covered += gpu.covered[i];
-        differ += gpu.covered[i] != cpu.covered[i] || (gpu.covered[i] && std::abs(gpu.distance[i] - cpu.distance[i]) > 1e-5f);
+        differ +=
+            gpu.covered[i] != cpu.covered[i] || (gpu.covered[i] && std::abs(gpu.distance[i] - cpu.distance[i]) > 1e-5f);
     }
 
     passes::write_cylinder_files(out, gpu, frame, {"demo: lumpy sphere", "zbuffer"});
@@ -126,7 +130,8 @@ void run_demo(const std::string& out, const GlobalOptions& global) {
                error.a_to_b.mean / diagonal, error.a_to_b.rms / diagonal, error.a_to_b.max / diagonal);
     const std::string sphere_text =
         figure("%.0f vertices in %.2f s by the harmonic method; ", double(mesh.vertex_count()), sphere_ms / 1000.0) +
-        figure("%.0f flipped triangles, conformal energy %.5f of 8 pi, ", double(quality.flips), quality.conformal_ratio) +
+        figure("%.0f flipped triangles, conformal energy %.5f of 8 pi, ", double(quality.flips),
+               quality.conformal_ratio) +
         figure("angle distortion mean %.2f, p95 %.2f degrees.", quality.angle_distortion_deg.mean,
                quality.angle_distortion_deg.p95);
     geo::write_file_atomically(std::filesystem::path(out) / "index.html",

@@ -11,18 +11,24 @@ namespace gimg::cli {
 namespace {
 const char* type_name(VkPhysicalDeviceType t) {
     switch (t) {
-        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual GPU";
-        case VK_PHYSICAL_DEVICE_TYPE_CPU: return "CPU";
-        default: return "other";
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+            return "discrete GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+            return "integrated GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+            return "virtual GPU";
+        case VK_PHYSICAL_DEVICE_TYPE_CPU:
+            return "CPU";
+        default:
+            return "other";
     }
 }
 }  // namespace
 
 void add_devices_command(CLI::App& app, const GlobalOptions&) {
-    auto* cmd = app.add_subcommand("devices", "List the Vulkan devices and the one gimg chooses "
-                                              "(GIMG_DEVICE=<part of a name> overrides)");
+    auto* cmd = app.add_subcommand("devices",
+                                   "List the Vulkan devices and the one gimg chooses "
+                                   "(GIMG_DEVICE=<part of a name> overrides)");
     cmd->callback([] {
         const char* filter = std::getenv("GIMG_DEVICE");
         auto devices = Context::list_devices(filter ? filter : "");

@@ -26,7 +26,8 @@ struct InfoArgs {
 
 nlohmann::json vec3(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
-nlohmann::json to_json(const std::string& file, const geo::LoadReport& load, const geo::MeshInfo& info, double seconds) {
+nlohmann::json to_json(const std::string& file, const geo::LoadReport& load, const geo::MeshInfo& info,
+                       double seconds) {
     nlohmann::json genus = nlohmann::json::array(), chi = nlohmann::json::array(), faces = nlohmann::json::array(),
                    vertices = nlohmann::json::array(), loops = nlohmann::json::array(),
                    manifold = nlohmann::json::array(), orientable = nlohmann::json::array(),
@@ -98,7 +99,8 @@ std::string genus_text(const geo::MeshInfo& info) {
     }
     std::map<std::string, std::size_t> histogram;
     for (const geo::ComponentInfo& c : info.component_info) ++histogram[one(c)];
-    for (const auto& [genus, count] : histogram) out += (out.empty() ? "" : ", ") + genus + " x" + std::to_string(count);
+    for (const auto& [genus, count] : histogram)
+        out += (out.empty() ? "" : ", ") + genus + " x" + std::to_string(count);
     return out;
 }
 
@@ -113,7 +115,8 @@ void print_summary(const std::string& file, const geo::LoadReport& load, const g
     std::printf("  components       %zu (isolated vertices: %zu)\n", info.components, info.isolated_vertices);
     std::printf("  boundary loops   %zu (%zu boundary edges)%s\n", info.boundary_loops, info.boundary_edges,
                 info.closed ? ", closed" : "");
-    std::printf("  genus            %s   (per component, largest first; - where undefined)\n", genus_text(info).c_str());
+    std::printf("  genus            %s   (per component, largest first; - where undefined)\n",
+                genus_text(info).c_str());
     std::printf("  manifold         %s (non-manifold edges: %zu, vertices: %zu)\n", yes_no(info.manifold),
                 info.non_manifold_edges, info.non_manifold_vertices);
     std::printf("  orientation      %s (orientable: %s, inconsistent edges: %zu)\n",

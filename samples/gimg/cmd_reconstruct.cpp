@@ -54,7 +54,8 @@ void run_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global
                          : passes::reconstruct_gpu(*ctx, image, frame, options, &stats);
         } else {
             const passes::PositionImage image = passes::read_position_exr(image_path);
-            mesh = o.cpu ? passes::reconstruct_cpu(image, options, &stats) : passes::reconstruct_gpu(*ctx, image, options, &stats);
+            mesh = o.cpu ? passes::reconstruct_cpu(image, options, &stats)
+                         : passes::reconstruct_gpu(*ctx, image, options, &stats);
         }
     });
     geo::save_mesh(mesh, o.out);
@@ -65,14 +66,20 @@ void run_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global
         if (ctx) std::printf(" (%.2f ms GPU)", stats.gpu_ms);
         std::printf("\nwrote %s\n", o.out.c_str());
     }
-    nlohmann::json j{{"image", o.image},      {"out", o.out},
-                     {"kind", cylindrical ? "cylindrical" : "position"},
-                     {"width", stats.width},  {"height", stats.height},
-                     {"lod", o.lod},          {"vertices", mesh.vertex_count()},
-                     {"faces", mesh.face_count()}, {"holes", stats.holes},
-                     {"threshold", std::isfinite(stats.threshold) ? nlohmann::json(stats.threshold) : nlohmann::json("off")},
-                     {"fill_caps", o.fill_caps}, {"method", o.cpu ? "cpu" : "gpu"},
-                     {"seconds", ms / 1000.0}};
+    nlohmann::json j{
+        {"image", o.image},
+        {"out", o.out},
+        {"kind", cylindrical ? "cylindrical" : "position"},
+        {"width", stats.width},
+        {"height", stats.height},
+        {"lod", o.lod},
+        {"vertices", mesh.vertex_count()},
+        {"faces", mesh.face_count()},
+        {"holes", stats.holes},
+        {"threshold", std::isfinite(stats.threshold) ? nlohmann::json(stats.threshold) : nlohmann::json("off")},
+        {"fill_caps", o.fill_caps},
+        {"method", o.cpu ? "cpu" : "gpu"},
+        {"seconds", ms / 1000.0}};
     if (ctx) j["gpu_ms"] = stats.gpu_ms;
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
@@ -82,7 +89,8 @@ void run_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global
 
 void add_reconstruct_command(CLI::App& app, const GlobalOptions& global) {
     auto opts = std::make_shared<ReconstructCliOptions>();
-    auto* cmd = app.add_subcommand("reconstruct", "Turn a geometry image (cylindrical or position EXR) back into a mesh");
+    auto* cmd =
+        app.add_subcommand("reconstruct", "Turn a geometry image (cylindrical or position EXR) back into a mesh");
     cmd->add_option("image", opts->image, "GI.exr: channel d with frame.json beside it, or channels R, G, B (and A)")
         ->required();
     cmd->add_option("--out", opts->out, "Output mesh (.ply or .obj), with normals")->required();

@@ -74,7 +74,8 @@ void run_render(const RenderCliOptions& o, const GlobalOptions& global) {
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
 
     const std::string& mode = o.color.front();
-    if (mode == "scalar" && o.color.size() != 2) throw geo::InputError("--color scalar needs a file: --color scalar FILE");
+    if (mode == "scalar" && o.color.size() != 2)
+        throw geo::InputError("--color scalar needs a file: --color scalar FILE");
     if (mode != "scalar" && o.color.size() != 1) throw geo::InputError("--color " + mode + " takes no file");
     if (mode == "normal") r.color = passes::MeshColor::Normal;
     if (mode == "checker") r.color = passes::MeshColor::Checker;
@@ -104,8 +105,8 @@ void run_render(const RenderCliOptions& o, const GlobalOptions& global) {
     if (!global.quiet)
         std::printf("%s: %zu faces -> %s (%ux%u, %s) in %.3f s\n", o.mesh.c_str(), mesh.face_count(), o.out.c_str(),
                     image.width, image.height, mode.c_str(), seconds);
-    nlohmann::json j{{"mesh", o.mesh}, {"out", o.out}, {"width", image.width}, {"height", image.height},
-                     {"color", mode},  {"seconds", seconds}};
+    nlohmann::json j{{"mesh", o.mesh},         {"out", o.out},  {"width", image.width},
+                     {"height", image.height}, {"color", mode}, {"seconds", seconds}};
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }
@@ -121,8 +122,9 @@ void add_render_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--view", opts->view, "Camera azimuth and elevation in degrees, AZ,EL (default 35,20)");
     cmd->add_flag("--wireframe", opts->wireframe, "Draw the edges over the surface");
     cmd->add_flag("--flat", opts->flat, "One normal per face (facets visible) instead of smooth shading");
-    cmd->add_option("--color", opts->color, "plain, normal, curvature (signed mean), checker, or scalar FILE "
-                                            "(one value per vertex)")
+    cmd->add_option("--color", opts->color,
+                    "plain, normal, curvature (signed mean), checker, or scalar FILE "
+                    "(one value per vertex)")
         ->expected(1, 2);
     cmd->add_option("--compare", opts->compare, "A second mesh drawn beside the first with the same camera");
     cmd->add_option("--json", opts->json, "Write the figures as JSON");

@@ -33,7 +33,8 @@ void add_roundtrip_command(CLI::App& app, const GlobalOptions& global) {
         ->required();
     auto* size = cmd->add_option("--size", o->size, "Image size WxH");
     cmd->add_flag("--auto", o->auto_size, "W = 2H with 2WH close to the face count (the default)")->excludes(size);
-    cmd->add_option("--samples", o->samples, "Surface samples per mesh for the distance (default max(1M, 10 per face))");
+    cmd->add_option("--samples", o->samples,
+                    "Surface samples per mesh for the distance (default max(1M, 10 per face))");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] {
         const geo::Mesh mesh = geo::load_mesh(o->mesh);
@@ -42,7 +43,8 @@ void add_roundtrip_command(CLI::App& app, const GlobalOptions& global) {
         const auto wh = o->size.empty() ? passes::auto_cylinder_size(mesh.face_count()) : parse_size(o->size);
         passes::CylinderZBuffer zbuffer(*ctx, wh[0], wh[1], {.timestamps = true});
         passes::CylinderImage image;
-        const double project_ms = time_ms([&] { image = zbuffer.project(zbuffer.add_mesh(passes::make_cylinder_mesh(mesh, frame))); });
+        const double project_ms =
+            time_ms([&] { image = zbuffer.project(zbuffer.add_mesh(passes::make_cylinder_mesh(mesh, frame))); });
         passes::write_cylinder_files(o->out, image, frame, {o->mesh, "zbuffer"});
         passes::ReconstructStats stats;
         geo::Mesh back;
@@ -64,17 +66,26 @@ void add_roundtrip_command(CLI::App& app, const GlobalOptions& global) {
         if (!global.quiet) {
             std::printf("%s: %zu faces -> %ux%u image (%.1f ms) -> %zu faces (%zu holes, %.1f ms)\n", o->mesh.c_str(),
                         mesh.face_count(), wh[0], wh[1], project_ms, back.face_count(), stats.holes, reconstruct_ms);
-            std::printf("relative to the bounding-box diagonal: RMS %.3e (original->reconstruction %.3e, back %.3e), "
-                        "Hausdorff %.3e\n", d.symmetric.rms / diag, d.a_to_b.rms / diag, d.b_to_a.rms / diag,
-                        d.symmetric.max / diag);
-            std::printf("wrote %s/{distance.exr, distance.png, frame.json, reconstruction.ply, compare.png}\n", o->out.c_str());
+            std::printf(
+                "relative to the bounding-box diagonal: RMS %.3e (original->reconstruction %.3e, back %.3e), "
+                "Hausdorff %.3e\n",
+                d.symmetric.rms / diag, d.a_to_b.rms / diag, d.b_to_a.rms / diag, d.symmetric.max / diag);
+            std::printf("wrote %s/{distance.exr, distance.png, frame.json, reconstruction.ply, compare.png}\n",
+                        o->out.c_str());
         }
-        nlohmann::json j{{"mesh", o->mesh}, {"faces", mesh.face_count()}, {"width", wh[0]}, {"height", wh[1]},
-                         {"reconstruction_faces", back.face_count()}, {"holes", stats.holes},
-                         {"a_to_b", stats_json(d.a_to_b)}, {"b_to_a", stats_json(d.b_to_a)},
-                         {"symmetric", stats_json(d.symmetric)}, {"bbox_diagonal", diag},
+        nlohmann::json j{{"mesh", o->mesh},
+                         {"faces", mesh.face_count()},
+                         {"width", wh[0]},
+                         {"height", wh[1]},
+                         {"reconstruction_faces", back.face_count()},
+                         {"holes", stats.holes},
+                         {"a_to_b", stats_json(d.a_to_b)},
+                         {"b_to_a", stats_json(d.b_to_a)},
+                         {"symmetric", stats_json(d.symmetric)},
+                         {"bbox_diagonal", diag},
                          {"symmetric_relative", stats_json(d.relative(d.symmetric))},
-                         {"project_ms", project_ms}, {"reconstruct_ms", reconstruct_ms},
+                         {"project_ms", project_ms},
+                         {"reconstruct_ms", reconstruct_ms},
                          {"gpu_ms", zbuffer.last_gpu_ms() + stats.gpu_ms}};
         add_machine_figures(j, ctx.get());
         write_json(o->json, j);

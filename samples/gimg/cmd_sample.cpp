@@ -29,17 +29,20 @@ void add_sample_command(CLI::App& app, const GlobalOptions& global) {
         std::unique_ptr<Context> ctx;
         if (!o->cpu) ctx = open_context(global);
         passes::PositionImage image;
-        const double ms = time_ms([&] {
-            image = o->cpu ? passes::sample_cpu(mesh, o->size) : passes::sample_gpu(*ctx, mesh, o->size);
-        });
+        const double ms = time_ms(
+            [&] { image = o->cpu ? passes::sample_cpu(mesh, o->size) : passes::sample_gpu(*ctx, mesh, o->size); });
         passes::write_position_exr(image, o->out);
         std::size_t covered = 0;
         for (auto c : image.covered) covered += c;
         if (!global.quiet)
-            std::printf("%s: %zu faces -> %ux%u position image, %zu pixels covered, %.2f ms; wrote %s\n", o->mesh.c_str(),
-                        mesh.face_count(), o->size, o->size, covered, ms, o->out.c_str());
-        nlohmann::json j{{"mesh", o->mesh}, {"out", o->out}, {"size", o->size}, {"covered_pixels", covered},
-                         {"method", o->cpu ? "cpu" : "gpu"}, {"seconds", ms / 1000.0}};
+            std::printf("%s: %zu faces -> %ux%u position image, %zu pixels covered, %.2f ms; wrote %s\n",
+                        o->mesh.c_str(), mesh.face_count(), o->size, o->size, covered, ms, o->out.c_str());
+        nlohmann::json j{{"mesh", o->mesh},
+                         {"out", o->out},
+                         {"size", o->size},
+                         {"covered_pixels", covered},
+                         {"method", o->cpu ? "cpu" : "gpu"},
+                         {"seconds", ms / 1000.0}};
         add_machine_figures(j, ctx.get());
         write_json(o->json, j);
     });

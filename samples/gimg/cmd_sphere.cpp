@@ -31,7 +31,9 @@ nlohmann::json metrics_json(const passes::SphereMetrics& m) {
             {"conformal_energy", m.conformal_energy},
             {"conformal_ratio", m.conformal_ratio},
             {"angle_distortion_deg",
-             {{"mean", m.angle_distortion_deg.mean}, {"p95", m.angle_distortion_deg.p95}, {"max", m.angle_distortion_deg.max}}},
+             {{"mean", m.angle_distortion_deg.mean},
+              {"p95", m.angle_distortion_deg.p95},
+              {"max", m.angle_distortion_deg.max}}},
             {"area_distortion", m.area_distortion},
             {"smallest_area", m.smallest_area}};
 }
@@ -39,8 +41,11 @@ nlohmann::json metrics_json(const passes::SphereMetrics& m) {
 nlohmann::json stages_json(const std::vector<passes::SphereStage>& stages) {
     nlohmann::json list = nlohmann::json::array();
     for (const auto& s : stages)
-        list.push_back({{"name", s.name}, {"vertices", s.vertices}, {"iterations", s.iterations},
-                        {"seconds", s.seconds}, {"energy", s.energy}});
+        list.push_back({{"name", s.name},
+                        {"vertices", s.vertices},
+                        {"iterations", s.iterations},
+                        {"seconds", s.seconds},
+                        {"energy", s.energy}});
     return list;
 }
 
@@ -119,12 +124,13 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
     write_json(o.json, j);
 
     if (!global.quiet) {
-        std::printf("%s: %zu vertices -> sphere by %s in %.3f s%s\n", o.mesh.c_str(), mesh.vertex_count(), o.method.c_str(),
-                    solve_ms / 1000.0, result.converged ? "" : " (did not converge)");
-        std::printf("flips %zu, conformal energy %.4f (ratio %.5f), angle distortion mean %.3f / p95 %.3f / max %.2f deg, "
-                    "area distortion %.3f\n",
-                    m.flips, m.conformal_energy, m.conformal_ratio, m.angle_distortion_deg.mean, m.angle_distortion_deg.p95,
-                    m.angle_distortion_deg.max, m.area_distortion);
+        std::printf("%s: %zu vertices -> sphere by %s in %.3f s%s\n", o.mesh.c_str(), mesh.vertex_count(),
+                    o.method.c_str(), solve_ms / 1000.0, result.converged ? "" : " (did not converge)");
+        std::printf(
+            "flips %zu, conformal energy %.4f (ratio %.5f), angle distortion mean %.3f / p95 %.3f / max %.2f deg, "
+            "area distortion %.3f\n",
+            m.flips, m.conformal_energy, m.conformal_ratio, m.angle_distortion_deg.mean, m.angle_distortion_deg.p95,
+            m.angle_distortion_deg.max, m.area_distortion);
         if (!result.note.empty()) std::printf("note: %s\n", result.note.c_str());
         std::printf("wrote %s/{sphere.ply, metrics.json, checker.png, sphere.png}\n", o.out.c_str());
     }
@@ -133,7 +139,7 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
 }  // namespace
 
 void write_sphere_pictures(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::dvec3>& y,
-                    const std::filesystem::path& dir) {
+                           const std::filesystem::path& dir) {
     passes::RenderOptions view;
     view.width = 800;
     view.height = 800;
@@ -156,15 +162,18 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
                     "method), gu (Gu et al., CPU), linear (Choi-Lam-Lui 2015, CPU)")
         ->transform(CLI::Transformer(std::map<std::string, std::string>{{"gpu", "harmonic"}}))
         ->check(CLI::IsMember({"harmonic", "kanai", "gu", "linear"}));
-    cmd->add_option("--tolerance", opts->harmonic.tolerance,
-                    "harmonic: a level ends when the energy changes less than this per iteration, relative (default 3e-6)");
+    cmd->add_option(
+        "--tolerance", opts->harmonic.tolerance,
+        "harmonic: a level ends when the energy changes less than this per iteration, relative (default 3e-6)");
     cmd->add_option("--max-iterations", opts->harmonic.max_iterations_per_level,
                     "harmonic: at most this many sweeps per level (default 4000)");
-    cmd->add_flag_callback("--no-polish", [opts] { opts->harmonic.plane_polish = false; },
-                           "harmonic: skip the harmonic map in a stereographic chart after the finest level (faster, "
-                           "protrusions stay crooked); implies --hierarchy");
-    cmd->add_flag_callback("--hierarchy", [opts] { opts->harmonic.direct = false; },
-                           "harmonic: skip the pinned-triangle start and relax on the progressive-mesh hierarchy at once");
+    cmd->add_flag_callback(
+        "--no-polish", [opts] { opts->harmonic.plane_polish = false; },
+        "harmonic: skip the harmonic map in a stereographic chart after the finest level (faster, "
+        "protrusions stay crooked); implies --hierarchy");
+    cmd->add_flag_callback(
+        "--hierarchy", [opts] { opts->harmonic.direct = false; },
+        "harmonic: skip the pinned-triangle start and relax on the progressive-mesh hierarchy at once");
     cmd->add_option("--json", opts->json, "Write the metrics and timings as JSON");
     cmd->callback([opts, &global] { run_sphere(*opts, global); });
 }

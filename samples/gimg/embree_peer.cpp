@@ -30,7 +30,8 @@ void keep_front_faces(const RTCFilterFunctionNArguments* args) {
         const float* c = g->positions + 3 * g->triangles[3 * f + 2];
         const float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
         const float e2[3] = {c[0] - a[0], c[1] - a[1], c[2] - a[2]};
-        const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+        const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                            e1[0] * e2[1] - e1[1] * e2[0]};
         const float dx = RTCRayN_dir_x(args->ray, args->N, i), dz = RTCRayN_dir_z(args->ray, args->N, i);
         if (!(n[0] * dx + n[2] * dz < 0.0f)) args->valid[i] = 0;
     }
@@ -56,10 +57,10 @@ EmbreeCylinderCaster::EmbreeCylinderCaster(const passes::CylinderMesh& mesh) : s
     // Shared buffers: Embree reads gimg's arrays in place (it may read 16 bytes past a vertex, so
     // the vertex array is copied with padding).
     auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                  3 * sizeof(float), mesh.positions.size() / 3));
+                                                                 3 * sizeof(float), mesh.positions.size() / 3));
     std::copy(mesh.positions.begin(), mesh.positions.end(), vertices);
     auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                         3 * sizeof(std::uint32_t), mesh.face_count()));
+                                                                        3 * sizeof(std::uint32_t), mesh.face_count()));
     std::copy(mesh.triangles.begin(), mesh.triangles.end(), indices);
     s.geometry = {vertices, indices};
     rtcSetGeometryUserData(g, &s.geometry);

@@ -10,8 +10,9 @@
 
 int main(int argc, char** argv) {
     using namespace gimg::cli;
-    CLI::App app{"gimg: triangle meshes to geometry images and parameterizations, and back, on a "
-                 "Vulkan render graph"};
+    CLI::App app{
+        "gimg: triangle meshes to geometry images and parameterizations, and back, on a "
+        "Vulkan render graph"};
     app.require_subcommand(1);
     app.set_help_all_flag("--help-all", "Print help for every command");
     // Global options also after the command (`gimg sphere m.off --out d --quiet`): the

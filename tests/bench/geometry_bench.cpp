@@ -62,19 +62,25 @@ void BM_ClosestPointRandomOrder(benchmark::State& state) {
     double checksum = 0.0;
     for (auto _ : state) {
         std::vector<double> partial(chunk_count(queries, 4096), 0.0);
-        parallel_for_chunks(queries, 4096, [&](std::size_t c, std::size_t begin, std::size_t end) {
-            double s = 0.0;
-            for (std::size_t i = begin; i < end; ++i) s += bvh.closest_point(points[i]).distance;
-            partial[c] = s;
-        }, threads);
+        parallel_for_chunks(
+            queries, 4096,
+            [&](std::size_t c, std::size_t begin, std::size_t end) {
+                double s = 0.0;
+                for (std::size_t i = begin; i < end; ++i) s += bvh.closest_point(points[i]).distance;
+                partial[c] = s;
+            },
+            threads);
         for (double s : partial) checksum += s;
     }
     benchmark::DoNotOptimize(checksum);
     state.SetItemsProcessed(std::int64_t(state.iterations()) * std::int64_t(queries));
 }
 BENCHMARK(BM_ClosestPointRandomOrder)
-    ->Args({1, 10})->Args({2, 10})->Args({2, 200})
-    ->Unit(benchmark::kMillisecond)->UseRealTime();
+    ->Args({1, 10})
+    ->Args({2, 10})
+    ->Args({2, 200})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // Coherent queries as surface_distance issues them: 1M area samples of a 100K-triangle sphere of
 // radius 1.01, face by face with the previous answer as hint, against the 1M-triangle sphere.

@@ -47,7 +47,9 @@ void BM_SphereLinear(benchmark::State& state, const std::string& name) {
     state.counters["check_and_flips_ms"] = 1e3 * wall;
 }
 BENCHMARK_CAPTURE(BM_SphereLinear, bunny, std::string("bunny.off"))->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK_CAPTURE(BM_SphereLinear, armadillo, std::string("armadillo.off"))->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_SphereLinear, armadillo, std::string("armadillo.off"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 

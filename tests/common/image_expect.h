@@ -28,11 +28,11 @@ inline ::testing::AssertionResult images_match(const geo::RgbaImage& actual, con
     const auto stem = std::filesystem::path(name).stem().string();
     geo::write_png(actual, dir / (stem + ".actual.png"));
     if (d.same_size) geo::write_png(d.diff, dir / (stem + ".diff.png"));
-    return ::testing::AssertionFailure()
-           << name << ": " << (d.same_size ? "" : "sizes differ; ") << d.differing_pixels << " pixels ("
-           << 100.0 * d.differing_share << " %) differ by more than " << channel_tolerance << " (allowed "
-           << 100.0 * max_differing_share << " %), max difference " << d.max_abs_difference << "; see " << dir / stem
-           << ".{actual,diff}.png";
+    return ::testing::AssertionFailure() << name << ": " << (d.same_size ? "" : "sizes differ; ") << d.differing_pixels
+                                         << " pixels (" << 100.0 * d.differing_share << " %) differ by more than "
+                                         << channel_tolerance << " (allowed " << 100.0 * max_differing_share
+                                         << " %), max difference " << d.max_abs_difference << "; see " << dir / stem
+                                         << ".{actual,diff}.png";
 }
 
 inline ::testing::AssertionResult matches_golden(const geo::RgbaImage& actual, const std::string& name,
@@ -43,7 +43,8 @@ inline ::testing::AssertionResult matches_golden(const geo::RgbaImage& actual, c
         return ::testing::AssertionSuccess() << "golden " << path << " rewritten";
     }
     if (!std::filesystem::exists(path))
-        return ::testing::AssertionFailure() << "golden image " << path << " is missing (GIMG_UPDATE_GOLDEN=1 makes it)";
+        return ::testing::AssertionFailure()
+               << "golden image " << path << " is missing (GIMG_UPDATE_GOLDEN=1 makes it)";
     return images_match(actual, geo::read_png(path), channel_tolerance, max_differing_share, name);
 }
 

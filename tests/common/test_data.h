@@ -38,7 +38,7 @@ inline std::filesystem::path output_dir(const std::string& sub) {
 }  // namespace gimg::test
 
 // Skips the current test with a clear message when a shared mesh is absent.
-#define GIMG_REQUIRE_SHARED_MESH(var, name)                                                     \
-    auto var##_opt = ::gimg::test::shared_mesh(name);                                          \
+#define GIMG_REQUIRE_SHARED_MESH(var, name)                                                       \
+    auto var##_opt = ::gimg::test::shared_mesh(name);                                             \
     if (!var##_opt) GTEST_SKIP() << "shared mesh " << (name) << " not found (set GIMG_MESH_DIR)"; \
     const std::filesystem::path var = *var##_opt

@@ -26,8 +26,11 @@ TEST_F(EngineErrors, WrongBindingsNameThePassAndTheProgram) {
     Buffer a = ctx().create_buffer({256, "a"});
     Graph g(ctx());
     auto h = g.import_buffer(a);
-    g.add_compute_pass("one binding short", [&](PassBuilder& b) { h = b.write(h, Access::ComputeReadWrite); },
-                       [=](Cmd& c) { c.dispatch(kScaleAdd, {1}, {h}, ScaleAdd{64, 1.0f, 0.0f}); });
+    g.add_compute_pass(
+        "one binding short", [&](PassBuilder& b) { h = b.write(h, Access::ComputeReadWrite); },
+        [=](Cmd& c) {
+            c.dispatch(kScaleAdd, {1}, {h}, ScaleAdd{64, 1.0f, 0.0f});
+        });
     Plan plan = g.compile();
     try {
         plan.execute();
@@ -46,8 +49,11 @@ TEST_F(EngineErrors, UndeclaredResourcesAndWrongPushConstantsAreRejected) {
         Graph g(ctx());
         auto ha = g.import_buffer(a);
         auto hb = g.import_buffer(b);
-        g.add_compute_pass("reads b without saying", [&](PassBuilder& p) { ha = p.write(ha, Access::ComputeWrite); },
-                           [=](Cmd& c) { c.dispatch(kScaleAdd, {1}, {hb, ha}, ScaleAdd{64, 1.0f, 0.0f}); });
+        g.add_compute_pass(
+            "reads b without saying", [&](PassBuilder& p) { ha = p.write(ha, Access::ComputeWrite); },
+            [=](Cmd& c) {
+                c.dispatch(kScaleAdd, {1}, {hb, ha}, ScaleAdd{64, 1.0f, 0.0f});
+            });
         Plan plan = g.compile();
         try {
             plan.execute();
@@ -61,10 +67,15 @@ TEST_F(EngineErrors, UndeclaredResourcesAndWrongPushConstantsAreRejected) {
         Graph g(ctx());
         auto ha = g.import_buffer(a);
         auto hb = g.import_buffer(b);
-        g.add_compute_pass("short push", [&](PassBuilder& p) {
-            p.read(ha, Access::ComputeRead);
-            hb = p.write(hb, Access::ComputeWrite);
-        }, [=](Cmd& c) { c.dispatch(kScaleAdd, {1}, {ha, hb}, std::uint32_t(64)); });
+        g.add_compute_pass(
+            "short push",
+            [&](PassBuilder& p) {
+                p.read(ha, Access::ComputeRead);
+                hb = p.write(hb, Access::ComputeWrite);
+            },
+            [=](Cmd& c) {
+                c.dispatch(kScaleAdd, {1}, {ha, hb}, std::uint32_t(64));
+            });
         Plan plan = g.compile();
         try {
             plan.execute();
@@ -109,17 +120,25 @@ TEST_F(EngineErrors, SynchronizationValidationSeesAMissingBarrier) {
     Graph g(ctx());
     auto ha = g.import_buffer(a);
     auto hb = g.import_buffer(b);
-    g.add_compute_pass("write b", [&](PassBuilder& p) {
-        p.read(ha, Access::ComputeRead);
-        hb = p.write(hb, Access::ComputeWrite);
-    }, [=](Cmd& c) { c.dispatch(kScaleAdd, {1}, {ha, hb}, ScaleAdd{64, 1.0f, 0.0f}); });
-    g.add_compute_pass("undeclared copy", [&](PassBuilder& p) {
-        p.read(ha, Access::TransferSrc);
-        p.keep();
-    }, [=, vb = b.vk(), va = a.vk()](Cmd& c) {
-        VkBufferCopy region{0, 0, 256};
-        vkCmdCopyBuffer(c.vk(), va, vb, 1, &region);  // writes b: write-after-write hazard
-    });
+    g.add_compute_pass(
+        "write b",
+        [&](PassBuilder& p) {
+            p.read(ha, Access::ComputeRead);
+            hb = p.write(hb, Access::ComputeWrite);
+        },
+        [=](Cmd& c) {
+            c.dispatch(kScaleAdd, {1}, {ha, hb}, ScaleAdd{64, 1.0f, 0.0f});
+        });
+    g.add_compute_pass(
+        "undeclared copy",
+        [&](PassBuilder& p) {
+            p.read(ha, Access::TransferSrc);
+            p.keep();
+        },
+        [=, vb = b.vk(), va = a.vk()](Cmd& c) {
+            VkBufferCopy region{0, 0, 256};
+            vkCmdCopyBuffer(c.vk(), va, vb, 1, &region);  // writes b: write-after-write hazard
+        });
     const std::uint64_t before = ctx().validation_message_count();
     testing::internal::CaptureStderr();
     g.compile().execute();

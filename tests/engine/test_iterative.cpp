@@ -50,13 +50,16 @@ TEST_F(IterativePass, JacobiDiffusionInChunksOfFiftyMatchesTheCpu) {
     auto ha = g.import_buffer(a);
     auto hb = g.import_buffer(b);
     g.add_loop(K, [&] {
-        g.add_compute_pass("jacobi", [&](PassBuilder& p) {
-            ha = p.write(ha, Access::ComputeReadWrite);
-            hb = p.write(hb, Access::ComputeReadWrite);
-        }, [=](Cmd& c) {
-            const bool even = c.iteration() % 2 == 0;  // even iterations read a, odd ones read b
-            c.dispatch_threads(kJacobi, {N}, {even ? ha : hb, even ? hb : ha}, JacobiPush{N, kAlpha});
-        });
+        g.add_compute_pass(
+            "jacobi",
+            [&](PassBuilder& p) {
+                ha = p.write(ha, Access::ComputeReadWrite);
+                hb = p.write(hb, Access::ComputeReadWrite);
+            },
+            [=](Cmd& c) {
+                const bool even = c.iteration() % 2 == 0;  // even iterations read a, odd ones read b
+                c.dispatch_threads(kJacobi, {N}, {even ? ha : hb, even ? hb : ha}, JacobiPush{N, kAlpha});
+            });
     });
     g.export_buffer(ha, Access::TransferSrc);
     Plan plan = g.compile();

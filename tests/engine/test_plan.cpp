@@ -32,11 +32,15 @@ TEST(PlanBarriers, ReadAfterWriteWaitsForTheWriteAndMakesItVisible) {
     Buffer out = Buffer::unbacked({1024, "out"});
     auto t = g.create_buffer({1024, "t"});
     auto o = g.import_buffer(out);
-    g.add_compute_pass("write", [&](PassBuilder& b) { t = b.write(t, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("read", [&](PassBuilder& b) {
-        b.read(t, Access::ComputeRead);
-        o = b.write(o, Access::ComputeWrite);
-    }, no_op);
+    g.add_compute_pass(
+        "write", [&](PassBuilder& b) { t = b.write(t, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "read",
+        [&](PassBuilder& b) {
+            b.read(t, Access::ComputeRead);
+            o = b.write(o, Access::ComputeWrite);
+        },
+        no_op);
     Plan plan = g.compile();
 
     ASSERT_EQ(plan.passes().size(), 2u);
@@ -57,9 +61,22 @@ TEST(PlanBarriers, SecondReaderInTheSameStageNeedsNoBarrier) {
     Buffer out = Buffer::unbacked({16, "out"});
     auto t = g.create_buffer({1024, "t"});
     auto o = g.import_buffer(out);
-    g.add_compute_pass("write", [&](PassBuilder& b) { t = b.write(t, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("read1", [&](PassBuilder& b) { b.read(t, Access::ComputeRead); o = b.write(o, Access::ComputeReadWrite); }, no_op);
-    g.add_compute_pass("read2", [&](PassBuilder& b) { b.read(t, Access::ComputeRead); o = b.write(o, Access::ComputeReadWrite); }, no_op);
+    g.add_compute_pass(
+        "write", [&](PassBuilder& b) { t = b.write(t, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "read1",
+        [&](PassBuilder& b) {
+            b.read(t, Access::ComputeRead);
+            o = b.write(o, Access::ComputeReadWrite);
+        },
+        no_op);
+    g.add_compute_pass(
+        "read2",
+        [&](PassBuilder& b) {
+            b.read(t, Access::ComputeRead);
+            o = b.write(o, Access::ComputeReadWrite);
+        },
+        no_op);
     Plan plan = g.compile();
     EXPECT_EQ(barriers_on(plan.pass("read1").barriers, "t").size(), 1u);
     EXPECT_TRUE(barriers_on(plan.pass("read2").barriers, "t").empty()) << plan.describe();
@@ -75,8 +92,15 @@ TEST(PlanBarriers, WriteAfterReadIsAnExecutionDependencyOnly) {
     auto h = g.import_buffer(x);
     Buffer sink = Buffer::unbacked({256, "sink"});
     auto s = g.import_buffer(sink);
-    g.add_compute_pass("read", [&](PassBuilder& b) { b.read(h, Access::ComputeRead); s = b.write(s, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("overwrite", [&](PassBuilder& b) { h = b.write(h, Access::TransferDst); }, no_op);
+    g.add_compute_pass(
+        "read",
+        [&](PassBuilder& b) {
+            b.read(h, Access::ComputeRead);
+            s = b.write(s, Access::ComputeWrite);
+        },
+        no_op);
+    g.add_compute_pass(
+        "overwrite", [&](PassBuilder& b) { h = b.write(h, Access::TransferDst); }, no_op);
     Plan plan = g.compile();
     EXPECT_TRUE(barriers_on(plan.pass("read").barriers, "x").empty());
     auto war = barriers_on(plan.pass("overwrite").barriers, "x");
@@ -91,8 +115,10 @@ TEST(PlanBarriers, WriteAfterWriteMakesTheFirstWriteAvailable) {
     Graph g;
     Buffer x = Buffer::unbacked({256, "x"});
     auto h = g.import_buffer(x);
-    g.add_compute_pass("first", [&](PassBuilder& b) { h = b.write(h, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("second", [&](PassBuilder& b) { h = b.write(h, Access::TransferDst); }, no_op);
+    g.add_compute_pass(
+        "first", [&](PassBuilder& b) { h = b.write(h, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "second", [&](PassBuilder& b) { h = b.write(h, Access::TransferDst); }, no_op);
     Plan plan = g.compile();
     auto waw = barriers_on(plan.pass("second").barriers, "x");
     ASSERT_EQ(waw.size(), 1u);
@@ -105,7 +131,8 @@ TEST(PlanBarriers, ImportsStartFromTheirLastAccessAndExportsEndAtTheNext) {
     Graph g;
     Buffer x = Buffer::unbacked({256, "x"}, Access::TransferDst);  // e.g. just uploaded
     auto h = g.import_buffer(x);
-    g.add_compute_pass("square", [&](PassBuilder& b) { h = b.write(h, Access::ComputeReadWrite); }, no_op);
+    g.add_compute_pass(
+        "square", [&](PassBuilder& b) { h = b.write(h, Access::ComputeReadWrite); }, no_op);
     g.export_buffer(h, Access::HostRead);
     Plan plan = g.compile();
     auto in = barriers_on(plan.pass("square").barriers, "x");
@@ -124,11 +151,15 @@ TEST(PlanLayouts, StorageSampledTransferTransitions) {
     auto img = g.create_image({64, 32, Format::R32F, "img"});
     Buffer sink = Buffer::unbacked({16, "sink"});
     auto s = g.import_buffer(sink);
-    g.add_compute_pass("write", [&](PassBuilder& b) { img = b.write(img, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("sample", [&](PassBuilder& b) {
-        b.read(img, Access::ComputeSampled);
-        s = b.write(s, Access::ComputeWrite);
-    }, no_op);
+    g.add_compute_pass(
+        "write", [&](PassBuilder& b) { img = b.write(img, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "sample",
+        [&](PassBuilder& b) {
+            b.read(img, Access::ComputeSampled);
+            s = b.write(s, Access::ComputeWrite);
+        },
+        no_op);
     g.export_image(img, Access::TransferSrc);
     Plan plan = g.compile();
 
@@ -153,11 +184,15 @@ TEST(PlanLayouts, ClearedAttachmentDiscardsAndLoadedAttachmentKeeps) {
     Image target = Image::unbacked({32, 32, Format::RGBA8, "target"}, Access::TransferSrc);
     auto t = g.import_image(target);
     auto depth = g.create_image({32, 32, Format::D32F, "depth"});
-    g.add_raster_pass("clear", [&](PassBuilder& b) {
-        t = b.color(t, ClearValue::color(0, 0, 0, 1));
-        depth = b.depth(depth, ClearValue::depth(1.0f));
-    }, no_op);
-    g.add_raster_pass("overlay", [&](PassBuilder& b) { t = b.color(t); }, no_op);
+    g.add_raster_pass(
+        "clear",
+        [&](PassBuilder& b) {
+            t = b.color(t, ClearValue::color(0, 0, 0, 1));
+            depth = b.depth(depth, ClearValue::depth(1.0f));
+        },
+        no_op);
+    g.add_raster_pass(
+        "overlay", [&](PassBuilder& b) { t = b.color(t); }, no_op);
     Plan plan = g.compile();
     auto cleared = barriers_on(plan.pass("clear").barriers, "target");
     ASSERT_EQ(cleared.size(), 1u);
@@ -178,11 +213,26 @@ TEST(PlanCulling, PassesWhoseOutputsNobodyReadsAreCulled) {
     auto t1 = g.create_buffer({64, "t1"});
     auto t2 = g.create_buffer({64, "t2"});
     auto t3 = g.create_buffer({64, "t3"});
-    g.add_compute_pass("feeds dead", [&](PassBuilder& b) { t1 = b.write(t1, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("dead", [&](PassBuilder& b) { b.read(t1, Access::ComputeRead); t2 = b.write(t2, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("feeds live", [&](PassBuilder& b) { t3 = b.write(t3, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("live", [&](PassBuilder& b) { b.read(t3, Access::ComputeRead); o = b.write(o, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("kept", [&](PassBuilder& b) { b.keep(); }, no_op);
+    g.add_compute_pass(
+        "feeds dead", [&](PassBuilder& b) { t1 = b.write(t1, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "dead",
+        [&](PassBuilder& b) {
+            b.read(t1, Access::ComputeRead);
+            t2 = b.write(t2, Access::ComputeWrite);
+        },
+        no_op);
+    g.add_compute_pass(
+        "feeds live", [&](PassBuilder& b) { t3 = b.write(t3, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "live",
+        [&](PassBuilder& b) {
+            b.read(t3, Access::ComputeRead);
+            o = b.write(o, Access::ComputeWrite);
+        },
+        no_op);
+    g.add_compute_pass(
+        "kept", [&](PassBuilder& b) { b.keep(); }, no_op);
     Plan plan = g.compile();
     std::vector<std::string> live;
     for (const auto& p : plan.passes()) live.push_back(p.name);
@@ -197,12 +247,31 @@ TEST(PlanCulling, ALoopRunsWholeWhenAnyOfItsPassesIsNeeded) {
     auto o = g.import_buffer(out);
     auto a = g.create_buffer({64, "a"});
     auto b = g.create_buffer({64, "b"});
-    g.add_compute_pass("init", [&](PassBuilder& p) { a = p.write(a, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "init", [&](PassBuilder& p) { a = p.write(a, Access::ComputeWrite); }, no_op);
     g.add_loop(10, [&] {
-        g.add_compute_pass("a to b", [&](PassBuilder& p) { b = p.write(b, Access::ComputeReadWrite); a = p.write(a, Access::ComputeReadWrite); }, no_op);
-        g.add_compute_pass("b to a", [&](PassBuilder& p) { b = p.write(b, Access::ComputeReadWrite); a = p.write(a, Access::ComputeReadWrite); }, no_op);
+        g.add_compute_pass(
+            "a to b",
+            [&](PassBuilder& p) {
+                b = p.write(b, Access::ComputeReadWrite);
+                a = p.write(a, Access::ComputeReadWrite);
+            },
+            no_op);
+        g.add_compute_pass(
+            "b to a",
+            [&](PassBuilder& p) {
+                b = p.write(b, Access::ComputeReadWrite);
+                a = p.write(a, Access::ComputeReadWrite);
+            },
+            no_op);
     });
-    g.add_compute_pass("result", [&](PassBuilder& p) { p.read(a, Access::ComputeRead); o = p.write(o, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "result",
+        [&](PassBuilder& p) {
+            p.read(a, Access::ComputeRead);
+            o = p.write(o, Access::ComputeWrite);
+        },
+        no_op);
     Plan plan = g.compile();
     ASSERT_EQ(plan.passes().size(), 4u) << plan.describe();
     EXPECT_EQ(plan.pass("a to b").iterations, 10u);
@@ -222,11 +291,31 @@ TEST(PlanTransients, EqualDescriptionsWithDisjointLifetimesShareOnePhysicalResou
     auto t1 = g.create_buffer({4096, "t1"});
     auto t2 = g.create_buffer({4096, "t2"});
     auto big = g.create_buffer({8192, "big"});
-    g.add_compute_pass("make t1", [&](PassBuilder& b) { t1 = b.write(t1, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("use t1", [&](PassBuilder& b) { b.read(t1, Access::ComputeRead); o = b.write(o, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("make t2", [&](PassBuilder& b) { t2 = b.write(t2, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("make big", [&](PassBuilder& b) { b.read(t2, Access::ComputeRead); big = b.write(big, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("use big", [&](PassBuilder& b) { b.read(big, Access::ComputeRead); o = b.write(o, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "make t1", [&](PassBuilder& b) { t1 = b.write(t1, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "use t1",
+        [&](PassBuilder& b) {
+            b.read(t1, Access::ComputeRead);
+            o = b.write(o, Access::ComputeWrite);
+        },
+        no_op);
+    g.add_compute_pass(
+        "make t2", [&](PassBuilder& b) { t2 = b.write(t2, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "make big",
+        [&](PassBuilder& b) {
+            b.read(t2, Access::ComputeRead);
+            big = b.write(big, Access::ComputeWrite);
+        },
+        no_op);
+    g.add_compute_pass(
+        "use big",
+        [&](PassBuilder& b) {
+            b.read(big, Access::ComputeRead);
+            o = b.write(o, Access::ComputeWrite);
+        },
+        no_op);
     Plan plan = g.compile();
     ASSERT_TRUE(plan.physical_resource(t1) && plan.physical_resource(t2) && plan.physical_resource(big));
     EXPECT_EQ(*plan.physical_resource(t1), *plan.physical_resource(t2)) << plan.describe();
@@ -246,10 +335,29 @@ TEST(PlanTransients, DisjointLifetimesAliasMemoryAndOverlappingOnesDoNot) {
     auto a = g.create_buffer({1 << 20, "a"});
     auto b = g.create_buffer({1 << 16, "b"});
     auto c = g.create_buffer({1 << 18, "c"});
-    g.add_compute_pass("make a", [&](PassBuilder& p) { a = p.write(a, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("a to b", [&](PassBuilder& p) { p.read(a, Access::ComputeRead); b = p.write(b, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("b to c", [&](PassBuilder& p) { p.read(b, Access::ComputeRead); c = p.write(c, Access::ComputeWrite); }, no_op);
-    g.add_compute_pass("c to out", [&](PassBuilder& p) { p.read(c, Access::ComputeRead); o = p.write(o, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "make a", [&](PassBuilder& p) { a = p.write(a, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "a to b",
+        [&](PassBuilder& p) {
+            p.read(a, Access::ComputeRead);
+            b = p.write(b, Access::ComputeWrite);
+        },
+        no_op);
+    g.add_compute_pass(
+        "b to c",
+        [&](PassBuilder& p) {
+            p.read(b, Access::ComputeRead);
+            c = p.write(c, Access::ComputeWrite);
+        },
+        no_op);
+    g.add_compute_pass(
+        "c to out",
+        [&](PassBuilder& p) {
+            p.read(c, Access::ComputeRead);
+            o = p.write(o, Access::ComputeWrite);
+        },
+        no_op);
     Plan plan = g.compile();
     auto pa = *plan.placement(a), pb = *plan.placement(b), pc = *plan.placement(c);
     auto overlap = [](const MemoryPlacement& x, const MemoryPlacement& y) {
@@ -269,19 +377,25 @@ TEST(PlanErrors, StaleHandlesAndWrongAccessesAreRejectedWithNames) {
     Graph g;
     auto t = g.create_buffer({64, "t"});
     auto old = t;
-    g.add_compute_pass("writer", [&](PassBuilder& b) { t = b.write(t, Access::ComputeWrite); }, no_op);
+    g.add_compute_pass(
+        "writer", [&](PassBuilder& b) { t = b.write(t, Access::ComputeWrite); }, no_op);
     try {
-        g.add_compute_pass("stale reader", [&](PassBuilder& b) { b.read(old, Access::ComputeRead); }, no_op);
+        g.add_compute_pass(
+            "stale reader", [&](PassBuilder& b) { b.read(old, Access::ComputeRead); }, no_op);
         FAIL() << "reading a stale version must fail";
     } catch (const Error& e) {
         EXPECT_EQ(e.kind(), ErrorKind::InvalidGraph);
         EXPECT_NE(std::string(e.what()).find("stale reader"), std::string::npos) << e.what();
         EXPECT_NE(std::string(e.what()).find("'t'"), std::string::npos) << e.what();
     }
-    EXPECT_THROW(g.add_compute_pass("bad", [&](PassBuilder& b) { b.read(t, Access::ComputeWrite); }, no_op), Error);
-    EXPECT_THROW(g.add_compute_pass("graphics in compute", [&](PassBuilder& b) { b.read(t, Access::VertexRead); }, no_op),
+    EXPECT_THROW(g.add_compute_pass(
+                     "bad", [&](PassBuilder& b) { b.read(t, Access::ComputeWrite); }, no_op),
                  Error);
-    EXPECT_THROW(g.add_raster_pass("no attachments", [&](PassBuilder& b) { b.read(t, Access::VertexRead); }, no_op),
+    EXPECT_THROW(g.add_compute_pass(
+                     "graphics in compute", [&](PassBuilder& b) { b.read(t, Access::VertexRead); }, no_op),
+                 Error);
+    EXPECT_THROW(g.add_raster_pass(
+                     "no attachments", [&](PassBuilder& b) { b.read(t, Access::VertexRead); }, no_op),
                  Error);
     Plan plan = Graph().compile();
     EXPECT_THROW(plan.execute(), Error);  // no device

@@ -23,9 +23,8 @@ const RasterProgram kSolidTriangle{GIMG_SPIRV(gimg_spv_engine_pixel_triangle_ver
 // Vertices on the 1/16-pixel grid, which every Vulkan rasteriser represents exactly
 // (subPixelPrecisionBits >= 4), so the expected coverage is exact.
 constexpr std::int64_t kSub = 16;
-const std::array<std::array<std::int64_t, 2>, 3> kTriangle{{{3 * kSub + 5, 4 * kSub + 11},
-                                                            {60 * kSub + 3, 12 * kSub + 13},
-                                                            {21 * kSub + 9, 58 * kSub + 15}}};
+const std::array<std::array<std::int64_t, 2>, 3> kTriangle{
+    {{3 * kSub + 5, 4 * kSub + 11}, {60 * kSub + 3, 12 * kSub + 13}, {21 * kSub + 9, 58 * kSub + 15}}};
 
 std::int64_t edge(const std::array<std::int64_t, 2>& a, const std::array<std::int64_t, 2>& b, std::int64_t px,
                   std::int64_t py) {
@@ -47,10 +46,13 @@ TEST_F(RasterPass, RasterPassCoversExactlyThePixelCentresInsideTheTriangle) {
     auto img = g.import_image(target);
     auto verts = g.import_buffer(vertices);
     const std::array<float, 2> extent{float(W), float(H)};
-    g.add_raster_pass("triangle", [&](PassBuilder& b) {
-        b.read(verts, Access::VertexRead);
-        img = b.color(img, ClearValue::color(0, 0, 0, 0));
-    }, [=](Cmd& c) { c.draw(kSolidTriangle, 3, 1, {verts}, extent); });
+    g.add_raster_pass(
+        "triangle",
+        [&](PassBuilder& b) {
+            b.read(verts, Access::VertexRead);
+            img = b.color(img, ClearValue::color(0, 0, 0, 0));
+        },
+        [=](Cmd& c) { c.draw(kSolidTriangle, 3, 1, {verts}, extent); });
     g.export_image(img, Access::TransferSrc);
     g.compile().execute();
     std::vector<std::byte> pixels = ctx().download(target);
@@ -66,7 +68,8 @@ TEST_F(RasterPass, RasterPassCoversExactlyThePixelCentresInsideTheTriangle) {
             const bool inside = (e0 > 0 && e1 > 0 && e2 > 0) || (e0 < 0 && e1 < 0 && e2 < 0);
             const std::byte* p = &pixels[(std::size_t(y) * W + x) * 4];
             const bool drawn = p[3] == std::byte{255} && p[0] == std::byte{255};
-            const bool empty = p[0] == std::byte{0} && p[1] == std::byte{0} && p[2] == std::byte{0} && p[3] == std::byte{0};
+            const bool empty =
+                p[0] == std::byte{0} && p[1] == std::byte{0} && p[2] == std::byte{0} && p[3] == std::byte{0};
             covered += inside;
             mismatches += inside ? !drawn : !empty;
         }

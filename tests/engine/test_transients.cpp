@@ -21,10 +21,15 @@ struct ScaleAdd {
 
 void scale_add(Graph& g, const std::string& name, BufferHandle& src, BufferHandle& dst, std::uint32_t n, float scale,
                float offset) {
-    g.add_compute_pass(name, [&](PassBuilder& b) {
-        b.read(src, Access::ComputeRead);
-        dst = b.write(dst, Access::ComputeWrite);
-    }, [=, s = src, d = dst](Cmd& c) { c.dispatch_threads(kScaleAdd, {n}, {s, d}, ScaleAdd{n, scale, offset}); });
+    g.add_compute_pass(
+        name,
+        [&](PassBuilder& b) {
+            b.read(src, Access::ComputeRead);
+            dst = b.write(dst, Access::ComputeWrite);
+        },
+        [=, s = src, d = dst](Cmd& c) {
+            c.dispatch_threads(kScaleAdd, {n}, {s, d}, ScaleAdd{n, scale, offset});
+        });
 }
 }  // namespace
 
@@ -84,7 +89,8 @@ TEST_F(TransientResources, AliasedTransientsOfDifferentSizesStayCorrect) {
     Plan plan = g.compile();
     const auto pb = *plan.placement(big), ps = *plan.placement(small);
     EXPECT_TRUE(pb.block == ps.block && ps.offset < pb.offset + pb.size && pb.offset < ps.offset + ps.size)
-        << "small should alias big's memory:\n" << plan.describe();
+        << "small should alias big's memory:\n"
+        << plan.describe();
 
     for (int run = 0; run < 3; ++run) {
         plan.execute();

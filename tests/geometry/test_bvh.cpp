@@ -54,9 +54,9 @@ Mesh awkward_mesh() {
         const auto base = static_cast<std::uint32_t>(m.positions.size());
         const glm::dvec3 a(u(rng), u(rng), u(rng));
         glm::dvec3 b(u(rng), u(rng), u(rng)), c(u(rng), u(rng), u(rng));
-        if (i % 5 == 1) c = a + 0.37 * (b - a);           // collinear
-        if (i % 5 == 2) c = b;                             // two corners equal
-        if (i % 5 == 3) c = a + 1e-9 * (c - a);            // sliver
+        if (i % 5 == 1) c = a + 0.37 * (b - a);  // collinear
+        if (i % 5 == 2) c = b;                   // two corners equal
+        if (i % 5 == 3) c = a + 1e-9 * (c - a);  // sliver
         m.positions.insert(m.positions.end(), {a, b, c});
         m.triangles.push_back({base, base + 1, base + 2});
     }
@@ -94,12 +94,12 @@ TEST(TriangleQueries, RayTriangle) {
     ASSERT_TRUE(intersect_ray_triangle({{0.25, 0.25, 2}, {0, 0, -2}}, a, b, c, h));
     EXPECT_DOUBLE_EQ(h.t, 1.0);
     EXPECT_NEAR(glm::length(h.barycentric - glm::dvec3(0.5, 0.25, 0.25)), 0.0, 1e-15);
-    EXPECT_TRUE(intersect_ray_triangle({{0.25, 0.25, -2}, {0, 0, 1}}, a, b, c, h));  // back side
-    EXPECT_FALSE(intersect_ray_triangle({{0.75, 0.75, 2}, {0, 0, -1}}, a, b, c, h));  // outside
-    EXPECT_FALSE(intersect_ray_triangle({{0.25, 0.25, 2}, {0, 0, 1}}, a, b, c, h));   // behind
+    EXPECT_TRUE(intersect_ray_triangle({{0.25, 0.25, -2}, {0, 0, 1}}, a, b, c, h));             // back side
+    EXPECT_FALSE(intersect_ray_triangle({{0.75, 0.75, 2}, {0, 0, -1}}, a, b, c, h));            // outside
+    EXPECT_FALSE(intersect_ray_triangle({{0.25, 0.25, 2}, {0, 0, 1}}, a, b, c, h));             // behind
     EXPECT_FALSE(intersect_ray_triangle({{0.25, 0.25, 2}, {0, 0, -1}, 0.0, 1.5}, a, b, c, h));  // t range
-    EXPECT_TRUE(intersect_ray_triangle({{0.5, 0.5, 1}, {0, 0, -1}}, a, b, c, h));  // on edge bc
-    EXPECT_FALSE(intersect_ray_triangle({{-1, 0.5, 0}, {1, 0, 0}}, a, b, c, h));   // in plane
+    EXPECT_TRUE(intersect_ray_triangle({{0.5, 0.5, 1}, {0, 0, -1}}, a, b, c, h));               // on edge bc
+    EXPECT_FALSE(intersect_ray_triangle({{-1, 0.5, 0}, {1, 0, 0}}, a, b, c, h));                // in plane
 }
 
 TEST(Bvh, ClosestPointEqualsBruteForce) {
@@ -158,7 +158,10 @@ TEST(Bvh, RayQueriesEqualBruteForce) {
             ray.origin.z = 0.0;
             ray.direction = {1, 0, 0};
         }
-        if (i % 5 == 0) { ray.t_min = 0.5; ray.t_max = 2.0; }
+        if (i % 5 == 0) {
+            ray.t_min = 0.5;
+            ray.t_max = 2.0;
+        }
         const std::vector<RayHit> expected = brute_force_hits(m, ray);
         const auto nearest = bvh.intersect_nearest(ray);
         ASSERT_EQ(nearest.has_value(), !expected.empty()) << "ray " << i;
@@ -166,9 +169,8 @@ TEST(Bvh, RayQueriesEqualBruteForce) {
         const std::vector<RayHit> all = bvh.intersect_all(ray);
         ASSERT_EQ(all.size(), expected.size()) << "ray " << i;
         std::vector<RayHit> sorted = expected;
-        std::sort(sorted.begin(), sorted.end(), [](const RayHit& a, const RayHit& b) {
-            return a.t != b.t ? a.t < b.t : a.face < b.face;
-        });
+        std::sort(sorted.begin(), sorted.end(),
+                  [](const RayHit& a, const RayHit& b) { return a.t != b.t ? a.t < b.t : a.face < b.face; });
         for (std::size_t k = 0; k < all.size(); ++k) {
             EXPECT_EQ(all[k].t, sorted[k].t);
             EXPECT_EQ(all[k].face, sorted[k].face);
@@ -246,14 +248,21 @@ TEST(Bvh, EmptyMeshAnswersNothing) {
 TEST(ParallelFor, EveryChunkOnceAndErrorsPropagate) {
     std::vector<int> hits(1000, 0);
     std::vector<int> chunk_seen(chunk_count(1000, 64), 0);
-    parallel_for_chunks(1000, 64, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
-        ++chunk_seen[chunk];
-        EXPECT_EQ(begin, chunk * 64);
-        for (std::size_t i = begin; i < end; ++i) ++hits[i];
-    }, 3);
+    parallel_for_chunks(
+        1000, 64,
+        [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+            ++chunk_seen[chunk];
+            EXPECT_EQ(begin, chunk * 64);
+            for (std::size_t i = begin; i < end; ++i) ++hits[i];
+        },
+        3);
     EXPECT_EQ(std::count(hits.begin(), hits.end(), 1), 1000);
     EXPECT_EQ(std::count(chunk_seen.begin(), chunk_seen.end(), 1), long(chunk_seen.size()));
-    EXPECT_THROW(parallel_for_chunks(100, 1, [](std::size_t c, std::size_t, std::size_t) {
-        if (c == 42) throw std::runtime_error("boom");
-    }, 2), std::runtime_error);
+    EXPECT_THROW(parallel_for_chunks(
+                     100, 1,
+                     [](std::size_t c, std::size_t, std::size_t) {
+                         if (c == 42) throw std::runtime_error("boom");
+                     },
+                     2),
+                 std::runtime_error);
 }

@@ -37,8 +37,9 @@ std::string garbage_bytes() {
 }
 
 const std::string kOffHead = "OFF\n3 1 0\n";
-const std::string kPlyAsciiHead = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                  "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+const std::string kPlyAsciiHead =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
 
 std::string binary_ply(std::uint32_t vertices, std::uint32_t faces, const std::string& body) {
     return "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(vertices) +
@@ -71,7 +72,7 @@ std::string ascii_stl_facet(const std::string& third_vertex) {
 }
 
 struct BadFile {
-    const char* name;      // file name: the extension picks the format
+    const char* name;  // file name: the extension picks the format
     std::string bytes;
     const char* expected;  // a part of the message
 };
@@ -117,15 +118,21 @@ std::vector<BadFile> bad_files() {
         {"extra_values.ply", kPlyAsciiHead + "0 0 0 7\n1 0 0\n0 1 0\n3 0 1 2\n", "more values"},
         {"zero_faces.ply", binary_ply(3, 0, binary_triangle_body().substr(0, 36)), "no faces"},
         {"two_vertex_face.ply", kPlyAsciiHead + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n", "at least 3"},
-        {"point_cloud.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
-                            "property float z\nend_header\n0 0 0\n", "no face element"},
-        {"unknown_type.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty quad x\nend_header\n", "unknown property type"},
+        {"point_cloud.ply",
+         "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+         "property float z\nend_header\n0 0 0\n",
+         "no face element"},
+        {"unknown_type.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty quad x\nend_header\n",
+         "unknown property type"},
         {"property_first.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n", "before any element"},
-        {"face_texcoords.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                               "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                               "property list uchar float texcoord\nend_header\n", "not supported"},
+        {"face_texcoords.ply",
+         "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+         "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+         "property list uchar float texcoord\nend_header\n",
+         "not supported"},
         {"negative_count.ply",
-         "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+         "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float "
+         "z\n"
          "element face 1\nproperty list int int vertex_indices\nend_header\n" +
              binary_triangle_body().substr(0, 36) + bytes_of(std::int32_t{-5}) + std::string(12, '\0'),
          "more than the data holds"},

@@ -13,10 +13,10 @@
 #include <string>
 #include <vector>
 
+using gimg::geo::load_mesh;
 using gimg::geo::LoadOptions;
 using gimg::geo::LoadReport;
 using gimg::geo::Mesh;
-using gimg::geo::load_mesh;
 using gimg::test::seed_mesh;
 using gimg::test::write_file;
 
@@ -55,33 +55,35 @@ TEST(LoadOff, Tetrahedron) {
     EXPECT_FALSE(m.has_texcoords());
 }
 
-TEST(LoadOff, ColoursAndCommentsAreSkipped) {
-    expect_tetra(load_mesh(seed_mesh("tetra_colors.off")));
-}
+TEST(LoadOff, ColoursAndCommentsAreSkipped) { expect_tetra(load_mesh(seed_mesh("tetra_colors.off"))); }
 
 // OpenMesh's OFF reader alone reads no vertex at all from these; the loader normalises them.
 TEST(LoadOff, CountsOnTheOffLineAndTwoCounts) {
-    expect_tetra(load_mesh(write_file("io_load", "counts_on_off_line.off", std::string("OFF 4 4 6\n") + kTetraOffBody)));
+    expect_tetra(
+        load_mesh(write_file("io_load", "counts_on_off_line.off", std::string("OFF 4 4 6\n") + kTetraOffBody)));
     expect_tetra(load_mesh(write_file("io_load", "two_counts.off", std::string("OFF\n4 4\n") + kTetraOffBody)));
 }
 
 TEST(LoadOff, CommentsAndBlankLinesAnywhere) {
-    const std::string text = "# made by hand\nOFF # the keyword\n\n4 4 6 # counts\n0 0 0\n# a comment line\n1 0 0\n\n"
-                             "0 1 0 # trailing comment\n0 0 1\n3 0 2 1\n3 0 1 3 # face comment\n3 0 3 2\n3 1 2 3";
+    const std::string text =
+        "# made by hand\nOFF # the keyword\n\n4 4 6 # counts\n0 0 0\n# a comment line\n1 0 0\n\n"
+        "0 1 0 # trailing comment\n0 0 1\n3 0 2 1\n3 0 1 3 # face comment\n3 0 3 2\n3 1 2 3";
     expect_tetra(load_mesh(write_file("io_load", "comments.off", text)));
 }
 
 // Geomview allows a colour after a face's indices in any OFF file; OpenMesh would read it as
 // the next face's vertex count.
 TEST(LoadOff, FaceColoursInPlainOff) {
-    const std::string text = "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 1 0 0\n3 0 1 3 0 1 0\n"
-                             "3 0 3 2 0 0 1\n3 1 2 3 0.5 0.5 0.5\n";
+    const std::string text =
+        "OFF\n4 4 6\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1 1 0 0\n3 0 1 3 0 1 0\n"
+        "3 0 3 2 0 0 1\n3 1 2 3 0.5 0.5 0.5\n";
     expect_tetra(load_mesh(write_file("io_load", "face_colours.off", text)));
 }
 
 TEST(LoadOff, NormalsPerVertex) {
-    const std::string text = "NOFF\n4 4 6\n0 0 0 -1 -1 -1\n1 0 0 1 0 0\n0 1 0 0 1 0\n0 0 1 0 0 1\n"
-                             "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+    const std::string text =
+        "NOFF\n4 4 6\n0 0 0 -1 -1 -1\n1 0 0 1 0 0\n0 1 0 0 1 0\n0 0 1 0 0 1\n"
+        "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
     expect_tetra(load_mesh(write_file("io_load", "normals.off", text)));
 }
 
@@ -122,12 +124,15 @@ std::string binary_tetra_ply(bool big_endian, const std::string& coordinate_type
                              const std::string& last_header_line = "") {
     std::string out = std::string("ply\nformat ") + (big_endian ? "binary_big_endian" : "binary_little_endian") +
                       " 1.0\nelement vertex 4\nproperty " + coordinate_type + " x\nproperty " + coordinate_type +
-                      " y\nproperty " + coordinate_type + " z\nelement face 4\nproperty list uchar int vertex_indices\n" +
-                      last_header_line + "end_header\n";
+                      " y\nproperty " + coordinate_type +
+                      " z\nelement face 4\nproperty list uchar int vertex_indices\n" + last_header_line +
+                      "end_header\n";
     for (const glm::dvec3& p : kTetraPositions) {
         for (int k = 0; k < 3; ++k) {
-            if (coordinate_type == "double" || coordinate_type == "float64") put(out, p[k], big_endian);
-            else put(out, static_cast<float>(p[k]), big_endian);
+            if (coordinate_type == "double" || coordinate_type == "float64")
+                put(out, p[k], big_endian);
+            else
+                put(out, static_cast<float>(p[k]), big_endian);
         }
     }
     for (const glm::uvec3& t : kTetraFaces) {
@@ -148,18 +153,21 @@ TEST(LoadPly, BigEndianAndDoubleCoordinates) {
 // OpenMesh's reader starts binary data one byte late after such a header (its own files never
 // end a header with a comment), and reads garbage.
 TEST(LoadPly, CommentJustBeforeEndHeader) {
-    expect_tetra(load_mesh(write_file("io_load", "comment_last.ply", binary_tetra_ply(false, "float", "comment last\n"))));
-    expect_tetra(load_mesh(write_file("io_load", "obj_info_last.ply", binary_tetra_ply(false, "float", "obj_info x\n"))));
+    expect_tetra(
+        load_mesh(write_file("io_load", "comment_last.ply", binary_tetra_ply(false, "float", "comment last\n"))));
+    expect_tetra(
+        load_mesh(write_file("io_load", "obj_info_last.ply", binary_tetra_ply(false, "float", "obj_info x\n"))));
 }
 
 TEST(LoadPly, ExtraPropertiesAndElementsAreSkipped) {
     // Normals, uchar colours, a face flag, an element before and one after the faces, a list in
     // an element OpenMesh does not know.
-    std::string out = "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-                      "property float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty uchar red\n"
-                      "property uchar green\nproperty uchar blue\nelement material 1\nproperty list uchar float rgb\n"
-                      "property double shininess\nelement face 4\nproperty list uint8 uint32 vertex_indices\n"
-                      "property short flags\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n";
+    std::string out =
+        "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+        "property float z\nproperty float nx\nproperty float ny\nproperty float nz\nproperty uchar red\n"
+        "property uchar green\nproperty uchar blue\nelement material 1\nproperty list uchar float rgb\n"
+        "property double shininess\nelement face 4\nproperty list uint8 uint32 vertex_indices\n"
+        "property short flags\nelement edge 1\nproperty int vertex1\nproperty int vertex2\nend_header\n";
     for (const glm::dvec3& p : kTetraPositions) {
         for (int k = 0; k < 3; ++k) put(out, static_cast<float>(p[k]));
         for (int k = 0; k < 3; ++k) put(out, 0.5f);
@@ -181,10 +189,11 @@ TEST(LoadPly, ExtraPropertiesAndElementsAreSkipped) {
 }
 
 TEST(LoadPly, AsciiWithFacesBeforeVerticesAndOtherCountTypes) {
-    const std::string text = "ply\nformat ascii 1.0\nelement face 4\nproperty list int uint vertex_indices\n"
-                             "property uchar flags\nelement vertex 4\nproperty double x\nproperty double y\n"
-                             "property double z\nproperty float confidence\nend_header\n"
-                             "3 0 2 1 9\n3 0 1 3 9\n3 0 3 2 9\n3 1 2 3 9\n0 0 0 1\n1 0 0 1\n0 1 0 1\n0 0 1 1";
+    const std::string text =
+        "ply\nformat ascii 1.0\nelement face 4\nproperty list int uint vertex_indices\n"
+        "property uchar flags\nelement vertex 4\nproperty double x\nproperty double y\n"
+        "property double z\nproperty float confidence\nend_header\n"
+        "3 0 2 1 9\n3 0 1 3 9\n3 0 3 2 9\n3 1 2 3 9\n0 0 0 1\n1 0 0 1\n0 1 0 1\n0 0 1 1";
     expect_tetra(load_mesh(write_file("io_load", "faces_first.ply", text)));
 }
 
@@ -278,7 +287,7 @@ TEST(LoadStl, CornersMergeWithinFltMin) {
     }
     const Mesh m = load_mesh(write_file("io_load", "flt_min.stl", out));
     ASSERT_EQ(m.face_count(), 2u);
-    EXPECT_EQ(m.vertex_count(), 3u);                   // a, (0,0,1), (0,1,0): b and 0 joined a
+    EXPECT_EQ(m.vertex_count(), 3u);                  // a, (0,0,1), (0,1,0): b and 0 joined a
     EXPECT_EQ(m.triangles[0][0], m.triangles[0][1]);  // so the first facet is degenerate, and kept
     EXPECT_EQ(m.triangles[1][0], m.triangles[0][0]);
 }

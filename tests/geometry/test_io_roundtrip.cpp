@@ -14,11 +14,11 @@
 #include <string>
 #include <vector>
 
+using gimg::geo::load_mesh;
 using gimg::geo::LoadReport;
 using gimg::geo::Mesh;
-using gimg::geo::SaveOptions;
-using gimg::geo::load_mesh;
 using gimg::geo::save_mesh;
+using gimg::geo::SaveOptions;
 
 namespace {
 
@@ -154,7 +154,8 @@ TEST(RoundTrip, DoublePrecisionFilesHoldTheDoubles) {
                 values.push_back(v);
             }
         } else {
-            std::istringstream text(bytes.substr(target.extension == std::string(".obj") ? 0 : bytes.find("end_header\n") + 11));
+            std::istringstream text(
+                bytes.substr(target.extension == std::string(".obj") ? 0 : bytes.find("end_header\n") + 11));
             std::string line;
             while (values.size() < 9 && std::getline(text, line)) {
                 if (line.empty() || line[0] == '#') continue;
@@ -164,7 +165,8 @@ TEST(RoundTrip, DoublePrecisionFilesHoldTheDoubles) {
             }
         }
         ASSERT_EQ(values.size(), 9u) << path;
-        for (std::size_t k = 0; k < 9; ++k) EXPECT_EQ(values[k], mesh.positions[k / 3][int(k % 3)]) << path << " value " << k;
+        for (std::size_t k = 0; k < 9; ++k)
+            EXPECT_EQ(values[k], mesh.positions[k / 3][int(k % 3)]) << path << " value " << k;
         const Mesh back = load_mesh(path);
         ASSERT_EQ(back.vertex_count(), 3u) << path;
         EXPECT_EQ(back.positions[1].x, double(float(1.0 + 1e-15))) << path;

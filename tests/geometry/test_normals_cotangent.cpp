@@ -23,8 +23,7 @@ Mesh single_triangle(glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
     return m;
 }
 
-double edge_weight(const MeshAdjacency& adj, const std::vector<double>& w,
-                   std::uint32_t a, std::uint32_t b) {
+double edge_weight(const MeshAdjacency& adj, const std::vector<double>& w, std::uint32_t a, std::uint32_t b) {
     return w[adj.find_edge(a, b)];
 }
 
@@ -88,9 +87,9 @@ TEST(Cotangent, InteriorEdgeSumsBothSidesAndObtuseGoesNegative) {
 }
 
 TEST(Cotangent, DegenerateTrianglesGiveFiniteClampedWeights) {
-    for (const Mesh& m : {single_triangle({0, 0, 0}, {1, 0, 0}, {2, 0, 0}),   // collinear
-                          single_triangle({0, 0, 0}, {0, 0, 0}, {1, 0, 0}),   // two corners equal
-                          single_triangle({0, 0, 0}, {0, 0, 0}, {0, 0, 0}),   // a point
+    for (const Mesh& m : {single_triangle({0, 0, 0}, {1, 0, 0}, {2, 0, 0}),  // collinear
+                          single_triangle({0, 0, 0}, {0, 0, 0}, {1, 0, 0}),  // two corners equal
+                          single_triangle({0, 0, 0}, {0, 0, 0}, {0, 0, 0}),  // a point
                           single_triangle({0, 0, 0}, {1, 0, 0}, {0.5, 1e-300, 0})}) {
         const auto w = cotangent_weights(m, build_adjacency(m));
         for (double x : w) {

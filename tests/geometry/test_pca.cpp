@@ -125,9 +125,8 @@ TEST(Pca, MirroredInputIsNeverMirroredBack) {
     // their cross product, which a rotation can never turn into a reflection.
     const Mesh egg = skewed_ellipsoid();
     const Mesh reference = compute_pca_alignment(egg).transform.apply(egg);
-    const glm::dmat3 mirror = rotation_about({1, 2, 3}, 0.8) * glm::dmat3(glm::dvec3(-1, 0, 0),
-                                                                         glm::dvec3(0, 1, 0),
-                                                                         glm::dvec3(0, 0, 1));
+    const glm::dmat3 mirror =
+        rotation_about({1, 2, 3}, 0.8) * glm::dmat3(glm::dvec3(-1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1));
     ASSERT_NEAR(glm::determinant(mirror), -1.0, 1e-12);
     Mesh input = transformed(egg, mirror, {1, 2, 3});
     for (auto& t : input.triangles) std::swap(t.y, t.z);  // keep the faces outward

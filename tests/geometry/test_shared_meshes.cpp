@@ -57,28 +57,48 @@ void expect_index_counts(const std::filesystem::path& path, const IndexRow& row)
 struct Expected {
     const char* file;
     std::size_t components;
-    std::optional<long long> genus;        // of the one component (when components == 1)
-    std::optional<std::size_t> loops;      // boundary loops
+    std::optional<long long> genus;    // of the one component (when components == 1)
+    std::optional<std::size_t> loops;  // boundary loops
     bool manifold;
 };
 
 const Expected kReadme[] = {
     // closed, genus 0, manifold, one piece
-    {"hand.off", 1, 0, 0, true},          {"bunny_small.obj", 1, 0, 0, true},  {"blobby.off", 1, 0, 0, true},
-    {"triceratops.off", 1, 0, 0, true},   {"cow.off", 1, 0, 0, true},          {"dino.off", 1, 0, 0, true},
-    {"homer.off", 1, 0, 0, true},         {"fandisk.off", 1, 0, 0, true},      {"camel.off", 1, 0, 0, true},
-    {"armadillo.off", 1, 0, 0, true},     {"bunny.off", 1, 0, 0, true},
+    {"hand.off", 1, 0, 0, true},
+    {"bunny_small.obj", 1, 0, 0, true},
+    {"blobby.off", 1, 0, 0, true},
+    {"triceratops.off", 1, 0, 0, true},
+    {"cow.off", 1, 0, 0, true},
+    {"dino.off", 1, 0, 0, true},
+    {"homer.off", 1, 0, 0, true},
+    {"fandisk.off", 1, 0, 0, true},
+    {"camel.off", 1, 0, 0, true},
+    {"armadillo.off", 1, 0, 0, true},
+    {"bunny.off", 1, 0, 0, true},
     // closed, genus > 0
-    {"eight.off", 1, 2, 0, true},         {"elk.off", 1, 1, 0, true},          {"couplingdown.off", 1, 9, 0, true},
-    {"elephant.off", 1, 3, 0, true},      {"knot1.off", 1, 1, 0, true},        {"anchor_dense.off", 1, 4, 0, true},
-    {"femur.off", 1, 2, 0, true},         {"cheese.off", 1, 133, 0, true},     {"turbine.off", 1, 11, 0, true},
+    {"eight.off", 1, 2, 0, true},
+    {"elk.off", 1, 1, 0, true},
+    {"couplingdown.off", 1, 9, 0, true},
+    {"elephant.off", 1, 3, 0, true},
+    {"knot1.off", 1, 1, 0, true},
+    {"anchor_dense.off", 1, 4, 0, true},
+    {"femur.off", 1, 2, 0, true},
+    {"cheese.off", 1, 133, 0, true},
+    {"turbine.off", 1, 11, 0, true},
     // disk: one boundary loop
-    {"nefertiti.off", 1, 0, 1, true},     {"terrain.obj", 1, 0, 1, true},      {"three_peaks.off", 1, 0, 1, true},
-    {"mushroom.off", 1, 0, 1, true},      {"mannequin_devil.off", 1, 0, 1, true},
+    {"nefertiti.off", 1, 0, 1, true},
+    {"terrain.obj", 1, 0, 1, true},
+    {"three_peaks.off", 1, 0, 1, true},
+    {"mushroom.off", 1, 0, 1, true},
+    {"mannequin_devil.off", 1, 0, 1, true},
     // open, several holes
-    {"pig.off", 1, 0, 7, true},           {"head.off", 1, 0, 3, true},         {"holes.off", 1, 0, 7, true},
-    {"mech_holes_shark.off", 1, 0, 4, true}, {"chinese_dragon_10k.off", 1, 0, 2, true},
-    {"aneurysm.obj", 1, 0, 3, true},      {"elephant_with_holes.off", 1, 3, 106, true},
+    {"pig.off", 1, 0, 7, true},
+    {"head.off", 1, 0, 3, true},
+    {"holes.off", 1, 0, 7, true},
+    {"mech_holes_shark.off", 1, 0, 4, true},
+    {"chinese_dragon_10k.off", 1, 0, 2, true},
+    {"aneurysm.obj", 1, 0, 3, true},
+    {"elephant_with_holes.off", 1, 3, 106, true},
     // messy real data (the defects are checked below)
     {"teapot.obj", 32, std::nullopt, std::nullopt, true},
     {"snowden.obj", 4, std::nullopt, std::nullopt, false},

@@ -8,9 +8,9 @@
 #include <cmath>
 #include <limits>
 
-using gimg::geo::MeshInfo;
-using gimg::geo::Mesh;
 using gimg::geo::analyze_topology;
+using gimg::geo::Mesh;
+using gimg::geo::MeshInfo;
 
 namespace {
 

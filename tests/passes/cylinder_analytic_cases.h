@@ -30,8 +30,8 @@ inline void check_sphere_centred_on_the_axis(const Projector& project) {
     // The inscribed polyhedron lies between the sphere and its faces' smallest distance to the centre.
     double r_in = r;
     for (const auto& t : sphere.triangles) {
-        const glm::dvec3 n = glm::normalize(glm::cross(sphere.positions[t.y] - sphere.positions[t.x],
-                                                       sphere.positions[t.z] - sphere.positions[t.x]));
+        const glm::dvec3 n = glm::normalize(
+            glm::cross(sphere.positions[t.y] - sphere.positions[t.x], sphere.positions[t.z] - sphere.positions[t.x]));
         r_in = std::min(r_in, std::abs(glm::dot(n, sphere.positions[t.x] - glm::dvec3(0, y0, 0))));
     }
     const std::uint32_t W = 256, H = 128;
@@ -58,7 +58,8 @@ inline void check_sphere_centred_on_the_axis(const Projector& project) {
 inline void check_cube_around_the_axis(const Projector& project, double tolerance) {
     const double a = 0.3;
     // y from 0.3 to 0.7: no row of the image lies exactly on the top or bottom face.
-    const geo::Mesh cube = transformed(geo::make_box({2 * a, 0.4, 2 * a}, 4), glm::translate(glm::dmat4(1.0), {0, 0.5, 0}));
+    const geo::Mesh cube =
+        transformed(geo::make_box({2 * a, 0.4, 2 * a}, 4), glm::translate(glm::dmat4(1.0), {0, 0.5, 0}));
     const std::uint32_t W = 360, H = 90;
     const auto img = project(cube, W, H);
     for (std::uint32_t v = 0; v < H; ++v) {
@@ -103,7 +104,8 @@ inline void check_sphere_off_the_axis(const Projector& project) {
 
 inline void check_tilted_plate_through_the_axis(const Projector& project, double tolerance) {
     // A thin box tilted 35 degrees about z and 20 about y, pierced by the axis.
-    const glm::dmat4 rot = glm::rotate(glm::rotate(glm::dmat4(1.0), glm::radians(20.0), {0, 1, 0}), glm::radians(35.0), {0, 0, 1});
+    const glm::dmat4 rot =
+        glm::rotate(glm::rotate(glm::dmat4(1.0), glm::radians(20.0), {0, 1, 0}), glm::radians(35.0), {0, 0, 1});
     const glm::dmat4 model = glm::translate(glm::dmat4(1.0), {0.0, 0.5, 0.0}) * rot;
     const glm::dvec3 half{0.45, 0.02, 0.3};
     const geo::Mesh plate = transformed(geo::make_box(2.0 * half, 6), model);
@@ -153,8 +155,10 @@ inline void check_cone_distance_linear_in_height(const Projector& project, doubl
         const std::uint32_t v_base = H - 12;  // y = 0.115
         ASSERT_TRUE(img.covered[img.index(u, v_base)]);
         const double d_base = img.distance[img.index(u, v_base)] / ((0.9 - y_of(v_base, H)) / 0.8);
-        EXPECT_NEAR(d_base, 0.5 * std::cos(std::numbers::pi / n) / std::cos(theta_of(u, W) - 2.0 * std::numbers::pi *
-                                                                          std::round(theta_of(u, W) / (2.0 * std::numbers::pi / n)) / n),
+        EXPECT_NEAR(d_base,
+                    0.5 * std::cos(std::numbers::pi / n) /
+                        std::cos(theta_of(u, W) - 2.0 * std::numbers::pi *
+                                                      std::round(theta_of(u, W) / (2.0 * std::numbers::pi / n)) / n),
                     1e-5);
         for (std::uint32_t v = 12; v < v_base; ++v) {
             const double y = y_of(v, H);

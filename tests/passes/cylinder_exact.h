@@ -26,7 +26,7 @@ inline glm::dvec3 apply(const passes::CylinderTransform& m, const float* p) {
 // axis, counting a crossing only where the triangle faces the wall the line starts from; the
 // largest t in [-1, 1] wins. Depths in double, NaN where nothing is hit.
 inline std::vector<double> brute_force(const passes::CylinderMesh& mesh, std::uint32_t w, std::uint32_t h,
-                                const passes::CylinderTransform& m = passes::kIdentityTransform) {
+                                       const passes::CylinderTransform& m = passes::kIdentityTransform) {
     const auto dirs = passes::cylinder_directions(w);
     std::vector<double> best(std::size_t(w) * h, std::numeric_limits<double>::quiet_NaN());
     for (std::size_t f = 0; f < mesh.face_count(); ++f) {

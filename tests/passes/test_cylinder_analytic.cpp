@@ -18,7 +18,14 @@ namespace {
 // piece in the classify pass, every piece in the large-piece compute pass, and the default split
 // in float32 (devices without shaderFloat64).
 enum class Method {
-    ZBuffer, ZBufferSplit, ZBufferGraphics, ZBufferCompute, ZBufferLarge, ZBufferFloat, Raycast, Scanline
+    ZBuffer,
+    ZBufferSplit,
+    ZBufferGraphics,
+    ZBufferCompute,
+    ZBufferLarge,
+    ZBufferFloat,
+    Raycast,
+    Scanline
 };
 
 passes::CylinderZBufferOptions zbuffer_options(Method m) {
@@ -34,14 +41,22 @@ passes::CylinderZBufferOptions zbuffer_options(Method m) {
 
 std::string method_name(Method m) {
     switch (m) {
-    case Method::ZBuffer: return "zbuffer";
-    case Method::ZBufferSplit: return "zbuffer_split";
-    case Method::ZBufferLarge: return "zbuffer_large";
-    case Method::ZBufferGraphics: return "zbuffer_graphics";
-    case Method::ZBufferCompute: return "zbuffer_compute";
-    case Method::ZBufferFloat: return "zbuffer_float";
-    case Method::Raycast: return "raycast";
-    case Method::Scanline: return "scanline";
+        case Method::ZBuffer:
+            return "zbuffer";
+        case Method::ZBufferSplit:
+            return "zbuffer_split";
+        case Method::ZBufferLarge:
+            return "zbuffer_large";
+        case Method::ZBufferGraphics:
+            return "zbuffer_graphics";
+        case Method::ZBufferCompute:
+            return "zbuffer_compute";
+        case Method::ZBufferFloat:
+            return "zbuffer_float";
+        case Method::Raycast:
+            return "raycast";
+        case Method::Scanline:
+            return "scanline";
     }
     return "";
 }
@@ -112,7 +127,8 @@ TEST_P(CylinderDefinition, TriangleFarFromTheAxisCoversExactlyThePixelsOfTheDefi
     // seen directly (d > 0) and, facing the axis, seen through it half a turn away (d < 0).
     const glm::dvec3 p0 = at(0.85, -40.0, 0.1), p1 = at(0.9, 10.0, 0.95), p2 = at(0.8, 60.0, 0.3);
     for (const bool through_the_axis : {false, true}) {
-        const passes::CylinderMesh mesh = test::soup(through_the_axis ? std::vector{p0, p2, p1} : std::vector{p0, p1, p2});
+        const passes::CylinderMesh mesh =
+            test::soup(through_the_axis ? std::vector{p0, p2, p1} : std::vector{p0, p1, p2});
         const std::uint32_t W = 720, H = 360;
         const test::Agreement a = test::compare(project(mesh, W, H), test::brute_force(mesh, W, H));
         EXPECT_GT(a.covered, 10000u);

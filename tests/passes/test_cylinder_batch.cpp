@@ -26,7 +26,8 @@ TEST_F(CylinderBatch, RotationsAndMeshesInOneExecutionEqualSingleProjections) {
     // large-piece compute pass (whose rectangles name their image).
     using passes::CylinderLargePieces;
     for (const passes::CylinderZBufferOptions& options :
-         {passes::CylinderZBufferOptions{}, passes::CylinderZBufferOptions{.large_pieces = CylinderLargePieces::Graphics},
+         {passes::CylinderZBufferOptions{},
+          passes::CylinderZBufferOptions{.large_pieces = CylinderLargePieces::Graphics},
           passes::CylinderZBufferOptions{.small_pixels = 0, .large_pieces = CylinderLargePieces::Compute}}) {
         const std::uint32_t W = 96, H = 48;
         passes::CylinderZBuffer z(ctx(), W, H, options);

@@ -74,12 +74,14 @@ TEST_P(CylinderGraph, RecordedImagesEqualProjectAndThePlanOutlivesTheZBuffer) {
     const geo::Mesh mesh = torus_and_box();
     const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh);
     const std::uint32_t W = 96, H = 48;
-    auto z = std::make_unique<passes::CylinderZBuffer>(ctx(), W, H, passes::CylinderZBufferOptions{.large_pieces = GetParam()});
+    auto z = std::make_unique<passes::CylinderZBuffer>(ctx(), W, H,
+                                                       passes::CylinderZBufferOptions{.large_pieces = GetParam()});
     const std::uint32_t torus = z->add_mesh(passes::make_cylinder_mesh(mesh, frame));
     const std::uint32_t box = z->add_mesh(gimg::test::to_cylinder_mesh(geo::make_box({0.5, 0.3, 0.2}, 2)));
     passes::CylinderTransform lifted = passes::kIdentityTransform;
     lifted[7] = 0.5f;  // the box is centred at the origin: lift it into the cylinder
-    const std::vector<passes::CylinderZBuffer::Job> jobs{{torus, passes::kIdentityTransform}, {box, lifted}, {torus, lifted}};
+    const std::vector<passes::CylinderZBuffer::Job> jobs{
+        {torus, passes::kIdentityTransform}, {box, lifted}, {torus, lifted}};
     const std::vector<passes::CylinderImage> expected = z->project(jobs);
 
     Graph g(ctx());

@@ -85,7 +85,8 @@ TEST_P(CylinderMeshes, ZBufferAndScanlineEqualRaycast) {
         const auto gpu_graphics = graphics.project(graphics.add_mesh(cyl));
         passes::CylinderZBuffer compute(ctx(), size[0], size[1], {.small_pixels = UINT32_MAX});
         const auto gpu_compute = compute.project(compute.add_mesh(cyl));
-        passes::CylinderZBuffer large(ctx(), size[0], size[1], {.small_pixels = 0, .large_pieces = CylinderLargePieces::Compute});
+        passes::CylinderZBuffer large(ctx(), size[0], size[1],
+                                      {.small_pixels = 0, .large_pieces = CylinderLargePieces::Compute});
         const auto gpu_large = large.project(large.add_mesh(cyl));
         // Each split really took the path it names: pieces drawn, none, fewer than all.
         EXPECT_TRUE(split.graphics_pipeline());
@@ -115,9 +116,10 @@ TEST_P(CylinderMeshes, ZBufferInFloatAgreesWithRaycast) {
     for (const Size& size : c.sizes) {
         const auto cpu = passes::cylinder_raycast(c.cyl, size[0], size[1]);
         using passes::CylinderLargePieces;
-        for (const auto& [name, small, large] : {std::tuple{" float graphics", 0u, CylinderLargePieces::Graphics},
-                                                 std::tuple{" float compute", UINT32_MAX, CylinderLargePieces::Auto},
-                                                 std::tuple{" float large-piece pass", 0u, CylinderLargePieces::Compute}}) {
+        for (const auto& [name, small, large] :
+             {std::tuple{" float graphics", 0u, CylinderLargePieces::Graphics},
+              std::tuple{" float compute", UINT32_MAX, CylinderLargePieces::Auto},
+              std::tuple{" float large-piece pass", 0u, CylinderLargePieces::Compute}}) {
             passes::CylinderZBuffer z(ctx(), size[0], size[1],
                                       {.small_pixels = small, .large_pieces = large, .double_precision = false});
             ASSERT_FALSE(z.double_precision());

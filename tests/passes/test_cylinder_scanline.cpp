@@ -18,12 +18,12 @@
 #include <random>
 
 using namespace gimg;
-using gimg::test::theta_of;
-using gimg::test::y_of;
 using gimg::test::Agreement;
 using gimg::test::brute_force;
 using gimg::test::compare;
 using gimg::test::soup;
+using gimg::test::theta_of;
+using gimg::test::y_of;
 
 TEST(CylinderScanline, TriangleFarFromTheAxisHasCurvedEdges) {
     // Spanning 100 degrees at radius ~0.8 and most of the height: its edges bow visibly in
@@ -98,9 +98,10 @@ TEST(CylinderScanline, RandomTriangleSoupMatchesTheDefinition) {
     const std::uint32_t W = 360, H = 180;
     const auto img = passes::cylinder_scanline(mesh, W, H, m);
     const Agreement a = compare(img, brute_force(mesh, W, H, m));
-    std::printf("soup: %zu exception triangles, %zu covered pixels, coverage differs at %zu, depth at %zu "
-                "(max |delta d| %.3g)\n",
-                exceptions, a.covered, a.coverage_differs, a.depth_differs, a.max_depth_error);
+    std::printf(
+        "soup: %zu exception triangles, %zu covered pixels, coverage differs at %zu, depth at %zu "
+        "(max |delta d| %.3g)\n",
+        exceptions, a.covered, a.coverage_differs, a.depth_differs, a.max_depth_error);
     EXPECT_GT(exceptions, 20u);
     EXPECT_GT(a.covered, W * H / 2);
     EXPECT_LE(a.coverage_differs, W * H / 2000) << "more than 0.05 % of the pixels";
@@ -163,8 +164,12 @@ TEST(CylinderScanline, BadInputIsRejectedOrSkipped) {
     missing.triangles[1] = 7;
     EXPECT_THROW(passes::cylinder_scanline(missing, 10, 10), geo::InputError);
     // A triangle with a non-finite corner is skipped, on one thread or several; the others are drawn.
-    passes::CylinderMesh with_nan = soup({{0.5, 0.2, 0.0}, {0.5, 0.8, 0.2}, {0.5, 0.2, 0.4}, {0.1, 0.1, 0.1},
-                                          {std::nan(""), 0.5, 0.1}, {0.2, 0.9, 0.1}});
+    passes::CylinderMesh with_nan = soup({{0.5, 0.2, 0.0},
+                                          {0.5, 0.8, 0.2},
+                                          {0.5, 0.2, 0.4},
+                                          {0.1, 0.1, 0.1},
+                                          {std::nan(""), 0.5, 0.1},
+                                          {0.2, 0.9, 0.1}});
     const auto clean = passes::cylinder_scanline(mesh, 64, 32);
     for (unsigned threads : {1u, 2u}) {
         const auto img = passes::cylinder_scanline(with_nan, 64, 32, passes::kIdentityTransform, threads);

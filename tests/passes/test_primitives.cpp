@@ -46,8 +46,11 @@ ChainResult run_chain(Context& ctx, std::uint32_t n) {
     auto values = g.create_buffer({VkDeviceSize(n) * 4, "values"});
     auto scan = g.import_buffer(scan_out);
     auto sum = g.import_buffer(sum_out);
-    g.add_compute_pass("fill", [&](PassBuilder& b) { values = b.write(values, Access::ComputeWrite); },
-                       [=](Cmd& c) { c.dispatch_threads(kFillHash, {n}, {values}, FillPush{n, 1000}); });
+    g.add_compute_pass(
+        "fill", [&](PassBuilder& b) { values = b.write(values, Access::ComputeWrite); },
+        [=](Cmd& c) {
+            c.dispatch_threads(kFillHash, {n}, {values}, FillPush{n, 1000});
+        });
     scan = passes::add_inclusive_scan(g, values, scan, n);
     sum = passes::add_reduce_sum(g, values, sum, n);
     g.export_buffer(scan, Access::TransferSrc);

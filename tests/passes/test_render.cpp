@@ -41,7 +41,8 @@ TEST_F(Render, UnitSphereCoversTheAnalyticDisc) {
     const geo::RgbaImage img = passes::render_mesh(ctx(), sphere, o, camera);
     // A sphere seen from distance D subtends asin(1/D); its image is a disc of that angular radius.
     const double distance = glm::length(camera.eye - camera.target);
-    const double radius_px = std::tan(std::asin(1.0 / distance)) / std::tan(0.5 * glm::radians(camera.fov_y_deg)) * 240.0;
+    const double radius_px =
+        std::tan(std::asin(1.0 / distance)) / std::tan(0.5 * glm::radians(camera.fov_y_deg)) * 240.0;
     const double expected = std::numbers::pi * radius_px * radius_px;
     const double actual = double(covered_pixels(img));
     EXPECT_NEAR(actual, expected, 0.01 * expected) << "disc radius " << radius_px << " px";
@@ -69,7 +70,7 @@ TEST_F(Render, WireframeAndColourModesChangeWhatTheyShould) {
     o.wireframe = true;
     const geo::RgbaImage wire = passes::render_mesh(ctx(), sphere, o);
     EXPECT_GT(dark_pixels(wire), dark_pixels(plain) + 1000);  // 320 faces' edges are visible
-    EXPECT_EQ(covered_pixels(wire), covered_pixels(plain));    // the silhouette is the same
+    EXPECT_EQ(covered_pixels(wire), covered_pixels(plain));   // the silhouette is the same
 
     o.wireframe = false;
     o.color = passes::MeshColor::Scalar;

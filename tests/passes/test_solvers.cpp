@@ -43,7 +43,8 @@ geo::Mesh jittered_grid(int n) {
 // L = D - W over all vertices: `weights` per edge of `adj` (cotangent or uniform), plus `shift` on
 // the diagonal. With row_normalised, every row is divided by its diagonal (I - D^-1 W: Tutte's
 // barycentric system with these weights, not symmetric).
-SparseMatrix laplacian(const geo::MeshAdjacency& adj, const std::vector<double>& weights, double shift, bool row_normalised) {
+SparseMatrix laplacian(const geo::MeshAdjacency& adj, const std::vector<double>& weights, double shift,
+                       bool row_normalised) {
     const std::size_t n = adj.vertex_count();
     SparseMatrix a;
     a.size = n;
@@ -106,7 +107,8 @@ std::vector<double> direct_solution(const LinearSystem& s, bool symmetric) {
         for (std::uint32_t c = 0; c < k; ++c) b(index[i], c) = s.b[i * k + c];
         for (std::uint32_t e = s.a.offsets[i]; e < s.a.offsets[i + 1]; ++e) {
             const std::uint32_t j = s.a.columns[e];
-            if (index[j] >= 0) triplets.emplace_back(index[i], index[j], s.a.values[e]);
+            if (index[j] >= 0)
+                triplets.emplace_back(index[i], index[j], s.a.values[e]);
             else
                 for (std::uint32_t c = 0; c < k; ++c) b(index[i], c) -= s.a.values[e] * s.fixed_values[j * k + c];
         }
@@ -150,7 +152,8 @@ TEST_F(Solvers, SymmetricEqualsTheCpuTwinAndEigensCholeskyOnACotangentLaplacian)
         const SolveResult gpu = passes::solve_symmetric(ctx(), s, {.tolerance = 1e-10});
         const SolveResult cpu = passes::solve_symmetric_cpu(s, {.tolerance = 1e-10});
         const std::vector<double> direct = direct_solution(s, true);
-        std::printf("conjugate gradients, %u right-hand sides, %zu rows: %zu iterations to 1e-10\n", k, a.size, gpu.iterations);
+        std::printf("conjugate gradients, %u right-hand sides, %zu rows: %zu iterations to 1e-10\n", k, a.size,
+                    gpu.iterations);
         EXPECT_TRUE(gpu.converged);
         EXPECT_LE(gpu.iterations, 40u);  // multigrid: flat in the mesh size
         EXPECT_EQ(gpu.iterations, cpu.iterations);

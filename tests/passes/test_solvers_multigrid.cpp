@@ -132,7 +132,8 @@ TEST(SolversMultigrid, VCycleIsSymmetricAndPositiveDefinite) {
     const Case c = lumpy_case(4);
     const Multigrid mg = build_multigrid(c.problem);
     ASSERT_GE(mg.levels.size(), 1u);
-    for (const auto& [precision, tolerance] : {std::pair{CyclePrecision::float64, 1e-12}, std::pair{CyclePrecision::float32, 1e-6}}) {
+    for (const auto& [precision, tolerance] :
+         {std::pair{CyclePrecision::float64, 1e-12}, std::pair{CyclePrecision::float32, 1e-6}}) {
         for (double seed : {0.3, 1.1, 2.9}) {
             const auto u = pseudo_random(mg.rows(), seed), v = pseudo_random(mg.rows(), seed + 0.7);
             const auto mu = apply_multigrid_cpu(mg, u, precision), mv = apply_multigrid_cpu(mg, v, precision);
@@ -172,7 +173,8 @@ TEST(SolversMultigrid, SolvesASmallProblemExactly) {
     const Multigrid mg = build_multigrid(c.problem);
     ASSERT_TRUE(mg.levels.empty());
     const auto b = pseudo_random(mg.rows(), 0.5);
-    for (const auto& [precision, tolerance] : {std::pair{CyclePrecision::float64, 1e-10}, std::pair{CyclePrecision::float32, 1e-5}}) {
+    for (const auto& [precision, tolerance] :
+         {std::pair{CyclePrecision::float64, 1e-10}, std::pair{CyclePrecision::float32, 1e-5}}) {
         const auto x = apply_multigrid_cpu(mg, b, precision);
         double worst = 0.0, largest = 0.0;
         for (std::size_t i = 0; i < b.size(); ++i) {

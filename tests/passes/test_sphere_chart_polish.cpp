@@ -68,7 +68,7 @@ ChartProblem lumpy_icosphere_problem(int subdivisions) {
 }
 
 struct TwinRun {
-    CgState cpu;           // after the iterations
+    CgState cpu;                // after the iterations
     double gpu_residual = 1.0;  // after the same iterations
 };
 
@@ -76,7 +76,8 @@ struct TwinRun {
 // of `chunks` iterations, the CPU's all at once: the GPU's solution must be the CPU's to 1e-10 of
 // its size, its residual the CPU's to 1e-6 of it (or both below 1e-15: rounding, as after an
 // exact solve).
-TwinRun run_twins(Context& ctx, const ChartProblem& problem, const Multigrid& mg, std::initializer_list<std::uint32_t> chunks) {
+TwinRun run_twins(Context& ctx, const ChartProblem& problem, const Multigrid& mg,
+                  std::initializer_list<std::uint32_t> chunks) {
     TwinRun run{start_cg(problem, mg)};
     GpuConjugateGradients gpu(ctx, problem, mg);
     for (std::uint32_t chunk : chunks) {
@@ -86,7 +87,8 @@ TwinRun run_twins(Context& ctx, const ChartProblem& problem, const Multigrid& mg
     const std::vector<glm::dvec2> x = gpu.solution();
     EXPECT_EQ(x.size(), run.cpu.x.size());
     double worst = 0.0;
-    for (std::size_t i = 0; i < std::min(x.size(), run.cpu.x.size()); ++i) worst = std::max(worst, glm::length(x[i] - run.cpu.x[i]));
+    for (std::size_t i = 0; i < std::min(x.size(), run.cpu.x.size()); ++i)
+        worst = std::max(worst, glm::length(x[i] - run.cpu.x[i]));
     EXPECT_LT(worst, 1e-10 * largest(run.cpu.x));
     EXPECT_NEAR(run.gpu_residual, run.cpu.relative_residual(), 1e-6 * run.cpu.relative_residual() + 1e-15);
     return run;

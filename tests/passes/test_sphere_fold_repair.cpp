@@ -40,7 +40,8 @@ std::set<std::uint32_t> within_rings(const RelaxationMesh& level, std::set<std::
     for (std::size_t r = 0; r < rings; ++r) {
         std::set<std::uint32_t> next = region;
         for (std::uint32_t v : region)
-            for (std::uint32_t k = level.ring_offsets[v]; k < level.ring_offsets[v + 1]; ++k) next.insert(level.ring[k]);
+            for (std::uint32_t k = level.ring_offsets[v]; k < level.ring_offsets[v + 1]; ++k)
+                next.insert(level.ring[k]);
         region = std::move(next);
     }
     return region;

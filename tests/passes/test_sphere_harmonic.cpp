@@ -121,8 +121,9 @@ TEST_F(SphereGpu, EveryClosedGenusZeroSharedMeshWithoutFlips) {
             EXPECT_LT(m.conformal_ratio, 1.1);
             for (const glm::dvec3& y : r.positions) ASSERT_NEAR(glm::length(y), 1.0, 1e-12);
             // Which route made the map shows in its stages.
-            const bool built_hierarchy = std::any_of(r.stages.begin(), r.stages.end(),
-                                                     [](const passes::SphereStage& s) { return s.name == "progressive mesh"; });
+            const bool built_hierarchy =
+                std::any_of(r.stages.begin(), r.stages.end(),
+                            [](const passes::SphereStage& s) { return s.name == "progressive mesh"; });
             EXPECT_EQ(built_hierarchy, !direct || fell_back);
         }
     }
@@ -219,7 +220,8 @@ TEST_F(SphereGpu, EnergyWithinOnePercentOfKanais) {
         if (!path) GTEST_SKIP() << "shared mesh " << name << " not found (set GIMG_MESH_DIR)";
         SCOPED_TRACE(name);
         const geo::Mesh mesh = geo::load_mesh(*path);
-        const double gpu = passes::sphere_metrics(mesh, passes::sphere_harmonic(ctx(), mesh).positions).conformal_energy;
+        const double gpu =
+            passes::sphere_metrics(mesh, passes::sphere_harmonic(ctx(), mesh).positions).conformal_energy;
         const double kanai = passes::sphere_metrics(mesh, passes::sphere_kanai(mesh).positions).conformal_energy;
         EXPECT_LE(gpu, 1.01 * kanai) << "gpu " << gpu << ", kanai " << kanai;
     }

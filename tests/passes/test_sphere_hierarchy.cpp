@@ -52,7 +52,8 @@ void expect_valid_hierarchy(const geo::Mesh& mesh, std::size_t base, double grow
     std::set<std::uint32_t> seen;
     for (std::size_t i = 0; i < levels.size(); ++i) {
         const geo::HierarchyLevel& level = levels[i];
-        const std::string what = "level " + std::to_string(i) + " (" + std::to_string(level.vertices.size()) + " vertices)";
+        const std::string what =
+            "level " + std::to_string(i) + " (" + std::to_string(level.vertices.size()) + " vertices)";
         expect_sphere_topology(mesh, level.triangles, level.vertices.size(), true, what);
         // Euler: a closed genus-0 triangle mesh has 2V - 4 faces.
         EXPECT_EQ(level.triangles.size(), 2 * level.vertices.size() - 4) << what;
@@ -119,7 +120,8 @@ TEST(SphereHierarchy, CollapsesReachATetrahedronAndTheReplayMatchesTheLevels) {
         if (replay.complete()) break;
         const geo::VertexSplit& s = replay.split_next();
         const glm::uvec3 a = replay.triangles()[s.born_faces[0]], b = replay.triangles()[s.born_faces[1]];
-        EXPECT_TRUE((a.x == s.left || a.y == s.left || a.z == s.left) && (b.x == s.right || b.y == s.right || b.z == s.right));
+        EXPECT_TRUE((a.x == s.left || a.y == s.left || a.z == s.left) &&
+                    (b.x == s.right || b.y == s.right || b.z == s.right));
     }
     EXPECT_EQ(replay.live_triangles(), mesh.triangles);
 }

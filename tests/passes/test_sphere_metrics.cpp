@@ -75,9 +75,10 @@ TEST(SphereInput, WrongTopologyIsNamed) {
 }
 
 TEST(SphereInput, EverySharedMeshWithHolesOrHandlesIsRefused) {
-    for (const char* name : {"eight.off", "elk.off", "couplingdown.off", "elephant.off", "knot1.off", "anchor_dense.off",
-                             "femur.off", "cheese.off", "turbine.off", "nefertiti.off", "terrain.obj", "pig.off",
-                             "holes.off", "elephant_with_holes.off", "snowden.obj", "dragon_res3.ply", "teapot.obj"}) {
+    for (const char* name :
+         {"eight.off", "elk.off", "couplingdown.off", "elephant.off", "knot1.off", "anchor_dense.off", "femur.off",
+          "cheese.off", "turbine.off", "nefertiti.off", "terrain.obj", "pig.off", "holes.off",
+          "elephant_with_holes.off", "snowden.obj", "dragon_res3.ply", "teapot.obj"}) {
         auto path = gimg::test::shared_mesh(name);
         if (!path) GTEST_SKIP() << "shared meshes not found (set GIMG_MESH_DIR)";
         const std::string why = message_of(geo::load_mesh(*path));

@@ -68,7 +68,8 @@ TEST_F(SphereHarmonicStart, MatchesTheLinearMethodsDirectSolve) {
         EXPECT_LE(start.residual, 1e-12);
         const std::vector<glm::dvec3> reference = reference_start(mesh);
         double worst = 0.0;
-        for (std::size_t v = 0; v < reference.size(); ++v) worst = std::max(worst, glm::length(start.y[v] - reference[v]));
+        for (std::size_t v = 0; v < reference.size(); ++v)
+            worst = std::max(worst, glm::length(start.y[v] - reference[v]));
         EXPECT_LT(worst, 1e-8);
         // The accurate pole is where the plane's origin went: the south pole of the projection.
         EXPECT_LT(start.accurate_pole.z, -0.99);

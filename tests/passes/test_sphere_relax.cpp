@@ -160,7 +160,8 @@ TEST(RelaxationMesh, CentringUndoesAMoebiusPush) {
     const geo::Mesh mesh = geo::make_icosphere(1.0, 3);
     const RelaxationMesh level = passes::detail::build_relaxation_mesh(mesh);
     std::vector<glm::dvec3> y;
-    for (const glm::dvec3& p : mesh.positions) y.push_back(passes::detail::moebius_move(glm::normalize(p), {0.2, -0.3, 0.6}));
+    for (const glm::dvec3& p : mesh.positions)
+        y.push_back(passes::detail::moebius_move(glm::normalize(p), {0.2, -0.3, 0.6}));
     const passes::detail::MapStats before = passes::detail::map_stats_cpu(level, y);
     ASSERT_GT(glm::length(before.centroid), 0.5);
     const passes::detail::CentreRun run = passes::detail::centre_mass_cpu(level, y, before);

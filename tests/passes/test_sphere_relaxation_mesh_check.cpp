@@ -127,8 +127,10 @@ TEST(SphereLevelTopology, RefusesWhatTheFullCheckRefuses) {
         vertex = joined(vertex, other);
         for (auto& t : edge.triangles)
             for (int k = 0; k < 3; ++k) {
-                if (t[k] == 4) t[k] = 0;
-                else if (t[k] == 5) t[k] = 1;
+                if (t[k] == 4)
+                    t[k] = 0;
+                else if (t[k] == 5)
+                    t[k] = 1;
             }
         for (auto& t : vertex.triangles)
             for (int k = 0; k < 3; ++k)

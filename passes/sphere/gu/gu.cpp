@@ -59,7 +59,8 @@ PhaseEnd run_phase(const std::string& name, const detail::WeightedGraph& g, std:
         for (std::uint32_t v : g.vertices) {
             // D x(v) = L - (L.x) x, L = sum_u w_uv (x(u) - x(v)) (eqs. 6-9).
             glm::dvec3 laplacian(0.0);
-            for (std::uint32_t j = g.adjacency.vertex_vertex_offsets[v]; j < g.adjacency.vertex_vertex_offsets[v + 1]; ++j)
+            for (std::uint32_t j = g.adjacency.vertex_vertex_offsets[v]; j < g.adjacency.vertex_vertex_offsets[v + 1];
+                 ++j)
                 laplacian += g.slot_weights[j] * (x[g.adjacency.vertex_vertices[j]] - x[v]);
             const glm::dvec3 tangential = laplacian - glm::dot(laplacian, x[v]) * x[v];
             next[v] = glm::normalize(x[v] + step * tangential);  // eqs. 4, 5 and back onto the sphere
@@ -100,8 +101,8 @@ std::string describe(const SphereStage& s, PhaseEnd end, double step) {
         std::snprintf(buf, sizeof buf, "%s phase diverged after %zu iterations (energy %.6g; step %g is too large)",
                       s.name.c_str(), s.iterations, s.energy, step);
     else
-        std::snprintf(buf, sizeof buf, "%s phase stopped at the iteration limit (%zu) with energy %.6g",
-                      s.name.c_str(), s.iterations, s.energy);
+        std::snprintf(buf, sizeof buf, "%s phase stopped at the iteration limit (%zu) with energy %.6g", s.name.c_str(),
+                      s.iterations, s.energy);
     return buf;
 }
 
@@ -117,7 +118,9 @@ SphereResult sphere_gu(const geo::Mesh& mesh, const GuOptions& options) {
     std::vector<std::string> notes;
     std::size_t fallbacks = 0;
     result.positions = gauss_map(mesh, fallbacks);
-    if (fallbacks) notes.push_back(std::to_string(fallbacks) + " vertices had no normal and started from the centroid's direction");
+    if (fallbacks)
+        notes.push_back(std::to_string(fallbacks) +
+                        " vertices had no normal and started from the centroid's direction");
 
     const detail::WeightedGraph tutte = detail::make_weighted_graph(mesh, mesh.triangles, detail::EdgeWeights::Uniform);
     SphereStage stage;

@@ -38,7 +38,8 @@ bool fan_counter_clockwise(const RelaxationMesh& level, const std::vector<glm::d
 }
 
 // Corners of flipped triangles (orientation <= 0, as map_stats_cpu counts them), and how many.
-std::size_t flipped_corners(const RelaxationMesh& level, const std::vector<glm::dvec3>& y, std::vector<std::uint8_t>& bad) {
+std::size_t flipped_corners(const RelaxationMesh& level, const std::vector<glm::dvec3>& y,
+                            std::vector<std::uint8_t>& bad) {
     bad.assign(level.vertex_count(), 0);
     std::size_t flips = 0;
     for (std::uint32_t v = 0; v < level.vertex_count(); ++v) {
@@ -82,7 +83,7 @@ void grow(const RelaxationMesh& level, std::vector<std::uint8_t>& region) {
 struct GnomonicFan {
     glm::dvec3 c{0.0}, e1{0.0}, e2{0.0};  // e1 x e2 = c: the projection keeps orientation
     std::vector<glm::dvec2> link;
-    glm::dvec2 lo{1e300}, hi{-1e300};     // the link's bounding box
+    glm::dvec2 lo{1e300}, hi{-1e300};  // the link's bounding box
     glm::dvec3 to_sphere(const glm::dvec2& x) const { return glm::normalize(c + x.x * e1 + x.y * e2); }
 };
 
@@ -197,7 +198,8 @@ bool least_folded(const GnomonicFan& fan, const glm::dvec3& current, glm::dvec2&
     const std::vector<Halfplane> h = fan_halfplanes(fan);
     const glm::dvec3 d = current - fan.c;
     const double height = glm::dot(current, fan.c);
-    const double now = height > 0.0 ? min_value(h, glm::dvec2(glm::dot(d, fan.e1), glm::dot(d, fan.e2)) / height) : -1e300;
+    const double now =
+        height > 0.0 ? min_value(h, glm::dvec2(glm::dot(d, fan.e1), glm::dot(d, fan.e2)) / height) : -1e300;
     double best = 0.0;
     x = max_min_point(h, best);
     return best > now;

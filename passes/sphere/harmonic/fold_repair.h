@@ -24,8 +24,8 @@ namespace gimg::passes::detail {
 struct FoldRepair {
     std::size_t flips_before = 0;
     std::size_t flips_after = 0;
-    std::size_t moves = 0;   // vertex moves made
-    std::size_t rings = 0;   // how far around the folds the repair reached
+    std::size_t moves = 0;  // vertex moves made
+    std::size_t rings = 0;  // how far around the folds the repair reached
 };
 
 struct FoldRepairOptions {
@@ -41,8 +41,7 @@ struct FoldRepairOptions {
 // from r = 1 on, every vertex of the region, moves to the centroid of its kernel, or where that is
 // empty to its least folded point; up to sweeps_per_round Gauss-Seidel sweeps a round, until no
 // triangle is flipped. Vertices further away keep their points exactly. `y` must be unit vectors.
-FoldRepair repair_folds(const RelaxationMesh& level, std::vector<glm::dvec3>& y,
-                                   const FoldRepairOptions& options = {});
+FoldRepair repair_folds(const RelaxationMesh& level, std::vector<glm::dvec3>& y, const FoldRepairOptions& options = {});
 
 // The kernel centroid of `v`'s fan on the sphere (unit vector), or false when the kernel is empty
 // or the fan does not fit one open hemisphere.

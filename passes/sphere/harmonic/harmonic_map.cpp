@@ -64,9 +64,8 @@ std::uint32_t sweeps_per_check(std::size_t n, std::uint32_t k) {
 }
 
 bool indices_in_range(const geo::Mesh& mesh) {
-    return std::all_of(mesh.triangles.begin(), mesh.triangles.end(), [n = mesh.vertex_count()](const glm::uvec3& t) {
-        return t.x < n && t.y < n && t.z < n;
-    });
+    return std::all_of(mesh.triangles.begin(), mesh.triangles.end(),
+                       [n = mesh.vertex_count()](const glm::uvec3& t) { return t.x < n && t.y < n && t.z < n; });
 }
 
 bool all_points_finite(const geo::Mesh& mesh) {
@@ -79,8 +78,10 @@ void check_options(const HarmonicSphereOptions& o) {
     if (o.base_vertices < 4) throw geo::InputError("gpu sphere: base_vertices must be at least 4");
     if (!(o.growth > 1.0) || !std::isfinite(o.growth)) throw geo::InputError("gpu sphere: growth must be above 1");
     if (o.iterations_per_check == 0) throw geo::InputError("gpu sphere: iterations_per_check must be at least 1");
-    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance)) throw geo::InputError("gpu sphere: tolerance must be positive");
-    if (o.max_iterations_per_level == 0) throw geo::InputError("gpu sphere: max_iterations_per_level must be at least 1");
+    if (!(o.tolerance > 0.0) || !std::isfinite(o.tolerance))
+        throw geo::InputError("gpu sphere: tolerance must be positive");
+    if (o.max_iterations_per_level == 0)
+        throw geo::InputError("gpu sphere: max_iterations_per_level must be at least 1");
 }
 
 // The level mesh of the replay's live faces in local ids (the activation order: a mesh of n
@@ -95,7 +96,6 @@ geo::Mesh level_mesh(const geo::Mesh& mesh, const geo::ProgressiveReplay& replay
     for (glm::uvec3& t : level.triangles) t = {activation[t.x], activation[t.y], activation[t.z]};
     return level;
 }
-
 
 struct SettleRun {
     std::size_t iterations = 0;  // the level's sweeps so far, these included
@@ -164,8 +164,8 @@ constexpr std::size_t kMaxCgIterations = 2000;
 constexpr std::uint32_t kPolishSweepsPerCheck = 4;
 
 // The progress line of a conjugate gradient solve.
-std::function<void(std::size_t, double)> cg_progress(const std::string& what, double energy, const HarmonicSphereOptions& options,
-                                                     Clock::time_point t0) {
+std::function<void(std::size_t, double)> cg_progress(const std::string& what, double energy,
+                                                     const HarmonicSphereOptions& options, Clock::time_point t0) {
     if (!options.progress) return {};
     return [what, energy, &options, t0](std::size_t iterations, double residual) {
         char stage[96];
@@ -185,8 +185,8 @@ struct PolishRun {
 // relaxed map, and the harmonic map in the plane and the relaxed map minimise the same energy up to
 // discretisation, so more means the solve went wrong.
 PolishRun polish_in_plane(Context& ctx, const detail::RelaxationMesh& level, std::vector<glm::dvec3>& y,
-                          const glm::dvec3& pole, double energy, const HarmonicSphereOptions& options, Clock::time_point t0,
-                          SphereResult& result) {
+                          const glm::dvec3& pole, double energy, const HarmonicSphereOptions& options,
+                          Clock::time_point t0, SphereResult& result) {
     const auto start = Clock::now();
     const detail::ChartProblem problem = detail::make_chart_problem(level, y, pole);
     if (std::any_of(problem.diagonal.begin(), problem.diagonal.end(), [](double d) { return !(d > 0.0); }))
@@ -202,28 +202,32 @@ PolishRun polish_in_plane(Context& ctx, const detail::RelaxationMesh& level, std
                              problem.rows(), 0, seconds_since(start), energy});
     const auto solve_start = Clock::now();
     const detail::CgSolve solve =
-        detail::solve_cg_gpu(ctx, problem, mg, kCgTolerance, kCgIterationsPerCheck, kMaxCgIterations, options.timestamps,
-                                cg_progress("chart solve", energy, options, t0));
+        detail::solve_cg_gpu(ctx, problem, mg, kCgTolerance, kCgIterationsPerCheck, kMaxCgIterations,
+                             options.timestamps, cg_progress("chart solve", energy, options, t0));
     result.gpu_ms += solve.gpu_ms;
-    const std::string solve_name = "chart solve: conjugate gradients (" + std::to_string(problem.rows()) + " free vertices)";
+    const std::string solve_name =
+        "chart solve: conjugate gradients (" + std::to_string(problem.rows()) + " free vertices)";
     std::vector<glm::dvec3> polished = detail::sphere_points_from_chart(problem, y, solve.x);
     const detail::MapStats polished_stats = detail::map_stats_cpu(level, polished);
-    result.stages.push_back({solve_name, problem.rows(), solve.iterations, seconds_since(solve_start), polished_stats.energy});
+    result.stages.push_back(
+        {solve_name, problem.rows(), solve.iterations, seconds_since(solve_start), polished_stats.energy});
     if (!std::isfinite(solve.residual))
         return {false, "conjugate gradients broke down (the problem or its preconditioner is not positive definite)"};
-    if (!solve.converged(kCgTolerance)) return {false, "conjugate gradients stopped at residual " + std::to_string(solve.residual)};
+    if (!solve.converged(kCgTolerance))
+        return {false, "conjugate gradients stopped at residual " + std::to_string(solve.residual)};
     detail::MapStats stats = polished_stats;  // of `polished` as it is now
     if (stats.flips > 0) {
         // Negative cotangent weights (obtuse triangles) folded a few triangles: repair them locally.
         const auto untangle_start = Clock::now();
         const detail::FoldRepair untangled = detail::repair_folds(level, polished);
         stats = detail::map_stats_cpu(level, polished);
-        result.stages.push_back({"chart solve: fold repair (" + std::to_string(untangled.flips_before) + " flipped triangles, " +
-                                     std::to_string(untangled.flips_after) + " left, " + std::to_string(untangled.moves) +
-                                     " moves)",
+        result.stages.push_back({"chart solve: fold repair (" + std::to_string(untangled.flips_before) +
+                                     " flipped triangles, " + std::to_string(untangled.flips_after) + " left, " +
+                                     std::to_string(untangled.moves) + " moves)",
                                  level.vertex_count(), untangled.moves, seconds_since(untangle_start), stats.energy});
         if (untangled.flips_after > 0)
-            return {false, std::to_string(untangled.flips_after) + " flipped triangles the untangling could not repair"};
+            return {false,
+                    std::to_string(untangled.flips_after) + " flipped triangles the untangling could not repair"};
     }
 
     // The solve pinned a cap and the projection crowds the map towards it (armadillo_loop1: mass
@@ -232,8 +236,9 @@ PolishRun polish_in_plane(Context& ctx, const detail::RelaxationMesh& level, std
     const auto centre_start = Clock::now();
     const detail::CentreRun centred = detail::centre_mass_cpu(level, polished, stats);
     stats = centred.stats;
-    result.stages.push_back({std::string("chart solve: Moebius centring") + (centred.kept ? "" : " (skipped: it would flip triangles)"),
-                             level.vertex_count(), centred.steps, seconds_since(centre_start), stats.energy});
+    result.stages.push_back(
+        {std::string("chart solve: Moebius centring") + (centred.kept ? "" : " (skipped: it would flip triangles)"),
+         level.vertex_count(), centred.steps, seconds_since(centre_start), stats.energy});
 
     const auto relax_start = Clock::now();
     detail::GpuRelaxation relax(ctx, level, polished);
@@ -241,10 +246,13 @@ PolishRun polish_in_plane(Context& ctx, const detail::RelaxationMesh& level, std
     const std::string name = "chart solve: relaxation";
     HarmonicSphereOptions relax_options = options;
     relax_options.iterations_per_check = std::min(options.iterations_per_check, kPolishSweepsPerCheck);
-    const SettleRun settled = settle(relax, level.vertex_count(), relax_options, 0, stats.energy, name, t0, result.gpu_ms);
-    result.stages.push_back({name, level.vertex_count(), settled.iterations, seconds_since(relax_start), settled.energy});
+    const SettleRun settled =
+        settle(relax, level.vertex_count(), relax_options, 0, stats.energy, name, t0, result.gpu_ms);
+    result.stages.push_back(
+        {name, level.vertex_count(), settled.iterations, seconds_since(relax_start), settled.energy});
     if (settled.flips) return {false, std::to_string(settled.flips) + " flipped triangles"};
-    if (!(settled.energy <= energy * 1.001)) return {false, "energy " + std::to_string(settled.energy) + " against " + std::to_string(energy)};
+    if (!(settled.energy <= energy * 1.001))
+        return {false, "energy " + std::to_string(settled.energy) + " against " + std::to_string(energy)};
     y = relax.positions();
     return {true, ""};
 }
@@ -261,22 +269,24 @@ constexpr double kStartTolerance = 1e-5;
 // polish around its accurate pole. Kept when the polish is (no flips, energy at most 0.1% above
 // the start's) and the map covers the sphere exactly once; the map is then in result.positions.
 // `before_gpu` runs once the start's CPU setup is done (sphere_harmonic waits there for its input check).
-PolishRun direct_route(Context& ctx, const geo::Mesh& mesh, const detail::RelaxationMesh& level, const HarmonicSphereOptions& options,
-                       const std::function<void()>& before_gpu, Clock::time_point t0, SphereResult& result) {
+PolishRun direct_route(Context& ctx, const geo::Mesh& mesh, const detail::RelaxationMesh& level,
+                       const HarmonicSphereOptions& options, const std::function<void()>& before_gpu,
+                       Clock::time_point t0, SphereResult& result) {
     const auto start_clock = Clock::now();
     detail::PinnedStart start = detail::pinned_start_gpu(ctx, mesh, level, kStartTolerance, options.timestamps,
-                                                             cg_progress("harmonic start", 0.0, options, t0), before_gpu);
+                                                         cg_progress("harmonic start", 0.0, options, t0), before_gpu);
     result.gpu_ms += start.gpu_ms;
     const double start_energy = start.why.empty() ? detail::map_stats_cpu(level, start.y).energy : std::nan("");
-    result.stages.push_back({"harmonic start: pinned-triangle map by conjugate gradients (" + std::to_string(start.free_vertices) +
-                                 " free vertices)",
+    result.stages.push_back({"harmonic start: pinned-triangle map by conjugate gradients (" +
+                                 std::to_string(start.free_vertices) + " free vertices)",
                              start.free_vertices, start.iterations, seconds_since(start_clock), start_energy});
     if (!start.why.empty()) return {false, "harmonic start: " + start.why};
     std::vector<glm::dvec3> y = std::move(start.y);
     PolishRun polish = polish_in_plane(ctx, level, y, start.accurate_pole, start_energy, options, t0, result);
     if (!polish.kept) return polish;
     const double covers = detail::total_solid_angle(level, y) / (4.0 * std::numbers::pi);
-    if (!(std::abs(covers - 1.0) < 1e-6)) return {false, "the map covers the sphere " + std::to_string(covers) + " times"};
+    if (!(std::abs(covers - 1.0) < 1e-6))
+        return {false, "the map covers the sphere " + std::to_string(covers) + " times"};
     result.positions = std::move(y);
     return {true, ""};
 }
@@ -300,7 +310,8 @@ SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::Re
 
     const auto pm_start = Clock::now();  // not t0: a rejected pinned-triangle start came first
     const geo::ProgressiveMesh pm = geo::build_progressive_mesh(mesh, options.base_vertices);
-    const std::vector<std::size_t> counts = geo::level_vertex_counts(pm.base_vertex_count, pm.vertex_count, options.growth);
+    const std::vector<std::size_t> counts =
+        geo::level_vertex_counts(pm.base_vertex_count, pm.vertex_count, options.growth);
     const std::vector<std::uint32_t> activation = geo::activation_order(pm);
     std::vector<std::uint32_t> vertex_of(activation.size());
     for (std::uint32_t v = 0; v < activation.size(); ++v) vertex_of[activation[v]] = v;
@@ -309,16 +320,18 @@ SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::Re
     const auto base_start = Clock::now();
     geo::ProgressiveReplay replay(pm, pm.coarsest_count());
     const detail::BaseMapRun base = detail::map_base_mesh(mesh, pm, replay, result.positions);
-    result.stages.push_back({"base map", pm.base_vertex_count, base.vertex_steps, seconds_since(base_start), base.energy});
+    result.stages.push_back(
+        {"base map", pm.base_vertex_count, base.vertex_steps, seconds_since(base_start), base.energy});
     if (base.placement_failures || base.flips)
-        warnings.push_back("base map: " + std::to_string(base.placement_failures) + " split vertices could not be placed, " +
-                           std::to_string(base.flips) + " flipped triangles");
+        warnings.push_back("base map: " + std::to_string(base.placement_failures) +
+                           " split vertices could not be placed, " + std::to_string(base.flips) + " flipped triangles");
 
     for (std::size_t i = counts.size() == 1 ? 0 : 1; i < counts.size(); ++i) {
         const auto level_start = Clock::now();
         const std::string name = "level " + std::to_string(i) + " (" + std::to_string(counts[i]) + " vertices)";
         const detail::SplitRun splits = detail::split_to(replay, result.positions, counts[i]);
-        const detail::RelaxationMesh level = detail::build_relaxation_mesh(level_mesh(mesh, replay, activation, vertex_of));
+        const detail::RelaxationMesh level =
+            detail::build_relaxation_mesh(level_mesh(mesh, replay, activation, vertex_of));
         std::vector<glm::dvec3> y(level.vertex_count());
         for (std::size_t v = 0; v < y.size(); ++v) y[v] = result.positions[vertex_of[v]];
 
@@ -341,9 +354,13 @@ SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::Re
         }
         if (splits.placement_failures) {
             // Mended by the Tutte phase it is worth knowing, not a failure.
-            const std::string what = name + ": " + std::to_string(splits.placement_failures) + " split vertices could not be placed";
-            if (kernel_failures == 0) remarks.push_back(what + " (the Tutte phase placed them)");
-            else warnings.push_back(what + ", " + std::to_string(kernel_failures) + " triangles fail the kernel test after the Tutte phase");
+            const std::string what =
+                name + ": " + std::to_string(splits.placement_failures) + " split vertices could not be placed";
+            if (kernel_failures == 0)
+                remarks.push_back(what + " (the Tutte phase placed them)");
+            else
+                warnings.push_back(what + ", " + std::to_string(kernel_failures) +
+                                   " triangles fail the kernel test after the Tutte phase");
         }
         // Under the polish big levels only have to hand a flip-free map to the next: settled
         // loosely (loose_level_options); the finest settles in full after all when the polish is
@@ -351,13 +368,15 @@ SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::Re
         const bool last = i + 1 == counts.size();
         const bool loose = options.plane_polish && level.vertex_count() > options.loose_levels_above;
         const HarmonicSphereOptions level_options = loose ? loose_level_options(options) : options;
-        SettleRun settled = settle(relax, level.vertex_count(), level_options, iterations, energy, name, t0, result.gpu_ms);
+        SettleRun settled =
+            settle(relax, level.vertex_count(), level_options, iterations, energy, name, t0, result.gpu_ms);
         y = relax.positions();
-        result.stages.push_back({name, level.vertex_count(), settled.iterations, seconds_since(level_start), settled.energy});
+        result.stages.push_back(
+            {name, level.vertex_count(), settled.iterations, seconds_since(level_start), settled.energy});
         bool polished = false;
         if (options.plane_polish && last && settled.flips == 0 && std::isfinite(settled.energy)) {
-            const PolishRun polish =
-                polish_in_plane(ctx, level, y, detail::largest_triangle_pole(level, y), settled.energy, options, t0, result);
+            const PolishRun polish = polish_in_plane(ctx, level, y, detail::largest_triangle_pole(level, y),
+                                                     settled.energy, options, t0, result);
             polished = polish.kept;
             if (!polished) remarks.push_back("chart solve rejected: " + polish.why);
         }
@@ -366,7 +385,8 @@ SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::Re
             const std::string full_name = name + ", relaxed in full without the chart solve";
             settled = settle(relax, level.vertex_count(), options, 0, settled.energy, full_name, t0, result.gpu_ms);
             y = relax.positions();
-            result.stages.push_back({full_name, level.vertex_count(), settled.iterations, seconds_since(full_start), settled.energy});
+            result.stages.push_back(
+                {full_name, level.vertex_count(), settled.iterations, seconds_since(full_start), settled.energy});
         }
         if (!std::isfinite(settled.energy)) warnings.push_back(name + ": the energy is not finite");
         if (!settled.converged && std::isfinite(settled.energy))
@@ -396,8 +416,10 @@ SphereResult sphere_harmonic(Context& ctx, const geo::Mesh& mesh, const Harmonic
     if (!direct) checked = std::async(std::launch::async, [&mesh] { check_sphere_input(mesh); });
     // The input's message first, when it has one, wherever something else went wrong.
     auto input_message_first = [&] {
-        if (checked.valid()) checked.get();
-        else check_sphere_input(mesh);
+        if (checked.valid())
+            checked.get();
+        else
+            check_sphere_input(mesh);
     };
     std::vector<std::uint32_t> order;
     geo::Mesh renumbered;
@@ -406,10 +428,13 @@ SphereResult sphere_harmonic(Context& ctx, const geo::Mesh& mesh, const Harmonic
     try {
         check_options(options);
         if (!ctx.device_info().shader_float64)
-            throw Error(ErrorKind::Unsupported, "gpu sphere: the device has no float64 in shaders (shaderFloat64); use --method kanai or linear");
+            throw Error(
+                ErrorKind::Unsupported,
+                "gpu sphere: the device has no float64 in shaders (shaderFloat64); use --method kanai or linear");
         if (options.plane_polish && !ctx.device_info().storage_image_extended_formats)
-            throw Error(ErrorKind::Unsupported, "gpu sphere: the device has no two-channel storage images for the polish's "
-                                                "multigrid (shaderStorageImageExtendedFormats); use --method kanai or linear");
+            throw Error(ErrorKind::Unsupported,
+                        "gpu sphere: the device has no two-channel storage images for the polish's "
+                        "multigrid (shaderStorageImageExtendedFormats); use --method kanai or linear");
         // Solved with the vertices renumbered along a space-filling curve, so that the passes'
         // gathers of neighbours hit the cache (geometry/vertex_order.h): armadillo_loop1's
         // conjugate gradient iterations and relaxation sweeps took 30 % less time.

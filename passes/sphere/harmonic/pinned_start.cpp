@@ -29,8 +29,8 @@ constexpr std::size_t kMaxIterations = 2000;
 }  // namespace
 
 PinnedStart pinned_start_gpu(Context& ctx, const geo::Mesh& mesh, const RelaxationMesh& level, double tolerance,
-                                 bool timestamps, const std::function<void(std::size_t, double)>& progress,
-                                 const std::function<void()>& before_gpu) {
+                             bool timestamps, const std::function<void(std::size_t, double)>& progress,
+                             const std::function<void()>& before_gpu) {
     PinnedStart start;
     const std::size_t n = mesh.vertex_count();
     const std::uint32_t big = linear_sphere::most_regular_face(mesh);
@@ -56,7 +56,8 @@ PinnedStart pinned_start_gpu(Context& ctx, const geo::Mesh& mesh, const Relaxati
         return start;
     }
     if (before_gpu) before_gpu();
-    const CgSolve solve = solve_cg_gpu(ctx, problem, mg, tolerance, kIterationsPerCheck, kMaxIterations, timestamps, progress);
+    const CgSolve solve =
+        solve_cg_gpu(ctx, problem, mg, tolerance, kIterationsPerCheck, kMaxIterations, timestamps, progress);
     start.iterations = solve.iterations;
     start.residual = solve.residual;
     start.gpu_ms = solve.gpu_ms;
@@ -79,7 +80,8 @@ PinnedStart pinned_start_gpu(Context& ctx, const geo::Mesh& mesh, const Relaxati
     for (auto& w : z) w -= mean;
     const double scale = linear_sphere::balancing_scale(mesh, z, big);
     start.y.resize(n);
-    for (std::uint32_t v = 0; v < n; ++v) start.y[v] = glm::normalize(linear_sphere::sphere_from_south_chart(scale * z[v]));
+    for (std::uint32_t v = 0; v < n; ++v)
+        start.y[v] = glm::normalize(linear_sphere::sphere_from_south_chart(scale * z[v]));
 
     // The polish's pole: inside the face nearest the origin (never on a vertex, whose chart point
     // would be infinite).
@@ -108,7 +110,8 @@ double total_solid_angle(const RelaxationMesh& level, const std::vector<glm::dve
                 if (a < v || b < v) continue;  // each triangle once, from its smallest vertex
                 // Van Oosterom and Strackee's solid angle of the spherical triangle (v, a, b).
                 const glm::dvec3 p = y[v], q = y[a], r = y[b];
-                sum += 2.0 * std::atan2(glm::dot(p, glm::cross(q, r)), 1.0 + glm::dot(p, q) + glm::dot(q, r) + glm::dot(r, p));
+                sum += 2.0 * std::atan2(glm::dot(p, glm::cross(q, r)),
+                                        1.0 + glm::dot(p, q) + glm::dot(q, r) + glm::dot(r, p));
             }
         }
         sums[chunk] = sum;

@@ -19,11 +19,11 @@
 namespace gimg::passes::detail {
 
 struct PinnedStart {
-    std::string why;              // empty when the map is usable
-    std::vector<glm::dvec3> y;    // per mesh vertex, on the unit sphere
+    std::string why;                           // empty when the map is usable
+    std::vector<glm::dvec3> y;                 // per mesh vertex, on the unit sphere
     glm::dvec3 accurate_pole{0.0, 0.0, -1.0};  // centroid direction of the face nearest the plane's origin
     std::size_t free_vertices = 0;
-    std::size_t iterations = 0;   // conjugate gradient iterations
+    std::size_t iterations = 0;  // conjugate gradient iterations
     double residual = 0.0;
     double gpu_ms = 0.0;
 };
@@ -33,8 +33,8 @@ struct PinnedStart {
 // problem and its multigrid hierarchy) is done, before the first GPU work; it is not called when
 // the setup already says why the start cannot be made.
 PinnedStart pinned_start_gpu(Context& ctx, const geo::Mesh& mesh, const RelaxationMesh& level, double tolerance,
-                                 bool timestamps, const std::function<void(std::size_t, double)>& progress = {},
-                                 const std::function<void()>& before_gpu = {});
+                             bool timestamps, const std::function<void(std::size_t, double)>& progress = {},
+                             const std::function<void()>& before_gpu = {});
 
 // Sum of the signed solid angles of the triangles of `y`: 4 pi for a map that covers the sphere
 // once; a multiple of it for one that wraps around more than once with no triangle flipped.

@@ -74,8 +74,8 @@ RelaxCheck relax_and_check_cpu(const RelaxationMesh& level, std::vector<glm::dve
     return check;
 }
 
-CentreRun centre_mass_cpu(const RelaxationMesh& level, std::vector<glm::dvec3>& y, const MapStats& now, double tolerance,
-                          std::size_t max_steps) {
+CentreRun centre_mass_cpu(const RelaxationMesh& level, std::vector<glm::dvec3>& y, const MapStats& now,
+                          double tolerance, std::size_t max_steps) {
     CentreRun run;
     run.stats = now;
     std::vector<glm::dvec3> moved = y;
@@ -136,30 +136,43 @@ Plan& GpuRelaxation::plan_for(std::uint32_t iterations, bool uniform_weights) {
         for (std::size_t c = 0; c < level_.colour_count(); ++c) {
             const RelaxPush push{level_.colour_offsets[c], level_.colour_offsets[c + 1] - level_.colour_offsets[c],
                                  uniform_weights ? 1u : 0u};
-            g.add_compute_pass("relax colour " + std::to_string(c), [&](PassBuilder& b) {
-                for (ImageHandle h : {offsets, spokes, members}) b.read(h, Access::ComputeRead);
-                points = b.write(points, Access::ComputeReadWrite);
-            }, [=](Cmd& cmd) {
-                cmd.dispatch_threads(kRelax, {push.count}, {points, offsets, spokes, members}, push);
-            });
+            g.add_compute_pass(
+                "relax colour " + std::to_string(c),
+                [&](PassBuilder& b) {
+                    for (ImageHandle h : {offsets, spokes, members}) b.read(h, Access::ComputeRead);
+                    points = b.write(points, Access::ComputeReadWrite);
+                },
+                [=](Cmd& cmd) {
+                    cmd.dispatch_threads(kRelax, {push.count}, {points, offsets, spokes, members}, push);
+                });
         }
     });
     auto reduce_stats = [&](ImageHandle of, Buffer& sums_buffer, const std::string& name) {
         auto terms = g.create_buffer({VkDeviceSize(n) * 6 * sizeof(double), name + " terms"});
-        g.add_compute_pass(name, [&](PassBuilder& b) {
-            for (ImageHandle h : {of, offsets, spokes}) b.read(h, Access::ComputeRead);
-            terms = b.write(terms, Access::ComputeWrite);
-        }, [=](Cmd& cmd) { cmd.dispatch_threads(kLevelStats, {n}, {of, offsets, spokes, terms}, n); });
+        g.add_compute_pass(
+            name,
+            [&](PassBuilder& b) {
+                for (ImageHandle h : {of, offsets, spokes}) b.read(h, Access::ComputeRead);
+                terms = b.write(terms, Access::ComputeWrite);
+            },
+            [=](Cmd& cmd) {
+                cmd.dispatch_threads(kLevelStats, {n}, {of, offsets, spokes, terms}, n);
+            });
         auto sums = add_reduce_sum_f64(g, terms, g.import_buffer(sums_buffer), n, 6, name + " sum");
         return sums;
     };
     auto sums = reduce_stats(points, sums_relaxed_, "sphere stats");
-    g.add_compute_pass("sphere recentre", [&](PassBuilder& b) {
-        b.read(points, Access::ComputeRead);
-        b.read(sums, Access::ComputeRead);
-        b.read(control, Access::ComputeRead);
-        moved = b.write(moved, Access::ComputeWrite);
-    }, [=](Cmd& cmd) { cmd.dispatch_threads(kRecentre, {n}, {points, sums, control, moved}, n); });
+    g.add_compute_pass(
+        "sphere recentre",
+        [&](PassBuilder& b) {
+            b.read(points, Access::ComputeRead);
+            b.read(sums, Access::ComputeRead);
+            b.read(control, Access::ComputeRead);
+            moved = b.write(moved, Access::ComputeWrite);
+        },
+        [=](Cmd& cmd) {
+            cmd.dispatch_threads(kRecentre, {n}, {points, sums, control, moved}, n);
+        });
     auto sums_moved = reduce_stats(moved, sums_recentred_, "sphere stats recentred");
     g.export_buffer(sums, Access::HostRead);
     g.export_buffer(sums_moved, Access::HostRead);

@@ -22,8 +22,8 @@
 namespace gimg::passes::detail {
 
 struct RelaxCheck {
-    MapStats relaxed;     // after the sweeps
-    MapStats recentred;   // after the Moebius move of the mass centre
+    MapStats relaxed;    // after the sweeps
+    MapStats recentred;  // after the Moebius move of the mass centre
     bool recentre_kept = false;
 };
 
@@ -41,7 +41,7 @@ inline glm::dvec3 recentring_point(const glm::dvec3& c, double scale) {
 struct CentreRun {
     std::size_t steps = 0;  // Moebius steps made
     bool kept = true;       // false: they would have flipped triangles, and y is unchanged
-    MapStats stats;       // of y as it is now
+    MapStats stats;         // of y as it is now
 };
 
 // The recentring step repeated on the CPU, points only, until the mass centre is within

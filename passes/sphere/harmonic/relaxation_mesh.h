@@ -17,7 +17,7 @@ struct RelaxationMesh {
     std::vector<std::uint32_t> ring_offsets;  // V + 1
     // Triangle k of vertex i's fan is (i, ring[o + k], ring[o + (k + 1) % degree]), o = ring_offsets[i].
     std::vector<std::uint32_t> ring;
-    std::vector<double> ring_weights;      // (cot alpha + cot beta) / 2 of spoke (i, ring[o + k])
+    std::vector<double> ring_weights;           // (cot alpha + cot beta) / 2 of spoke (i, ring[o + k])
     std::vector<std::uint32_t> colour_offsets;  // colours + 1
     std::vector<std::uint32_t> colour_members;  // vertices, grouped by colour
     std::size_t vertex_count() const { return ring_offsets.size() - 1; }
@@ -40,10 +40,10 @@ glm::dvec3 relaxed_position(const RelaxationMesh& level, const std::vector<glm::
 void relax_sweep_cpu(const RelaxationMesh& level, std::vector<glm::dvec3>& y, bool uniform_weights);
 
 struct MapStats {
-    double energy = 0.0;               // sum over edges of w |y_u - y_v|^2
-    std::size_t flips = 0;             // triangles with det <= 0 (sphere_metrics' flips)
-    std::size_t kernel_failures = 0;   // triangles failing the kernel test (flips, and slivers within its margin)
-    glm::dvec3 centroid{0.0};          // mean of the points
+    double energy = 0.0;              // sum over edges of w |y_u - y_v|^2
+    std::size_t flips = 0;            // triangles with det <= 0 (sphere_metrics' flips)
+    std::size_t kernel_failures = 0;  // triangles failing the kernel test (flips, and slivers within its margin)
+    glm::dvec3 centroid{0.0};         // mean of the points
 };
 MapStats map_stats_cpu(const RelaxationMesh& level, const std::vector<glm::dvec3>& y);
 

@@ -15,7 +15,8 @@ constexpr double kSweepTolerance = 1e-14;
 constexpr std::size_t kSweepIterations = 100;
 
 void map_tetrahedron(const geo::ProgressiveMesh& pm, std::vector<glm::dvec3>& y) {
-    if (pm.coarsest_count() != 4) throw std::logic_error("sphere base map: the progressive mesh did not reach a tetrahedron");
+    if (pm.coarsest_count() != 4)
+        throw std::logic_error("sphere base map: the progressive mesh did not reach a tetrahedron");
     const double s = 1.0 / std::sqrt(3.0);
     const glm::dvec3 corners[4] = {{s, s, s}, {s, -s, -s}, {-s, s, -s}, {-s, -s, s}};
     for (int i = 0; i < 4; ++i) y[pm.coarsest_vertices[i]] = corners[i];

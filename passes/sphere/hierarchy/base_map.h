@@ -28,8 +28,8 @@ inline constexpr std::size_t kBaseMapSweeps = 10;  // per doubling
 struct BaseMapRun {
     std::size_t vertex_steps = 0;  // vertex Tutte optimisations applied in the sweeps
     std::size_t placement_failures = 0;
-    std::size_t flips = 0;         // at the end (0 unless something failed)
-    double energy = 0.0;           // Tutte energy of the base mesh at the end
+    std::size_t flips = 0;  // at the end (0 unless something failed)
+    double energy = 0.0;    // Tutte energy of the base mesh at the end
 };
 
 // `replay` must stand at the coarsest mesh; it is advanced to the base mesh, and y (one point per

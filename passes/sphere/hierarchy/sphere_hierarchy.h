@@ -11,6 +11,7 @@ namespace gimg::passes::detail {
 
 // check_sphere_input (throws geo::InputError on an unfit mesh) + build_progressive_mesh +
 // hierarchy_levels.
-std::vector<geo::HierarchyLevel> build_sphere_hierarchy(const geo::Mesh& mesh, std::size_t base_vertices, double growth);
+std::vector<geo::HierarchyLevel> build_sphere_hierarchy(const geo::Mesh& mesh, std::size_t base_vertices,
+                                                        double growth);
 
 }  // namespace gimg::passes::detail

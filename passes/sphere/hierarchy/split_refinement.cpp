@@ -82,7 +82,8 @@ bool place_next_to_parent(const geo::ProgressiveReplay& replay, std::vector<glm:
 // or slivers already in the fan): points inside each face the new vertex takes over from its
 // parent, ever closer to the parent. Any point of the open wedge those faces make near the parent
 // serves, so trying one per face catches what a single direction misses.
-bool place_inside_moved_faces(const geo::ProgressiveReplay& replay, std::vector<glm::dvec3>& y, const geo::VertexSplit& s) {
+bool place_inside_moved_faces(const geo::ProgressiveReplay& replay, std::vector<glm::dvec3>& y,
+                              const geo::VertexSplit& s) {
     const glm::dvec3 origin = y[s.parent];
     for (std::uint32_t f : replay.faces_of(s.vertex)) {
         if (f == s.born_faces[0] || f == s.born_faces[1]) continue;
@@ -109,7 +110,8 @@ bool place_inside_moved_faces(const geo::ProgressiveReplay& replay, std::vector<
 bool place(const geo::ProgressiveReplay& replay, std::vector<glm::dvec3>& y, const geo::VertexSplit& s) {
     if (!place_next_to_parent(replay, y, s) && !place_inside_moved_faces(replay, y, s)) return false;
     const glm::dvec3 start = y[s.vertex];
-    const VertexStep target = optimise_vertex(tutte_energy(replay, y, s.vertex), 1.0, kTutteTolerance, kTutteIterations);
+    const VertexStep target =
+        optimise_vertex(tutte_energy(replay, y, s.vertex), 1.0, kTutteTolerance, kTutteIterations);
     for (int i = 0; i < kTowardsTargetHalvings; ++i) {
         const glm::dvec3 p = glm::normalize(start + std::ldexp(1.0, -i) * (target.position - start));
         if (in_kernel(replay.faces_of(s.vertex), replay.triangles(), y, s.vertex, p)) {

@@ -9,8 +9,8 @@ namespace gimg::passes::detail {
 
 struct SplitRun {
     std::size_t splits = 0;
-    std::size_t kernel_refusals = 0;      // Tutte steps refused (the vertex kept its place)
-    std::size_t placement_failures = 0;   // new vertices left on their parent (should stay 0)
+    std::size_t kernel_refusals = 0;     // Tutte steps refused (the vertex kept its place)
+    std::size_t placement_failures = 0;  // new vertices left on their parent (should stay 0)
 };
 
 // Applies splits until `target` vertices are active. y must hold a flip-free map of the current

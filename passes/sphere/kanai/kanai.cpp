@@ -50,14 +50,18 @@ struct Run {
         const auto start = Clock::now();
         const detail::SplitRun splits = detail::split_to(replay, result.positions, count);
         if (splits.placement_failures)
-            warnings.push_back(name + ": " + std::to_string(splits.placement_failures) + " split vertices could not be placed");
-        const detail::WeightedGraph g = detail::make_weighted_graph(mesh, replay.live_triangles(), detail::EdgeWeights::Cotangent);
+            warnings.push_back(name + ": " + std::to_string(splits.placement_failures) +
+                               " split vertices could not be placed");
+        const detail::WeightedGraph g =
+            detail::make_weighted_graph(mesh, replay.live_triangles(), detail::EdgeWeights::Cotangent);
         auto tick = [&](std::size_t pops, double energy) {
             if (options.progress) options.progress(name, pops, energy, 0, seconds_since(t0));
         };
         const detail::QueueRun q = detail::optimise_by_queue(g, result.positions, options.queue_tolerance,
                                                              kMaxPopsPerVertex * g.vertices.size(), tick);
-        if (q.hit_limit) warnings.push_back(name + ": the queue optimisation stopped at a guard after " + std::to_string(q.pops) + " pops");
+        if (q.hit_limit)
+            warnings.push_back(name + ": the queue optimisation stopped at a guard after " + std::to_string(q.pops) +
+                               " pops");
         SphereStage stage;
         stage.name = name;
         stage.vertices = g.vertices.size();
@@ -83,23 +87,27 @@ SphereResult sphere_kanai(const geo::Mesh& mesh, const KanaiOptions& options) {
     Run run{mesh, options, t0, result, {}};
 
     const geo::ProgressiveMesh pm = geo::build_progressive_mesh(mesh, options.base_vertices);
-    const std::vector<std::size_t> counts = geo::level_vertex_counts(pm.base_vertex_count, pm.vertex_count, options.growth);
+    const std::vector<std::size_t> counts =
+        geo::level_vertex_counts(pm.base_vertex_count, pm.vertex_count, options.growth);
     result.stages.push_back({"progressive mesh", pm.base_vertex_count, pm.splits.size(), seconds_since(t0), 0.0});
 
     // Base map (see base_map.h).
     const auto base_start = Clock::now();
     geo::ProgressiveReplay replay(pm, pm.coarsest_count());
     const detail::BaseMapRun base = detail::map_base_mesh(mesh, pm, replay, result.positions);
-    result.stages.push_back({"base map", pm.base_vertex_count, base.vertex_steps, seconds_since(base_start), base.energy});
+    result.stages.push_back(
+        {"base map", pm.base_vertex_count, base.vertex_steps, seconds_since(base_start), base.energy});
     if (base.placement_failures || base.flips)
-        run.warnings.push_back("base map: " + std::to_string(base.placement_failures) + " split vertices could not be placed, " +
-                               std::to_string(base.flips) + " flipped triangles");
+        run.warnings.push_back("base map: " + std::to_string(base.placement_failures) +
+                               " split vertices could not be placed, " + std::to_string(base.flips) +
+                               " flipped triangles");
     if (options.progress) options.progress("base map", base.vertex_steps, base.energy, base.flips, seconds_since(t0));
 
     // Kanai's hierarchy: split to growth x the vertices, optimise globally; at the full mesh once more
     // (the last level). A base that already is the full mesh is optimised once.
     for (std::size_t i = counts.size() == 1 ? 0 : 1; i < counts.size(); ++i)
-        result.stages.push_back(run.level(replay, counts[i], "level " + std::to_string(i) + " (" + std::to_string(counts[i]) + " vertices)"));
+        result.stages.push_back(run.level(
+            replay, counts[i], "level " + std::to_string(i) + " (" + std::to_string(counts[i]) + " vertices)"));
 
     for (const std::string& w : run.warnings) result.note += (result.note.empty() ? "" : "; ") + w;
     result.converged = run.warnings.empty();

@@ -8,11 +8,11 @@
 namespace gimg::passes::detail {
 
 struct QueueRun {
-    std::size_t pops = 0;           // vertex optimisations applied (the stage's "iterations")
-    std::size_t kernel_refusals = 0; // tentative steps refused because they left the kernel
+    std::size_t pops = 0;                            // vertex optimisations applied (the stage's "iterations")
+    std::size_t kernel_refusals = 0;                 // tentative steps refused because they left the kernel
     double energy_before = 0.0, energy_after = 0.0;  // the graph's energy (E or F by its weights)
-    bool hit_limit = false;          // stopped by a guard (max_pops, or new work after every refit), not by the tolerance
-    std::size_t recentrings = 0;     // mass-centre normalisations made on the way
+    bool hit_limit = false;       // stopped by a guard (max_pops, or new work after every refit), not by the tolerance
+    std::size_t recentrings = 0;  // mass-centre normalisations made on the way
 };
 
 // Every active vertex gets a tentative vertex conformal optimisation (optimise_vertex with c = 1,

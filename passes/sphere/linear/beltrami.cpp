@@ -54,10 +54,14 @@ DirichletSolution linear_beltrami_solve(const geo::Mesh& mesh, const std::vector
         const double one_minus = 1.0 - std::norm(m);
         const double area2 = std::abs(cross2(plane[v[1]] - plane[v[0]], plane[v[2]] - plane[v[0]]));
         std::string why;
-        if (!std::isfinite(area2)) why = "has a vertex at infinity in the plane (at the projection pole)";
-        else if (!(area2 > 0.0)) why = "has collapsed to a point or a line in the plane (squeezed below double precision)";
-        else if (!std::isfinite(m.real()) || !std::isfinite(m.imag())) why = "has no finite Beltrami coefficient";
-        else if (!(one_minus > 0.0)) why = "has |mu| = " + std::to_string(std::abs(m)) + " (a solvable equation needs < 1)";
+        if (!std::isfinite(area2))
+            why = "has a vertex at infinity in the plane (at the projection pole)";
+        else if (!(area2 > 0.0))
+            why = "has collapsed to a point or a line in the plane (squeezed below double precision)";
+        else if (!std::isfinite(m.real()) || !std::isfinite(m.imag()))
+            why = "has no finite Beltrami coefficient";
+        else if (!(one_minus > 0.0))
+            why = "has |mu| = " + std::to_string(std::abs(m)) + " (a solvable equation needs < 1)";
         if (!why.empty()) {
             DirichletSolution failed;
             failed.why = "face " + std::to_string(f) + " " + why;

@@ -19,8 +19,10 @@ DirichletSolution solve_dirichlet(std::size_t vertex_count, const std::vector<St
     std::vector<std::int64_t> free_index(vertex_count, -1);
     Eigen::Index free_count = 0;
     for (std::size_t v = 0; v < vertex_count; ++v) {
-        if (pinned[v]) out.z[v] = pinned_values[v];
-        else free_index[v] = free_count++;
+        if (pinned[v])
+            out.z[v] = pinned_values[v];
+        else
+            free_index[v] = free_count++;
     }
     if (free_count == 0) {
         out.ok = true;

@@ -21,7 +21,7 @@ struct StiffnessEntry {
 struct DirichletSolution {
     std::vector<std::complex<double>> z;  // one per vertex; pinned ones keep their value
     bool ok = false;
-    std::string why;                      // what failed when !ok
+    std::string why;  // what failed when !ok
 };
 
 // Solves K_ff z_f = -K_fp z_p for the free vertices f (pinned[v] == 0), with z_p = pinned_values

@@ -51,7 +51,8 @@ private:
 };
 
 // The paper's conformal energy of a sphere map: sum over edges of w_uv |y(u) - y(v)|^2.
-double conformal_energy(const geo::MeshAdjacency& adj, const std::vector<double>& cot, const std::vector<glm::dvec3>& y) {
+double conformal_energy(const geo::MeshAdjacency& adj, const std::vector<double>& cot,
+                        const std::vector<glm::dvec3>& y) {
     double energy = 0.0;
     for (std::size_t e = 0; e < adj.edge_count(); ++e) {
         const glm::dvec3 d = y[adj.edges[2 * e]] - y[adj.edges[2 * e + 1]];
@@ -111,8 +112,8 @@ SphereResult sphere_linear(const geo::Mesh& mesh) {
     const double scale = linear_sphere::balancing_scale(mesh, plane.z, big);
     std::vector<glm::dvec3> sphere(n);
     for (std::size_t v = 0; v < n; ++v) sphere[v] = linear_sphere::sphere_from_south_chart(scale * plane.z[v]);
-    result.stages.push_back({"inverse stereographic projection (balanced)", n, 0, clock.lap(),
-                             conformal_energy(adj, cot, sphere)});
+    result.stages.push_back(
+        {"inverse stereographic projection (balanced)", n, 0, clock.lap(), conformal_energy(adj, cot, sphere)});
 
     // 3. South pole: Beltrami correction around the big triangle in the chart centred on it.
     // Projecting the sphere points from the south pole gives q = 1 / w exactly; taking that
@@ -133,7 +134,9 @@ SphereResult sphere_linear(const geo::Mesh& mesh) {
         }
         const std::vector<Complex> mu = linear_sphere::beltrami_coefficients(mesh, q, needed);
         corrected = linear_sphere::linear_beltrami_solve(mesh, q, mu, pinned, q);
-        if (!corrected.ok) add_note(result, "Beltrami solve with " + std::to_string(pin_count) + " pinned vertices failed: " + corrected.why);
+        if (!corrected.ok)
+            add_note(result,
+                     "Beltrami solve with " + std::to_string(pin_count) + " pinned vertices failed: " + corrected.why);
     }
     std::size_t free_count = 0;
     if (corrected.ok) {
@@ -146,8 +149,8 @@ SphereResult sphere_linear(const geo::Mesh& mesh) {
         result.converged = false;
         add_note(result, "kept the uncorrected projection");
     }
-    result.stages.push_back({"south pole: linear Beltrami correction", free_count, 0, clock.lap(),
-                             conformal_energy(adj, cot, sphere)});
+    result.stages.push_back(
+        {"south pole: linear Beltrami correction", free_count, 0, clock.lap(), conformal_energy(adj, cot, sphere)});
 
     result.positions = std::move(sphere);
     // A NaN point would not even count as a flip (every comparison with it is false): say so.

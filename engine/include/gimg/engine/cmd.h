@@ -56,8 +56,7 @@ public:
     // 0-based iteration of the enclosing loop (0 outside loops): pick ping-pong bindings with it.
     std::uint32_t iteration() const;
 
-    void dispatch(const Spirv& shader, Groups groups, std::initializer_list<Binding> bindings,
-                  PushData push = {});
+    void dispatch(const Spirv& shader, Groups groups, std::initializer_list<Binding> bindings, PushData push = {});
     // Enough workgroups to cover `threads` invocations, using the shader's own local size.
     void dispatch_threads(const Spirv& shader, Groups threads, std::initializer_list<Binding> bindings,
                           PushData push = {});
@@ -70,16 +69,14 @@ public:
               std::initializer_list<Binding> bindings, PushData push = {});
     void draw_indexed(const RasterProgram& program, BufferHandle indices, std::uint32_t index_count,
                       std::initializer_list<Binding> bindings, PushData push = {});
-    void draw_indirect(const RasterProgram& program, BufferHandle args, VkDeviceSize offset,
-                       std::uint32_t draw_count, std::initializer_list<Binding> bindings,
-                       PushData push = {});
+    void draw_indirect(const RasterProgram& program, BufferHandle args, VkDeviceSize offset, std::uint32_t draw_count,
+                       std::initializer_list<Binding> bindings, PushData push = {});
 
-    void fill(BufferHandle buffer, std::uint32_t value, VkDeviceSize offset = 0,
-              VkDeviceSize size = VK_WHOLE_SIZE);
+    void fill(BufferHandle buffer, std::uint32_t value, VkDeviceSize offset = 0, VkDeviceSize size = VK_WHOLE_SIZE);
     // Small host data into a buffer as part of the command stream (at most 65536 bytes).
     void update(BufferHandle buffer, const void* data, VkDeviceSize size, VkDeviceSize offset = 0);
-    void copy(BufferHandle src, BufferHandle dst, VkDeviceSize size = VK_WHOLE_SIZE,
-              VkDeviceSize src_offset = 0, VkDeviceSize dst_offset = 0);
+    void copy(BufferHandle src, BufferHandle dst, VkDeviceSize size = VK_WHOLE_SIZE, VkDeviceSize src_offset = 0,
+              VkDeviceSize dst_offset = 0);
     void copy(ImageHandle src, BufferHandle dst);
     void copy(BufferHandle src, ImageHandle dst);
     void clear(ImageHandle image, float r, float g = 0.0f, float b = 0.0f, float a = 0.0f);

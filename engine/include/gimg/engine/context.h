@@ -31,15 +31,15 @@ struct ContextOptions {
 };
 
 struct DeviceInfo {
-    std::string name;                // VkPhysicalDeviceProperties::deviceName
-    std::string driver;              // driver name and info, e.g. "llvmpipe: Mesa 22.3.6 (LLVM 15)"
+    std::string name;    // VkPhysicalDeviceProperties::deviceName
+    std::string driver;  // driver name and info, e.g. "llvmpipe: Mesa 22.3.6 (LLVM 15)"
     VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
     VkDriverId driver_id = VkDriverId(0);
     std::uint32_t api_version = 0;
-    bool is_lavapipe = false;        // Mesa's CPU driver (driverID MESA_LLVMPIPE)
+    bool is_lavapipe = false;  // Mesa's CPU driver (driverID MESA_LLVMPIPE)
     bool shader_float64 = false;
     bool shader_int64 = false;
-    bool float_atomics = false;      // shaderBufferFloat32AtomicAdd
+    bool float_atomics = false;  // shaderBufferFloat32AtomicAdd
     bool fill_mode_non_solid = false;
     bool storage_image_extended_formats = false;  // storage images of RG32F, RG32UI and the like
     VkDeviceSize max_storage_buffer_range = 0;

@@ -13,12 +13,12 @@
 namespace gimg {
 
 enum class ErrorKind {
-    Vulkan,          // a Vulkan call failed with an unexpected result
-    DeviceLost,      // VK_ERROR_DEVICE_LOST
-    OutOfMemory,     // host or device memory exhausted
-    Unsupported,     // no suitable device, missing extension, feature, layer or format
-    InvalidGraph,    // the render graph's declarations contradict each other
-    InvalidArgument, // the caller passed something unusable
+    Vulkan,           // a Vulkan call failed with an unexpected result
+    DeviceLost,       // VK_ERROR_DEVICE_LOST
+    OutOfMemory,      // host or device memory exhausted
+    Unsupported,      // no suitable device, missing extension, feature, layer or format
+    InvalidGraph,     // the render graph's declarations contradict each other
+    InvalidArgument,  // the caller passed something unusable
 };
 
 class Error : public std::runtime_error {

@@ -41,8 +41,7 @@ PassBuilder make_pass_builder(GraphData& graph, std::uint32_t pass);
 struct ClearValue {
     VkClearValue value{};
     static ClearValue color(float r, float g = 0.0f, float b = 0.0f, float a = 0.0f);
-    static ClearValue color_uint(std::uint32_t r, std::uint32_t g = 0, std::uint32_t b = 0,
-                                 std::uint32_t a = 0);
+    static ClearValue color_uint(std::uint32_t r, std::uint32_t g = 0, std::uint32_t b = 0, std::uint32_t a = 0);
     static ClearValue depth(float d);
 };
 

@@ -33,14 +33,14 @@ struct BarrierInfo {
 struct PlannedPass {
     std::string name;
     bool raster = false;
-    std::uint32_t iterations = 1;                // of its loop; 1 outside loops
-    std::vector<BarrierInfo> barriers;           // before its first iteration
-    std::vector<BarrierInfo> repeat_barriers;    // before each later iteration
+    std::uint32_t iterations = 1;              // of its loop; 1 outside loops
+    std::vector<BarrierInfo> barriers;         // before its first iteration
+    std::vector<BarrierInfo> repeat_barriers;  // before each later iteration
 };
 
 struct PassTiming {
     std::string name;
-    double gpu_ms = 0.0;          // summed over the pass's iterations
+    double gpu_ms = 0.0;  // summed over the pass's iterations
     std::uint32_t iterations = 0;
 };
 

@@ -98,9 +98,7 @@ public:
     Format format() const { return desc_.format; }
     const ImageDesc& desc() const { return desc_; }
     const std::string& name() const { return desc_.name; }
-    VkDeviceSize byte_size() const {
-        return VkDeviceSize(desc_.width) * desc_.height * bytes_per_pixel(desc_.format);
-    }
+    VkDeviceSize byte_size() const { return VkDeviceSize(desc_.width) * desc_.height * bytes_per_pixel(desc_.format); }
     Access last_access() const { return last_access_; }
     void set_last_access(Access access);
     detail::SyncState& sync_state() { return sync_; }

@@ -13,9 +13,9 @@ namespace gimg::detail {
 VkAccessFlags2 write_bits(VkAccessFlags2 access);
 
 struct SyncState {
-    VkPipelineStageFlags2 write_stages = 0;  // stages of the last write (or layout transition)
-    VkAccessFlags2 write_access = 0;         // its write bits still to be made available
-    VkPipelineStageFlags2 read_stages = 0;   // stages that read since the last write
+    VkPipelineStageFlags2 write_stages = 0;    // stages of the last write (or layout transition)
+    VkAccessFlags2 write_access = 0;           // its write bits still to be made available
+    VkPipelineStageFlags2 read_stages = 0;     // stages that read since the last write
     VkPipelineStageFlags2 visible_stages = 0;  // the last write is visible to these stages...
     VkAccessFlags2 visible_access = 0;         // ...for these access types
     VkImageLayout layout = VK_IMAGE_LAYOUT_UNDEFINED;

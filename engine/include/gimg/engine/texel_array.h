@@ -32,8 +32,9 @@ inline ImageDesc texel_array_desc(std::size_t count, Format format, const std::s
 inline void check_texel_array_size(const Context& ctx, std::size_t count, const std::string& what) {
     const std::size_t rows = (count + kTexelArrayRowWidth - 1) / kTexelArrayRowWidth;
     if (rows > ctx.device_info().max_image_dimension_2d)
-        throw Error(ErrorKind::InvalidArgument, what + ": " + std::to_string(count) + " elements need " + std::to_string(rows) +
-                                                    " image rows of " + std::to_string(kTexelArrayRowWidth) + "; the device has " +
+        throw Error(ErrorKind::InvalidArgument, what + ": " + std::to_string(count) + " elements need " +
+                                                    std::to_string(rows) + " image rows of " +
+                                                    std::to_string(kTexelArrayRowWidth) + "; the device has " +
                                                     std::to_string(ctx.device_info().max_image_dimension_2d));
 }
 
@@ -42,7 +43,8 @@ inline void check_texel_array_size(const Context& ctx, std::size_t count, const 
 template <class T>
 Image upload_texel_array(Context& ctx, std::vector<T> texels, Format format, const std::string& name) {
     if (sizeof(T) != bytes_per_pixel(format))
-        throw Error(ErrorKind::InvalidArgument, name + ": " + std::to_string(sizeof(T)) + "-byte elements in " + to_string(format) + " texels");
+        throw Error(ErrorKind::InvalidArgument,
+                    name + ": " + std::to_string(sizeof(T)) + "-byte elements in " + to_string(format) + " texels");
     check_texel_array_size(ctx, texels.size(), name);
     Image image = ctx.create_image(texel_array_desc(texels.size(), format, name));
     texels.resize(std::size_t(image.width()) * image.height(), T{});

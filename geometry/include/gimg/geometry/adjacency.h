@@ -47,12 +47,10 @@ struct MeshAdjacency {
                 vertex_vertex_offsets[v + 1] - vertex_vertex_offsets[v]};
     }
     std::span<const std::uint32_t> faces_of_vertex(std::size_t v) const {
-        return {vertex_faces.data() + vertex_face_offsets[v],
-                vertex_face_offsets[v + 1] - vertex_face_offsets[v]};
+        return {vertex_faces.data() + vertex_face_offsets[v], vertex_face_offsets[v + 1] - vertex_face_offsets[v]};
     }
     std::span<const std::uint32_t> faces_of_edge(std::size_t e) const {
-        return {edge_faces.data() + edge_face_offsets[e],
-                edge_face_offsets[e + 1] - edge_face_offsets[e]};
+        return {edge_faces.data() + edge_face_offsets[e], edge_face_offsets[e + 1] - edge_face_offsets[e]};
     }
     std::size_t edge_face_count(std::size_t e) const { return edge_face_offsets[e + 1] - edge_face_offsets[e]; }
 

@@ -46,7 +46,9 @@ struct CacheLineAllocator {
     T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlignment)); }
     void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, kAlignment); }
     template <class U>
-    bool operator==(const CacheLineAllocator<U>&) const noexcept { return true; }
+    bool operator==(const CacheLineAllocator<U>&) const noexcept {
+        return true;
+    }
 };
 using BvhNodeArray = std::vector<BvhNode, CacheLineAllocator<BvhNode>>;
 
@@ -58,7 +60,7 @@ struct BvhBuildOptions {
 struct ClosestPointResult {
     double distance = std::numeric_limits<double>::infinity();
     glm::dvec3 point{0.0};
-    std::uint32_t face = kInvalidIndex;   // kInvalidIndex: nothing within the search radius
+    std::uint32_t face = kInvalidIndex;     // kInvalidIndex: nothing within the search radius
     glm::dvec3 barycentric{1.0, 0.0, 0.0};  // weights of the face's corners 0, 1, 2
     bool found() const { return face != kInvalidIndex; }
 };
@@ -80,8 +82,7 @@ public:
     // ignored (result.found() is false when all are). `hint_face`, e.g. the answer for a nearby
     // query point, only speeds the search up: it seeds the search radius and never changes the
     // result.
-    ClosestPointResult closest_point(const glm::dvec3& p,
-                                     double max_distance = std::numeric_limits<double>::infinity(),
+    ClosestPointResult closest_point(const glm::dvec3& p, double max_distance = std::numeric_limits<double>::infinity(),
                                      std::uint32_t hint_face = kInvalidIndex) const;
 
     // Nearest hit with t in [ray.t_min, ray.t_max] (ties: lowest face index), or nullopt.

@@ -16,9 +16,7 @@ struct RgbaImage {
     RgbaImage() = default;
     RgbaImage(std::uint32_t w, std::uint32_t h) : width(w), height(h), pixels(std::size_t(w) * h * 4, 0) {}
     std::uint8_t* at(std::uint32_t x, std::uint32_t y) { return &pixels[(std::size_t(y) * width + x) * 4]; }
-    const std::uint8_t* at(std::uint32_t x, std::uint32_t y) const {
-        return &pixels[(std::size_t(y) * width + x) * 4];
-    }
+    const std::uint8_t* at(std::uint32_t x, std::uint32_t y) const { return &pixels[(std::size_t(y) * width + x) * 4]; }
 };
 
 // Writes atomically (temporary file, then rename). Throws InputError naming the path.
@@ -28,10 +26,10 @@ RgbaImage read_png(const std::filesystem::path& path);
 
 struct ImageDifference {
     bool same_size = false;
-    int max_abs_difference = 0;         // largest |a - b| over all channels of all pixels
-    std::size_t differing_pixels = 0;   // pixels with some channel differing by more than the tolerance
-    double differing_share = 0.0;       // differing_pixels / pixel count
-    RgbaImage diff;                     // black where equal, red scaled by the difference elsewhere
+    int max_abs_difference = 0;        // largest |a - b| over all channels of all pixels
+    std::size_t differing_pixels = 0;  // pixels with some channel differing by more than the tolerance
+    double differing_share = 0.0;      // differing_pixels / pixel count
+    RgbaImage diff;                    // black where equal, red scaled by the difference elsewhere
 };
 
 // Pixels differ when any channel differs by more than `channel_tolerance`.

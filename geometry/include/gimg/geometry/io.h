@@ -38,8 +38,7 @@ struct LoadReport {
 // empty, truncated or garbage file, an unknown extension, NaN/Inf coordinates, faces naming missing
 // vertices, faces of fewer than three vertices, zero faces, or a header whose counts the file
 // cannot hold.
-Mesh load_mesh(const std::filesystem::path& path, const LoadOptions& options = {},
-               LoadReport* report = nullptr);
+Mesh load_mesh(const std::filesystem::path& path, const LoadOptions& options = {}, LoadReport* report = nullptr);
 
 struct SaveOptions {
     bool binary = true;  // PLY only; OBJ is always text

@@ -19,8 +19,7 @@ unsigned default_thread_count();
 // The chunk count is ceil(count / grain). The first exception thrown by a body is rethrown here
 // after all threads have stopped.
 void parallel_for_chunks(std::size_t count, std::size_t grain,
-                         const std::function<void(std::size_t chunk, std::size_t begin,
-                                                  std::size_t end)>& body,
+                         const std::function<void(std::size_t chunk, std::size_t begin, std::size_t end)>& body,
                          unsigned threads = 0);
 
 inline std::size_t chunk_count(std::size_t count, std::size_t grain) {

@@ -43,8 +43,8 @@ struct VertexSplit {
 };
 
 struct ProgressiveMesh {
-    std::size_t vertex_count = 0;           // of the full mesh
-    std::vector<glm::uvec3> triangles;      // the full mesh's triangles, as given
+    std::size_t vertex_count = 0;       // of the full mesh
+    std::vector<glm::uvec3> triangles;  // the full mesh's triangles, as given
     // Vertices of the coarsest mesh (4 whenever the collapses reached a tetrahedron), ascending.
     std::vector<std::uint32_t> coarsest_vertices;
     // splits[i] turns the mesh of coarsest_vertices.size() + i vertices into the next one; all of

@@ -53,8 +53,7 @@ struct SurfaceDistanceOptions {
 };
 
 // One direction: samples of `from` against the surface held by `to`.
-DistanceStats one_sided_distance(const Mesh& from, const TriangleBvh& to,
-                                 const SurfaceDistanceOptions& options = {});
+DistanceStats one_sided_distance(const Mesh& from, const TriangleBvh& to, const SurfaceDistanceOptions& options = {});
 
 // Both directions and the symmetric figures. Throws InputError when either mesh has no face of
 // positive area (there is no surface to sample or to measure against).

@@ -38,8 +38,8 @@ std::vector<std::uint32_t> face_sample_counts(const std::vector<double>& face_ar
                                               std::uint64_t seed);
 
 // Sample i (0-based) of face `face`, a triangle with corners a, b, c.
-glm::dvec3 triangle_sample(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
-                           std::uint32_t face, std::uint32_t i, std::uint64_t seed);
+glm::dvec3 triangle_sample(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c, std::uint32_t face,
+                           std::uint32_t i, std::uint64_t seed);
 
 // All samples of the mesh, face by face (for tests and small meshes; the surface-distance code
 // generates them on the fly instead of storing them).

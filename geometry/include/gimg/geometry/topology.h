@@ -66,11 +66,11 @@ struct MeshInfo {
     std::size_t duplicate_faces = 0;
     std::size_t nonfinite_vertices = 0;  // vertices with a NaN or infinite coordinate
     std::size_t inconsistent_edges = 0;  // manifold edges whose two faces disagree on orientation
-    bool closed = true;      // no boundary edge
-    bool manifold = true;    // every component manifold
-    bool orientable = true;  // every component orientable
-    bool oriented = true;    // every component oriented
-    Bounds bbox;             // of the finite vertex positions
+    bool closed = true;                  // no boundary edge
+    bool manifold = true;                // every component manifold
+    bool orientable = true;              // every component orientable
+    bool oriented = true;                // every component oriented
+    Bounds bbox;                         // of the finite vertex positions
 };
 
 // Throws InputError when a triangle names a vertex that does not exist.

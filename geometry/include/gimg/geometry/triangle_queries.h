@@ -18,8 +18,8 @@ struct TrianglePoint {
 // Closest point of triangle (a, b, c) to p, by Voronoi regions of the corners, edges and face
 // (Ericson, Real-Time Collision Detection 5.1.5). Degenerate triangles (collinear or coincident
 // corners) fall back to the closest of the three edges, so the result is always finite.
-TrianglePoint closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a,
-                                        const glm::dvec3& b, const glm::dvec3& c);
+TrianglePoint closest_point_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b,
+                                        const glm::dvec3& c);
 
 struct Ray {
     glm::dvec3 origin{0.0};
@@ -39,7 +39,7 @@ struct TriangleHit {
 // Moeller-Trumbore, both faces hit unless ray.front_faces_only, edges and corners included (closed test on the
 // barycentrics), t in the closed range [ray.t_min, ray.t_max]. A ray in the triangle's plane
 // (determinant exactly 0) never hits. Returns false on a miss.
-bool intersect_ray_triangle(const Ray& ray, const glm::dvec3& a, const glm::dvec3& b,
-                            const glm::dvec3& c, TriangleHit& hit);
+bool intersect_ray_triangle(const Ray& ray, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c,
+                            TriangleHit& hit);
 
 }  // namespace gimg::geo

@@ -31,7 +31,7 @@ namespace gimg::passes {
 
 struct CylinderImage {
     std::uint32_t width = 0, height = 0;
-    std::vector<float> distance;     // row-major from the top row; meaningful where covered
+    std::vector<float> distance;        // row-major from the top row; meaningful where covered
     std::vector<std::uint8_t> covered;  // 1 where a surface was hit
     CylinderImage() = default;
     CylinderImage(std::uint32_t w, std::uint32_t h)
@@ -41,7 +41,7 @@ struct CylinderImage {
 
 // Triangles in (or, with a transform, mapped into) the cylinder frame.
 struct CylinderMesh {
-    std::vector<float> positions;       // x, y, z per vertex
+    std::vector<float> positions;          // x, y, z per vertex
     std::vector<std::uint32_t> triangles;  // three vertex indices per face
     std::size_t face_count() const { return triangles.size() / 3; }
 };
@@ -164,7 +164,8 @@ struct CylinderImagesHandle {
 // passes into a caller's graph.
 class CylinderZBuffer {
 public:
-    CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height, const CylinderZBufferOptions& options = {});
+    CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_t height,
+                    const CylinderZBufferOptions& options = {});
     ~CylinderZBuffer();
     CylinderZBuffer(const CylinderZBuffer&) = delete;
     CylinderZBuffer& operator=(const CylinderZBuffer&) = delete;

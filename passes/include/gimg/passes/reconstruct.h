@@ -60,13 +60,13 @@ PositionImage lod_reduce(const PositionImage& image, std::uint32_t times);
 struct ReconstructStats {
     std::uint32_t width = 0, height = 0;  // after the level-of-detail reduction
     float threshold = std::numeric_limits<float>::infinity();
-    std::size_t holes = 0;     // blocks of four valid pixels left open by the threshold
-    double gpu_ms = 0.0;       // GPU path only
+    std::size_t holes = 0;  // blocks of four valid pixels left open by the threshold
+    double gpu_ms = 0.0;    // GPU path only
 };
 
 // CPU references.
-geo::Mesh reconstruct_cpu(const CylinderImage& image, const CylinderFrame& frame, const ReconstructOptions& options = {},
-                          ReconstructStats* stats = nullptr);
+geo::Mesh reconstruct_cpu(const CylinderImage& image, const CylinderFrame& frame,
+                          const ReconstructOptions& options = {}, ReconstructStats* stats = nullptr);
 geo::Mesh reconstruct_cpu(const PositionImage& image, const ReconstructOptions& options = {},
                           ReconstructStats* stats = nullptr);
 
@@ -79,10 +79,10 @@ geo::Mesh reconstruct_gpu(Context& ctx, const PositionImage& image, const Recons
 // What add_reconstruct leaves in a graph, as transients (export_reconstruction keeps them for
 // read_reconstruction, or bind them in later passes: they are ready for compute reads).
 struct ReconstructHandles {
-    BufferHandle vertices;      // 3 float32 a vertex (model coordinates); the first vertex count are used
-    BufferHandle triangles;     // 3 uint32 a triangle; the first triangle count are used
-    BufferHandle vertex_index;  // per pixel, vertices up to it: the last element is the vertex count
-    BufferHandle triangle_end;  // per block, triangles up to it: the last element is the triangle count
+    BufferHandle vertices;                // 3 float32 a vertex (model coordinates); the first vertex count are used
+    BufferHandle triangles;               // 3 uint32 a triangle; the first triangle count are used
+    BufferHandle vertex_index;            // per pixel, vertices up to it: the last element is the vertex count
+    BufferHandle triangle_end;            // per block, triangles up to it: the last element is the triangle count
     std::uint32_t width = 0, height = 0;  // after the level-of-detail reduction
     std::uint64_t pixels = 0, blocks = 0;
     float threshold = 0.0f;

@@ -21,7 +21,7 @@ namespace gimg::passes {
 enum class MeshColor { Plain, Normal, Checker, Scalar, Diverging };
 
 struct View {
-    double azimuth_deg = 35.0;   // around the vertical (+y) axis, 0 = looking along -z
+    double azimuth_deg = 35.0;    // around the vertical (+y) axis, 0 = looking along -z
     double elevation_deg = 20.0;  // above the horizontal plane
     double fov_deg = 30.0;        // vertical field of view
 };
@@ -48,8 +48,8 @@ struct RenderOptions {
     std::vector<float> scalars;  // one per vertex, for Scalar and Diverging
     // Colour range for scalars; default: 2nd..98th percentile (Diverging: symmetric about 0).
     std::optional<std::pair<float, float>> scalar_range;
-    double checker_cells = 12.0;   // checker squares across the texture square or the bounding box
-    bool smooth = true;            // interpolated vertex normals; false: one normal per face
+    double checker_cells = 12.0;    // checker squares across the texture square or the bounding box
+    bool smooth = true;             // interpolated vertex normals; false: one normal per face
     std::uint32_t supersample = 3;  // samples per pixel along each axis
     std::array<float, 3> background{1.0f, 1.0f, 1.0f};
 };

@@ -62,19 +62,19 @@ geo::Mesh spherical_texture_mesh(const geo::Mesh& mesh, const std::vector<glm::d
 
 // One level or phase of a run: what it did and how long it took.
 struct SphereStage {
-    std::string name;           // e.g. "tutte", "conformal", "level 3 (1234 vertices)"
-    std::size_t vertices = 0;   // active vertices
+    std::string name;          // e.g. "tutte", "conformal", "level 3 (1234 vertices)"
+    std::size_t vertices = 0;  // active vertices
     std::size_t iterations = 0;
     double seconds = 0.0;
-    double energy = 0.0;        // at the end of the stage (the stage's own energy)
+    double energy = 0.0;  // at the end of the stage (the stage's own energy)
 };
 
 struct SphereResult {
     std::vector<glm::dvec3> positions;  // one unit vector per mesh vertex
     std::vector<SphereStage> stages;
-    bool converged = true;     // false: stopped at an iteration limit, diverged or left a doubt (see note)
-    double gpu_ms = 0.0;       // sum of pass timestamps (harmonic method with HarmonicSphereOptions::timestamps)
-    std::string note;          // why it did not converge, or anything else worth knowing
+    bool converged = true;  // false: stopped at an iteration limit, diverged or left a doubt (see note)
+    double gpu_ms = 0.0;    // sum of pass timestamps (harmonic method with HarmonicSphereOptions::timestamps)
+    std::string note;       // why it did not converge, or anything else worth knowing
 };
 
 // Called now and then by long runs (for a terminal progress line).
@@ -84,9 +84,9 @@ using SphereProgress = std::function<void(const std::string& stage, std::size_t 
 struct GuOptions {
     // The paper leaves c_t and c_c to the user; 0.05 is stable on an icosphere (0.5 diverges
     // within a few iterations on the unnormalised Laplacian).
-    double tutte_step = 0.05;      // c_t
-    double conformal_step = 0.05;  // c_c
-    double tolerance = 1e-5;       // stop a phase when |E - E0| < tolerance
+    double tutte_step = 0.05;             // c_t
+    double conformal_step = 0.05;         // c_c
+    double tolerance = 1e-5;              // stop a phase when |E - E0| < tolerance
     std::size_t max_iterations = 200000;  // per phase
     SphereProgress progress;
 };
