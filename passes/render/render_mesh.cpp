@@ -73,45 +73,25 @@ Buffer upload(Context& ctx, const void* data, std::size_t bytes, const char* nam
 
 }  // namespace
 
-geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOptions& o,
-                           const std::optional<Camera>& camera_override) {
-    if (mesh.face_count() == 0) throw geo::InputError("nothing to render: the mesh has no faces");
+ImageHandle add_render_mesh(Graph& graph, const RenderMeshBuffers& mesh, const RenderOptions& o, const Camera& camera,
+                            const std::string& name) {
+    if (mesh.face_count == 0) throw geo::InputError("nothing to render: the mesh has no faces");
     if (o.width == 0 || o.height == 0) throw geo::InputError("render size must be at least 1x1");
-    const bool scalar_mode = o.color == MeshColor::Scalar || o.color == MeshColor::Diverging;
-    if (scalar_mode && o.scalars.size() != mesh.vertex_count())
-        throw geo::InputError("colour by scalar needs one value per vertex: got " + std::to_string(o.scalars.size()) +
-                              " for " + std::to_string(mesh.vertex_count()) + " vertices");
-    const std::uint32_t limit = std::max(ctx.device_info().max_image_dimension_2d, 1u);
+    const std::uint32_t limit =
+        graph.device_info() ? std::max(graph.device_info()->max_image_dimension_2d, 1u) : 16384u;
     if (o.width > limit || o.height > limit)
         throw geo::InputError("render size " + std::to_string(o.width) + "x" + std::to_string(o.height) +
                               " exceeds the device's limit of " + std::to_string(limit));
     const std::uint32_t ss = std::clamp(std::min(o.supersample, limit / std::max(o.width, o.height)), 1u, 8u);
-
-    std::vector<float> positions(3 * mesh.vertex_count());
-    for (std::size_t i = 0; i < mesh.vertex_count(); ++i)
-        for (int k = 0; k < 3; ++k) positions[3 * i + k] = float(mesh.positions[i][k]);
-    std::vector<float> normals = o.smooth ? float_vertex_normals(mesh) : std::vector<float>{};
-    std::vector<float> texcoords;
-    if (mesh.has_texcoords())
-        for (const auto& t : mesh.texcoords) texcoords.push_back(float(t.x)), texcoords.push_back(float(t.y));
-
-    Buffer pos_buf = upload(ctx, positions.data(), positions.size() * 4, "positions");
-    Buffer tri_buf = upload(ctx, mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3), "triangles");
-    Buffer nrm_buf = upload(ctx, normals.data(), normals.size() * 4, "normals");
-    Buffer sca_buf = upload(ctx, o.scalars.data(), scalar_mode ? o.scalars.size() * 4 : 0, "scalars");
-    Buffer tex_buf = upload(ctx, texcoords.data(), texcoords.size() * 4, "texcoords");
-
-    const geo::Bounds bounds = mesh.bounds();
+    const bool scalar_mode = o.color == MeshColor::Scalar || o.color == MeshColor::Diverging;
     const double aspect = double(o.width) / double(o.height);
-    const Camera camera = camera_override ? *camera_override : fit_camera(mesh.positions, o.view, aspect);
     DrawPush push{};
     push.view_projection = camera.view_projection(aspect);
     push.eye = glm::vec4(glm::vec3(camera.eye), 1.0f);
-    const auto range = o.scalar_range ? *o.scalar_range
-                       : scalar_mode  ? default_range(o.scalars, o.color == MeshColor::Diverging)
-                                      : std::pair<float, float>{0.0f, 1.0f};
-    const double cells = mesh.has_texcoords() ? o.checker_cells : o.checker_cells / std::max(bounds.diagonal(), 1e-12);
-    push.scalar_range = {range.first, range.second, float(cells), 1.1f * float(ss)};
+    const auto range = o.scalar_range ? *o.scalar_range : std::pair<float, float>{0.0f, 1.0f};
+    if (scalar_mode && !(range.second > range.first))
+        throw geo::InputError("colour by scalar needs a range whose maximum is above its minimum");
+    push.scalar_range = {range.first, range.second, float(mesh.checker_scale), 1.1f * float(ss)};
     switch (o.color) {
         case MeshColor::Plain:
             push.color_mode = GIMG_COLOR_PLAIN;
@@ -129,18 +109,17 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
             push.color_mode = GIMG_COLOR_DIVERGING;
             break;
     }
-    push.flags = (o.wireframe ? GIMG_RENDER_WIREFRAME : 0u) | (mesh.has_texcoords() ? GIMG_RENDER_HAS_TEXCOORDS : 0u) |
+    push.flags = (o.wireframe ? GIMG_RENDER_WIREFRAME : 0u) | (mesh.has_texcoords ? GIMG_RENDER_HAS_TEXCOORDS : 0u) |
                  (o.smooth ? GIMG_RENDER_SMOOTH : 0u);
 
-    Graph g(ctx);
-    auto pos = g.import_buffer(pos_buf), tri = g.import_buffer(tri_buf), nrm = g.import_buffer(nrm_buf);
-    auto sca = g.import_buffer(sca_buf), tex = g.import_buffer(tex_buf);
-    auto samples = g.create_image({o.width * ss, o.height * ss, Format::RGBA8, "samples"});
-    auto depth = g.create_image({o.width * ss, o.height * ss, Format::D32F, "depth"});
-    auto picture = g.create_image({o.width, o.height, Format::RGBA8, "picture"});
-    const std::uint32_t vertex_count = std::uint32_t(3 * mesh.face_count());
-    g.add_raster_pass(
-        "draw mesh",
+    const BufferHandle pos = mesh.positions, tri = mesh.triangles, nrm = mesh.normals, sca = mesh.scalars,
+                       tex = mesh.texcoords;
+    auto samples = graph.create_image({o.width * ss, o.height * ss, Format::RGBA8, name + " samples"});
+    auto depth = graph.create_image({o.width * ss, o.height * ss, Format::D32F, name + " depth"});
+    auto picture = graph.create_image({o.width, o.height, Format::RGBA8, name + " picture"});
+    const std::uint32_t vertex_count = 3 * mesh.face_count;
+    graph.add_raster_pass(
+        name + ": draw",
         [&](PassBuilder& b) {
             for (auto h : {pos, tri, nrm, sca, tex}) b.read(h, Access::VertexRead);
             samples = b.color(samples, ClearValue::color(0, 0, 0, 0));
@@ -149,16 +128,58 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
         [=](Cmd& c) {
             c.draw(kMeshProgram, vertex_count, 1, {pos, tri, nrm, sca, tex}, push);
         });
-    DownsamplePush dpush{{o.width, o.height}, ss, 0, {o.background[0], o.background[1], o.background[2], 1.0f}};
-    g.add_compute_pass(
-        "downsample",
+    const DownsamplePush dpush{{o.width, o.height}, ss, 0, {o.background[0], o.background[1], o.background[2], 1.0f}};
+    const std::uint32_t width = o.width, height = o.height;
+    graph.add_compute_pass(
+        name + ": downsample",
         [&](PassBuilder& b) {
             b.read(samples, Access::ComputeRead);
             picture = b.write(picture, Access::ComputeWrite);
         },
         [=](Cmd& c) {
-            c.dispatch_threads(kDownsample, {o.width, o.height}, {samples, picture}, dpush);
+            c.dispatch_threads(kDownsample, {width, height}, {samples, picture}, dpush);
         });
+    return picture;
+}
+
+geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOptions& options,
+                           const std::optional<Camera>& camera_override) {
+    if (mesh.face_count() == 0) throw geo::InputError("nothing to render: the mesh has no faces");
+    const bool scalar_mode = options.color == MeshColor::Scalar || options.color == MeshColor::Diverging;
+    if (scalar_mode && options.scalars.size() != mesh.vertex_count())
+        throw geo::InputError("colour by scalar needs one value per vertex: got " +
+                              std::to_string(options.scalars.size()) + " for " + std::to_string(mesh.vertex_count()) +
+                              " vertices");
+
+    std::vector<float> positions(3 * mesh.vertex_count());
+    for (std::size_t i = 0; i < mesh.vertex_count(); ++i)
+        for (int k = 0; k < 3; ++k) positions[3 * i + k] = float(mesh.positions[i][k]);
+    std::vector<float> normals = options.smooth ? float_vertex_normals(mesh) : std::vector<float>{};
+    std::vector<float> texcoords;
+    if (mesh.has_texcoords())
+        for (const auto& t : mesh.texcoords) texcoords.push_back(float(t.x)), texcoords.push_back(float(t.y));
+
+    Buffer pos_buf = upload(ctx, positions.data(), positions.size() * 4, "positions");
+    Buffer tri_buf = upload(ctx, mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3), "triangles");
+    Buffer nrm_buf = upload(ctx, normals.data(), normals.size() * 4, "normals");
+    Buffer sca_buf = upload(ctx, options.scalars.data(), scalar_mode ? options.scalars.size() * 4 : 0, "scalars");
+    Buffer tex_buf = upload(ctx, texcoords.data(), texcoords.size() * 4, "texcoords");
+
+    RenderOptions o = options;
+    if (scalar_mode && !o.scalar_range) o.scalar_range = default_range(o.scalars, o.color == MeshColor::Diverging);
+    const double aspect = double(o.width) / double(std::max(o.height, 1u));
+    const Camera camera = camera_override ? *camera_override : fit_camera(mesh.positions, o.view, aspect);
+    Graph g(ctx);
+    const RenderMeshBuffers buffers{
+        g.import_buffer(pos_buf),
+        g.import_buffer(tri_buf),
+        g.import_buffer(nrm_buf),
+        g.import_buffer(sca_buf),
+        g.import_buffer(tex_buf),
+        std::uint32_t(mesh.face_count()),
+        mesh.has_texcoords(),
+        mesh.has_texcoords() ? o.checker_cells : o.checker_cells / std::max(mesh.bounds().diagonal(), 1e-12)};
+    const ImageHandle picture = add_render_mesh(g, buffers, o, camera);
     g.export_image(picture, Access::TransferSrc);
     Plan plan = g.compile();
     plan.execute();

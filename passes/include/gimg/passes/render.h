@@ -5,6 +5,7 @@
 // it down. Meshes are drawn as float32.
 
 #include "gimg/engine/context.h"
+#include "gimg/engine/graph.h"
 #include "gimg/geometry/image.h"
 #include "gimg/geometry/mesh.h"
 
@@ -13,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -58,6 +60,23 @@ struct RenderOptions {
 // background). Throws gimg::geo::InputError for an empty mesh or mismatched scalars.
 geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOptions& options,
                            const std::optional<Camera>& camera = std::nullopt);
+
+// A mesh already on the GPU, as add_render_mesh reads it (storage buffers, vertex stage): positions
+// 3 float32 a vertex, triangles 3 uint32 a face, normals 3 float32 a vertex (read with
+// options.smooth), scalars 1 float32 a vertex (read for Scalar and Diverging), texcoords 2 float32
+// a vertex (read when has_texcoords). Buffers a mode does not read may be any buffer of 16 bytes.
+struct RenderMeshBuffers {
+    BufferHandle positions, triangles, normals, scalars, texcoords;
+    std::uint32_t face_count = 0;
+    bool has_texcoords = false;
+    double checker_scale = 12.0;  // checker squares per unit of texture or model space
+};
+
+// The renderer recorded into a caller's graph as passes named "<name>: ...": returns the
+// options.width x options.height RGBA8 picture (alpha: the covered fraction, colour blended over the
+// background). options.scalars is not read: the scalar range is options.scalar_range, else [0, 1].
+ImageHandle add_render_mesh(Graph& graph, const RenderMeshBuffers& mesh, const RenderOptions& options,
+                            const Camera& camera, const std::string& name = "render");
 
 // Two meshes side by side, seen by the same camera (fitted to both), each options.width wide.
 geo::RgbaImage render_side_by_side(Context& ctx, const geo::Mesh& left, const geo::Mesh& right,
