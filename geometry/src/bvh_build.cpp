@@ -83,12 +83,16 @@ struct Split {
 
 class BvhBuilder {
 public:
-    BvhBuilder(std::vector<PrimRef>& prims, const BvhBuildOptions& options, unsigned threads)
-        : prims_(prims), options_(options), threads_(threads) {}
+    BvhBuilder(std::vector<PrimRef>& prims, const Mesh& mesh, std::vector<std::uint32_t>& copy_of,
+               const BvhBuildOptions& options, unsigned threads)
+        : prims_(prims), mesh_(mesh), copy_of_(copy_of), options_(options), threads_(threads) {}
 
-    void build_node(std::uint32_t index, const Range& range, BvhNodeArray& nodes, int depth) {
+    void build_node(std::uint32_t index, Range range, BvhNodeArray& nodes, int depth) {
         nodes[index].bounds_min = round_down(range.bounds.lo);
         nodes[index].bounds_max = round_up(range.bounds.hi);
+        const glm::dvec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
+        if (range.size() > options_.max_leaf_size && !(extent.x > 0.0 || extent.y > 0.0 || extent.z > 0.0))
+            range.end = drop_copies(range);
         const std::size_t n = range.size();
         Range left, right;
         if (!split(range, depth, left, right)) {
@@ -133,6 +137,48 @@ public:
     }
 
 private:
+    // Faces with the same centroid: copies of one triangle (its three corners at the same points, in
+    // any order) keep only the lowest face index, which is the one every query reports at a tie,
+    // so queries never test thousands of copies. Returns the new end of the range; the copies sit
+    // after it, in slots no node names, and copy_of_ maps each to its kept face.
+    std::size_t drop_copies(const Range& range) {
+        using Key = std::array<glm::dvec3, 3>;
+        auto key_of = [&](const PrimRef& p) {
+            const glm::uvec3& t = mesh_.triangles[p.face];
+            Key k{mesh_.positions[t.x], mesh_.positions[t.y], mesh_.positions[t.z]};
+            std::sort(k.begin(), k.end(), [](const glm::dvec3& a, const glm::dvec3& b) {
+                return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
+            });
+            return k;
+        };
+        auto less = [](const Key& a, const Key& b) {
+            for (int i = 0; i < 3; ++i)
+                for (int c = 0; c < 3; ++c)
+                    if (a[i][c] != b[i][c]) return a[i][c] < b[i][c];
+            return false;
+        };
+        std::vector<std::pair<Key, PrimRef>> items;
+        items.reserve(range.size());
+        for (std::size_t i = range.begin; i < range.end; ++i) items.push_back({key_of(prims_[i]), prims_[i]});
+        std::sort(items.begin(), items.end(), [&](const auto& a, const auto& b) {
+            return less(a.first, b.first) || (!less(b.first, a.first) && a.second.face < b.second.face);
+        });
+        std::size_t kept = range.begin, copies = range.end;
+        std::vector<PrimRef> dropped;
+        for (std::size_t i = 0; i < items.size(); ++i) {
+            if (i > 0 && !less(items[i - 1].first, items[i].first)) {
+                copy_of_[items[i].second.face] = copy_of_[items[i - 1].second.face];
+                dropped.push_back(items[i].second);
+            } else {
+                copy_of_[items[i].second.face] = items[i].second.face;
+                prims_[kept++] = items[i].second;
+            }
+        }
+        copies -= dropped.size();
+        std::copy(dropped.begin(), dropped.end(), prims_.begin() + std::ptrdiff_t(copies));
+        return kept;
+    }
+
     static int bin_of(double c, double lo, double scale) {
         return std::min(kBins - 1, static_cast<int>((c - lo) * scale));
     }
@@ -231,6 +277,8 @@ private:
     }
 
     std::vector<PrimRef>& prims_;
+    const Mesh& mesh_;
+    std::vector<std::uint32_t>& copy_of_;
     const BvhBuildOptions& options_;
     unsigned threads_;
 };
@@ -270,7 +318,9 @@ TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
 
     nodes_.reserve(2 * fcount / options.max_leaf_size + 1);
     nodes_.resize(2);  // root and padding
-    BvhBuilder builder(prims, options, threads);
+    // copy_of[f]: the face f's triangle is answered by (itself unless it is a dropped copy).
+    std::vector<std::uint32_t> copy_of(fcount, std::numeric_limits<std::uint32_t>::max());
+    BvhBuilder builder(prims, mesh, copy_of, options, threads);
     builder.build_node(0, root, nodes_, 0);
     nodes_.shrink_to_fit();
 
@@ -289,6 +339,11 @@ TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
             }
         },
         threads);
+    for (std::size_t f = 0; f < fcount; ++f)
+        if (copy_of[f] != std::numeric_limits<std::uint32_t>::max() && copy_of[f] != f) {
+            copy_slots_[copy_of[f]].push_back(slot_of_face_[f]);
+            slot_of_face_[f] = slot_of_face_[copy_of[f]];
+        }
 }
 
 }  // namespace gimg::geo

@@ -187,10 +187,18 @@ bool TriangleBvh::intersect_any(const Ray& ray) const {
 
 std::vector<RayHit> TriangleBvh::intersect_all(const Ray& ray) const {
     std::vector<RayHit> hits;
-    for_each_hit(nodes_, ray, [&](std::uint32_t s) {
+    auto test = [&](std::uint32_t s) {
         const Triangle& t = triangles_[s];
         TriangleHit h;
-        if (intersect_ray_triangle(ray, t.a, t.b, t.c, h)) hits.push_back({h.t, face_order_[s], h.barycentric});
+        if (!intersect_ray_triangle(ray, t.a, t.b, t.c, h)) return false;
+        hits.push_back({h.t, face_order_[s], h.barycentric});
+        return true;
+    };
+    for_each_hit(nodes_, ray, [&](std::uint32_t s) {
+        test(s);
+        if (!copy_slots_.empty())
+            if (const auto c = copy_slots_.find(face_order_[s]); c != copy_slots_.end())
+                for (std::uint32_t copy : c->second) test(copy);
         return true;
     });
     std::sort(hits.begin(), hits.end(),

@@ -71,6 +71,33 @@ Buffer upload(Context& ctx, const void* data, std::size_t bytes, const char* nam
     return b;
 }
 
+// The faces with every repeat of a face (the same three vertices, in any order) after its first left
+// out: the depth test hides a repeat anyway, and a CPU rasteriser would fill it again.
+std::vector<glm::uvec3> without_copies(const std::vector<glm::uvec3>& triangles) {
+    std::vector<std::pair<glm::uvec3, std::uint32_t>> keyed(triangles.size());
+    for (std::size_t f = 0; f < triangles.size(); ++f) {
+        glm::uvec3 k = triangles[f];
+        if (k.x > k.y) std::swap(k.x, k.y);
+        if (k.y > k.z) std::swap(k.y, k.z);
+        if (k.x > k.y) std::swap(k.x, k.y);
+        keyed[f] = {k, std::uint32_t(f)};
+    }
+    auto key_less = [](const glm::uvec3& a, const glm::uvec3& b) {
+        return a.x != b.x ? a.x < b.x : a.y != b.y ? a.y < b.y : a.z < b.z;
+    };
+    std::sort(keyed.begin(), keyed.end(), [&](const auto& a, const auto& b) {
+        return key_less(a.first, b.first) || (a.first == b.first && a.second < b.second);
+    });
+    std::vector<std::uint8_t> repeat(triangles.size(), 0);
+    for (std::size_t i = 1; i < keyed.size(); ++i)
+        if (keyed[i].first == keyed[i - 1].first) repeat[keyed[i].second] = 1;
+    std::vector<glm::uvec3> out;
+    out.reserve(triangles.size());
+    for (std::size_t f = 0; f < triangles.size(); ++f)
+        if (!repeat[f]) out.push_back(triangles[f]);
+    return out;
+}
+
 }  // namespace
 
 ImageHandle add_render_mesh(Graph& graph, const RenderMeshBuffers& mesh, const RenderOptions& o, const Camera& camera,
@@ -160,7 +187,8 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
         for (const auto& t : mesh.texcoords) texcoords.push_back(float(t.x)), texcoords.push_back(float(t.y));
 
     Buffer pos_buf = upload(ctx, positions.data(), positions.size() * 4, "positions");
-    Buffer tri_buf = upload(ctx, mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3), "triangles");
+    const std::vector<glm::uvec3> faces = without_copies(mesh.triangles);
+    Buffer tri_buf = upload(ctx, faces.data(), faces.size() * sizeof(glm::uvec3), "triangles");
     Buffer nrm_buf = upload(ctx, normals.data(), normals.size() * 4, "normals");
     Buffer sca_buf = upload(ctx, options.scalars.data(), scalar_mode ? options.scalars.size() * 4 : 0, "scalars");
     Buffer tex_buf = upload(ctx, texcoords.data(), texcoords.size() * 4, "texcoords");
@@ -176,7 +204,7 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
         g.import_buffer(nrm_buf),
         g.import_buffer(sca_buf),
         g.import_buffer(tex_buf),
-        std::uint32_t(mesh.face_count()),
+        std::uint32_t(faces.size()),
         mesh.has_texcoords(),
         mesh.has_texcoords() ? o.checker_cells : o.checker_cells / std::max(mesh.bounds().diagonal(), 1e-12)};
     const ImageHandle picture = add_render_mesh(g, buffers, o, camera);

@@ -266,3 +266,46 @@ TEST(ParallelFor, EveryChunkOnceAndErrorsPropagate) {
                      2),
                  std::runtime_error);
 }
+
+TEST(Bvh, CopiesOfATriangleAnswerAsTheLowestFaceAndIntersectAllReportsEach) {
+    // awkward_mesh plus 3000 copies of its face 7 (corners in rotated order) and 3000 of face 11:
+    // queries must answer as the brute force does (ties to the lowest face index), and the copies
+    // stay out of the tree.
+    Mesh m = awkward_mesh();
+    const std::size_t original = m.face_count();
+    for (int k = 0; k < 3000; ++k) {
+        const glm::uvec3 a = m.triangles[7], b = m.triangles[11];
+        m.triangles.push_back(k % 2 ? glm::uvec3(a.y, a.z, a.x) : a);
+        m.triangles.push_back(k % 3 ? glm::uvec3(b.z, b.x, b.y) : b);
+    }
+    const TriangleBvh bvh(m);
+    EXPECT_EQ(bvh.face_count(), m.face_count());
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-2.5, 2.5);
+    for (int i = 0; i < 300; ++i) {
+        glm::dvec3 p(u(rng), u(rng), u(rng));
+        if (i % 2 == 0) p = (m.positions[m.triangles[7].x] + m.positions[m.triangles[7].y]) * 0.5;
+        const ClosestPointResult expected = brute_force_closest(m, p);
+        const ClosestPointResult got = bvh.closest_point(p, std::numeric_limits<double>::infinity(),
+                                                         std::uint32_t(original + i));  // a copy as the hint
+        EXPECT_EQ(got.face, expected.face) << "query " << i;
+        EXPECT_EQ(got.distance, expected.distance);
+    }
+    // A ray through face 7's centroid crosses face 7 and its 3000 copies at one t.
+    const glm::uvec3 t7 = m.triangles[7];
+    const glm::dvec3 c = (m.positions[t7.x] + m.positions[t7.y] + m.positions[t7.z]) / 3.0;
+    const glm::dvec3 n =
+        glm::normalize(glm::cross(m.positions[t7.y] - m.positions[t7.x], m.positions[t7.z] - m.positions[t7.x]));
+    const Ray ray{c + 5.0 * n, -n};
+    const std::vector<RayHit> expected = brute_force_hits(m, ray);
+    const std::vector<RayHit> all = bvh.intersect_all(ray);
+    ASSERT_EQ(all.size(), expected.size());
+    EXPECT_GE(all.size(), 3001u);
+    const auto nearest = bvh.intersect_nearest(ray);
+    ASSERT_TRUE(nearest.has_value());
+    std::vector<RayHit> sorted = expected;
+    std::sort(sorted.begin(), sorted.end(),
+              [](const RayHit& a, const RayHit& b) { return a.t != b.t ? a.t < b.t : a.face < b.face; });
+    EXPECT_EQ(nearest->face, sorted[0].face);
+    for (std::size_t k = 0; k < all.size(); ++k) EXPECT_EQ(all[k].face, sorted[k].face);
+}

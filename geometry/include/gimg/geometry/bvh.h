@@ -15,6 +15,7 @@
 #include <limits>
 #include <new>
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 namespace gimg::geo {
@@ -107,6 +108,9 @@ private:
     std::vector<std::uint32_t> face_order_;
     std::vector<std::uint32_t> slot_of_face_;  // original face index -> BVH order
     std::vector<Triangle> triangles_;          // corner positions in BVH order
+    // Copies of a triangle (the same three corners) are left out of the tree; a kept face's
+    // copies, by slot, for intersect_all, which reports every face.
+    std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> copy_slots_;
 };
 
 }  // namespace gimg::geo
