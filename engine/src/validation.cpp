@@ -96,7 +96,12 @@ void create_instance(Device& d, const ContextOptions& options) {
     info.ppEnabledLayerNames = layers.data();
     info.enabledExtensionCount = std::uint32_t(extensions.size());
     info.ppEnabledExtensionNames = extensions.data();
-    GIMG_VK_CHECK(d.global.vkCreateInstance(&info, nullptr, &d.instance));
+    const VkResult created = d.global.vkCreateInstance(&info, nullptr, &d.instance);
+    if (created == VK_ERROR_INCOMPATIBLE_DRIVER)  // the loader found no driver at all
+        throw Error(ErrorKind::Unsupported,
+                    "no Vulkan driver found: install mesa-vulkan-drivers (or your GPU's driver), or check "
+                    "VK_DRIVER_FILES");
+    GIMG_VK_CHECK(created);
     d.owns_instance = true;
     d.ifn = load_instance_functions(d.global, d.instance);
     d.validation = validation;

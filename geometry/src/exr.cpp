@@ -8,10 +8,36 @@
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
 
-#include <system_error>
-#include <unistd.h>
+#include "gimg/geometry/atomic_file.h"
+
+#include <ImfIO.h>
+
+#include <cstdint>
+#include <cstring>
+#include <string>
 
 namespace gimg::geo {
+
+namespace {
+
+// The encoded file in memory, so that it goes to disk by the output policy (atomic_file.h).
+class MemoryStream : public Imf::OStream {
+public:
+    explicit MemoryStream(const std::string& name) : Imf::OStream(name.c_str()) {}
+    void write(const char c[], int n) override {
+        if (at_ + std::size_t(n) > bytes.size()) bytes.resize(at_ + std::size_t(n));
+        std::memcpy(bytes.data() + at_, c, std::size_t(n));
+        at_ += std::size_t(n);
+    }
+    std::uint64_t tellp() override { return at_; }
+    void seekp(std::uint64_t pos) override { at_ = std::size_t(pos); }
+    std::string bytes;
+
+private:
+    std::size_t at_ = 0;
+};
+
+}  // namespace
 
 void write_exr(const FloatImage& image, const std::filesystem::path& path) {
     if (image.width == 0 || image.height == 0 || image.channels.empty())
@@ -20,8 +46,7 @@ void write_exr(const FloatImage& image, const std::filesystem::path& path) {
     for (const auto& [name, data] : image.channels)
         if (data.size() != pixels)
             throw InputError("cannot write " + path.string() + ": channel " + name + " has the wrong size");
-    std::filesystem::path tmp = path;
-    tmp += ".tmp" + std::to_string(::getpid());
+    MemoryStream encoded(path.string());
     try {
         Imf::Header header(int(image.width), int(image.height));
         header.compression() = Imf::ZIP_COMPRESSION;
@@ -31,20 +56,13 @@ void write_exr(const FloatImage& image, const std::filesystem::path& path) {
             frame.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(const_cast<float*>(data.data())),
                                           sizeof(float), sizeof(float) * image.width));
         }
-        Imf::OutputFile file(tmp.c_str(), header);
+        Imf::OutputFile file(encoded, header);
         file.setFrameBuffer(frame);
         file.writePixels(int(image.height));
     } catch (const std::exception& e) {
-        std::error_code ec;
-        std::filesystem::remove(tmp, ec);
         throw InputError("cannot write " + path.string() + ": " + e.what());
     }
-    std::error_code ec;
-    std::filesystem::rename(tmp, path, ec);
-    if (ec) {
-        std::filesystem::remove(tmp, ec);
-        throw InputError("cannot write " + path.string() + ": " + ec.message());
-    }
+    write_file_atomically(path, encoded.bytes);
 }
 
 FloatImage read_exr(const std::filesystem::path& path) {
@@ -52,6 +70,10 @@ FloatImage read_exr(const std::filesystem::path& path) {
     try {
         Imf::InputFile file(path.c_str());
         const Imath::Box2i window = file.header().dataWindow();
+        const Imath::Box2i display = file.header().displayWindow();
+        if (window.min != display.min || window.max != display.max)
+            throw InputError("cannot read " + path.string() +
+                             ": its data window does not cover its display window (gimg reads whole images)");
         FloatImage image;
         const long w = long(window.max.x) - window.min.x + 1, h = long(window.max.y) - window.min.y + 1;
         if (w <= 0 || h <= 0 || w > 65536 || h > 65536)

@@ -22,20 +22,36 @@ glm::dvec3 CylinderFrame::to_model(const glm::dvec3& q) const {
 
 CylinderFrame fit_cylinder_frame(const geo::Mesh& mesh, bool align) {
     if (mesh.positions.empty()) throw geo::InputError("cannot fit an empty mesh into the cylinder");
+    // Only vertices some face uses count: a stray point far away must not shrink the model.
+    std::vector<std::uint8_t> used(mesh.vertex_count(), mesh.triangles.empty() ? 1 : 0);
+    for (const glm::uvec3& t : mesh.triangles) used[t.x] = used[t.y] = used[t.z] = 1;
     CylinderFrame frame;
     glm::dvec3 centre{0.0};
     if (align) {
-        const geo::PcaAlignment pca = geo::compute_pca_alignment(mesh);
+        geo::Mesh faces_only;  // the paper's vertex-weighted PCA, over the vertices faces use
+        if (std::find(used.begin(), used.end(), 0) != used.end()) {
+            std::vector<std::uint32_t> index(used.size(), 0);
+            for (std::size_t i = 0; i < used.size(); ++i)
+                if (used[i])
+                    index[i] = std::uint32_t(faces_only.positions.size()),
+                    faces_only.positions.push_back(mesh.positions[i]);
+            for (const glm::uvec3& t : mesh.triangles)
+                faces_only.triangles.push_back({index[t.x], index[t.y], index[t.z]});
+        }
+        const geo::PcaAlignment pca = geo::compute_pca_alignment(faces_only.positions.empty() ? mesh : faces_only);
         frame.rotation = pca.transform.rotation;
         centre = pca.centroid;
     } else {
-        for (const auto& p : mesh.positions) centre += p;
-        centre /= double(mesh.positions.size());
+        std::size_t n = 0;
+        for (std::size_t i = 0; i < used.size(); ++i)
+            if (used[i]) centre += mesh.positions[i], ++n;
+        centre /= double(n);
     }
     // In the rotated frame, around the centroid: the axis goes through the centroid.
     double r_max = 0.0, y_min = 1e300, y_max = -1e300;
-    for (const auto& p : mesh.positions) {
-        const glm::dvec3 q = frame.rotation * (p - centre);
+    for (std::size_t i = 0; i < used.size(); ++i) {
+        if (!used[i]) continue;
+        const glm::dvec3 q = frame.rotation * (mesh.positions[i] - centre);
         r_max = std::max(r_max, std::hypot(q.x, q.z));
         y_min = std::min(y_min, q.y);
         y_max = std::max(y_max, q.y);

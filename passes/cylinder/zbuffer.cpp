@@ -382,6 +382,15 @@ CylinderZBuffer::CylinderZBuffer(Context& ctx, std::uint32_t width, std::uint32_
                                  const CylinderZBufferOptions& options) {
     if (width == 0 || height == 0 || width > 65535 || height > 65535)
         throw geo::InputError("cylinder image size must be between 1x1 and 65535x65535");
+    // The atlas's keys are one storage buffer, bound whole: the device's binding range caps the pixels.
+    const std::uint64_t max_pixels = ctx.device_info().max_storage_buffer_range / 4;
+    if (std::uint64_t(width) * height > max_pixels || width > ctx.device_info().max_image_dimension_2d ||
+        height > ctx.device_info().max_image_dimension_2d)
+        throw geo::InputError("a " + std::to_string(width) + "x" + std::to_string(height) +
+                              " cylindrical image is more than this device projects at once (at most " +
+                              std::to_string(max_pixels) + " pixels, sides up to " +
+                              std::to_string(ctx.device_info().max_image_dimension_2d) +
+                              "); use a smaller --size or --method scanline");
     state_ = std::make_unique<State>(ctx, width, height, options);
 }
 

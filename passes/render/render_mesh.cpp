@@ -71,6 +71,16 @@ Buffer upload(Context& ctx, const void* data, std::size_t bytes, const char* nam
     return b;
 }
 
+// The vertices some face uses.
+std::vector<glm::dvec3> referenced_positions(const geo::Mesh& mesh) {
+    std::vector<std::uint8_t> used(mesh.vertex_count(), 0);
+    for (const glm::uvec3& t : mesh.triangles) used[t.x] = used[t.y] = used[t.z] = 1;
+    std::vector<glm::dvec3> out;
+    for (std::size_t i = 0; i < used.size(); ++i)
+        if (used[i]) out.push_back(mesh.positions[i]);
+    return out;
+}
+
 // The faces with every repeat of a face (the same three vertices, in any order) after its first left
 // out: the depth test hides a repeat anyway, and a CPU rasteriser would fill it again.
 std::vector<glm::uvec3> without_copies(const std::vector<glm::uvec3>& triangles) {
@@ -178,9 +188,20 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
                               std::to_string(options.scalars.size()) + " for " + std::to_string(mesh.vertex_count()) +
                               " vertices");
 
+    // Drawn in a frame around the faces' vertices, scaled to unit size (a similarity, applied to the
+    // camera too): models from 1e-15 to 1e38 across then rasterise and light alike in float32, and
+    // a vertex no face uses neither moves the camera nor counts.
+    const std::vector<glm::dvec3> used = referenced_positions(mesh);
+    geo::Bounds box{used.front(), used.front()};
+    for (const auto& p : used) box.min = glm::min(box.min, p), box.max = glm::max(box.max, p);
+    const glm::dvec3 centre = 0.5 * (box.min + box.max);
+    const double radius = 0.5 * box.diagonal() > 0.0 && std::isfinite(box.diagonal()) ? 0.5 * box.diagonal() : 1.0;
     std::vector<float> positions(3 * mesh.vertex_count());
+    std::vector<glm::dvec3> unit_used;
+    unit_used.reserve(used.size());
+    for (const auto& p : used) unit_used.push_back((p - centre) / radius);
     for (std::size_t i = 0; i < mesh.vertex_count(); ++i)
-        for (int k = 0; k < 3; ++k) positions[3 * i + k] = float(mesh.positions[i][k]);
+        for (int k = 0; k < 3; ++k) positions[3 * i + k] = float((mesh.positions[i][k] - centre[k]) / radius);
     std::vector<float> normals = options.smooth ? float_vertex_normals(mesh) : std::vector<float>{};
     std::vector<float> texcoords;
     if (mesh.has_texcoords())
@@ -196,7 +217,14 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
     RenderOptions o = options;
     if (scalar_mode && !o.scalar_range) o.scalar_range = default_range(o.scalars, o.color == MeshColor::Diverging);
     const double aspect = double(o.width) / double(std::max(o.height, 1u));
-    const Camera camera = camera_override ? *camera_override : fit_camera(mesh.positions, o.view, aspect);
+    Camera camera = fit_camera(unit_used, o.view, aspect);
+    if (camera_override) {
+        camera = *camera_override;
+        camera.eye = (camera.eye - centre) / radius;
+        camera.target = (camera.target - centre) / radius;
+        camera.near_plane /= radius;
+        camera.far_plane /= radius;
+    }
     Graph g(ctx);
     const RenderMeshBuffers buffers{
         g.import_buffer(pos_buf),
@@ -206,7 +234,7 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
         g.import_buffer(tex_buf),
         std::uint32_t(faces.size()),
         mesh.has_texcoords(),
-        mesh.has_texcoords() ? o.checker_cells : o.checker_cells / std::max(mesh.bounds().diagonal(), 1e-12)};
+        mesh.has_texcoords() ? o.checker_cells : o.checker_cells * radius / std::max(box.diagonal(), 1e-300)};
     const ImageHandle picture = add_render_mesh(g, buffers, o, camera);
     g.export_image(picture, Access::TransferSrc);
     Plan plan = g.compile();
@@ -220,8 +248,11 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
 
 geo::RgbaImage render_side_by_side(Context& ctx, const geo::Mesh& left, const geo::Mesh& right,
                                    const RenderOptions& options) {
-    std::vector<glm::dvec3> both = left.positions;
-    both.insert(both.end(), right.positions.begin(), right.positions.end());
+    if (left.face_count() == 0 || right.face_count() == 0)
+        throw geo::InputError("nothing to render: a mesh has no faces");
+    std::vector<glm::dvec3> both = referenced_positions(left);
+    const std::vector<glm::dvec3> right_used = referenced_positions(right);
+    both.insert(both.end(), right_used.begin(), right_used.end());
     const Camera camera = fit_camera(both, options.view, double(options.width) / double(options.height));
     RenderOptions right_options = options;
     if (options.color == MeshColor::Scalar || options.color == MeshColor::Diverging)

@@ -4,6 +4,7 @@
 // process: medians of N runs of GPU time (timestamps) and wall time per projection, the time for a
 // new mesh (upload or BVH build plus one image), ratios, and batch throughput.
 #include "bench_paths.h"
+#include "command_files.h"
 #include "commands.h"
 #include "embree_peer.h"
 #include "gpu_context.h"
@@ -28,7 +29,7 @@ namespace {
 
 struct BenchOptions {
     std::vector<std::string> meshes, sizes{"auto", "540x270"}, batch_meshes;
-    int runs = 5;
+    std::uint32_t runs = 5;
     std::uint32_t batch_images = 256;
     std::uint32_t small_pixels = passes::CylinderZBufferOptions{}.small_pixels;
     std::string large_pieces = "auto";
@@ -139,7 +140,7 @@ Row bench_one(Context& ctx, const std::string& path, const geo::Mesh& mesh, cons
 
 void run_bench(const BenchOptions& o, const GlobalOptions& global) {
     auto ctx = open_context(global);
-    const int runs = std::max(o.runs, 1);
+    const int runs = int(o.runs);
     nlohmann::json j;
     j["device"] = ctx->device_info().name;
     j["runs"] = runs;
@@ -246,7 +247,7 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
 struct ReconstructBenchOptions {
     std::vector<std::string> meshes;
     std::string size = "1024x512";
-    int runs = 5;
+    std::uint32_t runs = 5;
     std::string json;
 };
 
@@ -255,7 +256,7 @@ struct ReconstructBenchOptions {
 void run_reconstruct_bench(const ReconstructBenchOptions& o, const GlobalOptions& global) {
     auto ctx = open_context(global);
     const auto size = parse_size(o.size);
-    const int runs = std::max(o.runs, 1);
+    const int runs = int(o.runs);
     nlohmann::json j;
     std::printf("gimg bench reconstruct on %s; %ux%u images; medians of %d runs; times in ms\n",
                 ctx->device_info().summary().c_str(), size[0], size[1], runs);
@@ -300,7 +301,7 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
     auto* cyl = bench->add_subcommand("cylinder", "zbuffer vs raycast vs scanline (vs Embree) per projection");
     cyl->add_option("--mesh", opts->meshes, "Meshes (default: armadillo, bunny, derived/bunny_loop1, dragon)");
     cyl->add_option("--size", opts->sizes, "Sizes: WxH or auto (default: auto and 540x270)");
-    cyl->add_option("--runs", opts->runs, "Runs per case; the median is reported (default 5)");
+    add_count_option(cyl, "--runs", opts->runs, 1, 1000, "Runs per case; the median is reported (default 5)");
     cyl->add_option("--batch-images", opts->batch_images, "Images per batch execution at 144x144 (0: skip)");
     cyl->add_option("--batch-mesh", opts->batch_meshes, "Meshes for the batch case (default: ~10K-face shared meshes)");
     cyl->add_option("--small-pixels", opts->small_pixels,
@@ -311,14 +312,16 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
                     "CPU devices, graphics on GPUs)")
         ->check(CLI::IsMember({"auto", "graphics", "compute"}));
     cyl->add_option("--json", opts->json, "Write the figures as JSON");
-    cyl->callback([opts, &global] { run_bench(*opts, global); });
+    cyl->callback([opts, &global] { run_writing({}, {json_output(opts->json)}, [&] { run_bench(*opts, global); }); });
     auto ropts = std::make_shared<ReconstructBenchOptions>();
     auto* rec = bench->add_subcommand("reconstruct", "Reconstruction on the GPU vs the CPU reference");
     rec->add_option("--mesh", ropts->meshes, "Meshes to project and reconstruct (default: armadillo)");
     rec->add_option("--size", ropts->size, "Image size WxH (default 1024x512)");
-    rec->add_option("--runs", ropts->runs, "Runs; the median is reported (default 5)");
+    add_count_option(rec, "--runs", ropts->runs, 1, 1000, "Runs; the median is reported (default 5)");
     rec->add_option("--json", ropts->json, "Write the figures as JSON");
-    rec->callback([ropts, &global] { run_reconstruct_bench(*ropts, global); });
+    rec->callback([ropts, &global] {
+        run_writing({}, {json_output(ropts->json)}, [&] { run_reconstruct_bench(*ropts, global); });
+    });
     add_bench_sphere_command(*bench, global);
 }
 

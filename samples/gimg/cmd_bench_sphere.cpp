@@ -5,6 +5,7 @@
 // to --gu-max-vertices; it often fails, as the paper's table 1 shows). Medians of N runs of the
 // wall time, and the quality of the map: flips, conformal ratio, angle distortion.
 #include "bench_paths.h"
+#include "command_files.h"
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
@@ -25,7 +26,7 @@ namespace {
 struct SphereBenchOptions {
     std::vector<std::string> meshes;
     std::vector<std::string> methods{"harmonic", "linear", "kanai", "gu"};
-    int runs = 3;
+    std::uint32_t runs = 3;
     std::size_t gu_max_vertices = 10000;
     std::string json;
 };
@@ -62,7 +63,7 @@ passes::SphereResult solve(Context& ctx, const std::string& method, const geo::M
 
 void run_sphere_bench(const SphereBenchOptions& o, const GlobalOptions& global) {
     auto ctx = open_context(global);
-    const int runs = std::max(o.runs, 1);
+    const int runs = int(o.runs);
     passes::sphere_harmonic(*ctx, geo::make_icosphere(1.0, 3));  // pipelines compile once, outside the timings
     std::printf("gimg bench sphere on %s; medians of %d runs\n", ctx->device_info().summary().c_str(), runs);
     std::printf("%-20s %7s %-7s %9s %6s %9s %8s %8s %9s %s\n", "mesh", "V", "method", "seconds", "flips", "ratio",
@@ -125,10 +126,10 @@ void add_bench_sphere_command(CLI::App& bench, const GlobalOptions& global) {
                     "Methods to run (default: harmonic linear kanai gu; gpu is an alias of harmonic)")
         ->transform(CLI::Transformer(std::map<std::string, std::string>{{"gpu", "harmonic"}}))
         ->check(CLI::IsMember({"harmonic", "kanai", "gu", "linear"}));
-    cmd->add_option("--runs", o->runs, "Runs per case; the median is reported (default 3)");
+    add_count_option(cmd, "--runs", o->runs, 1, 1000, "Runs per case; the median is reported (default 3)");
     cmd->add_option("--gu-max-vertices", o->gu_max_vertices, "Run gu only on meshes up to this size (default 10000)");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
-    cmd->callback([o, &global] { run_sphere_bench(*o, global); });
+    cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_sphere_bench(*o, global); }); });
 }
 
 }  // namespace gimg::cli

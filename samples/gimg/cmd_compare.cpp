@@ -1,5 +1,6 @@
 // gimg compare A B: Metro-style surface distance between two meshes (DESIGN.md, "Metrics"), each
 // way and symmetric, in absolute units and relative to A's bounding-box diagonal.
+#include "command_files.h"
 #include "commands.h"
 #include "json_output.h"
 
@@ -20,7 +21,7 @@ struct CompareOptions {
     std::string a;
     std::string b;
     std::string json;
-    std::size_t samples = 0;  // 0: max(1M, 10 per face), per surface
+    std::uint64_t samples = 0;  // 0: max(1M, 10 per face), per surface
     std::uint64_t seed = geo::SurfaceSamplingOptions{}.seed;
 };
 
@@ -92,11 +93,12 @@ void add_compare_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("a", options->a, "Reference mesh A")->required();
     cmd->add_option("b", options->b, "Mesh B")->required();
     cmd->add_option("--json", options->json, "Also write the figures to this JSON file");
-    cmd->add_option("--samples", options->samples,
-                    "Area samples per surface (default: the larger of 1,000,000 and 10 per face)")
-        ->check(CLI::Range(std::size_t{1}, std::size_t{4'000'000'000}));
-    cmd->add_option("--seed", options->seed, "Seed of the stratified sampling (fixed by default)");
-    cmd->callback([options, &global] { run_compare(*options, global); });
+    add_count_option(cmd, "--samples", options->samples, 1, 100'000'000,
+                     "Area samples per surface (default: the larger of 1,000,000 and 10 per face)");
+    add_count_option(cmd, "--seed", options->seed, 0, UINT64_MAX, "Seed of the stratified sampling (fixed by default)");
+    cmd->callback([options, &global] {
+        run_writing({options->a, options->b}, {json_output(options->json)}, [&] { run_compare(*options, global); });
+    });
 }
 
 }  // namespace gimg::cli

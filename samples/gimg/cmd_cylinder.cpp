@@ -1,4 +1,5 @@
 // gimg cylinder MESH --out DIR [--size WxH | --auto] [--method zbuffer|raycast|scanline] [--no-align] [--json FILE]
+#include "command_files.h"
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
@@ -20,10 +21,13 @@ struct CylinderOptions {
 
 void run_cylinder(const CylinderOptions& o, const GlobalOptions& global) {
     const auto start = std::chrono::steady_clock::now();
+    const std::optional<std::array<std::uint32_t, 2>> asked =
+        o.size.empty() ? std::nullopt : std::optional(parse_size(o.size));
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
+    if (mesh.face_count() == 0) throw geo::InputError(o.mesh + " has no faces to project");
     const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh, !o.no_align);
     const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, frame);
-    const auto size = o.size.empty() ? passes::auto_cylinder_size(mesh.face_count()) : parse_size(o.size);
+    const auto size = asked ? *asked : passes::auto_cylinder_size(mesh.face_count());
 
     passes::CylinderImage image;
     std::unique_ptr<Context> ctx;
@@ -38,11 +42,14 @@ void run_cylinder(const CylinderOptions& o, const GlobalOptions& global) {
     } else {
         image = passes::cylinder_raycast(cyl, size[0], size[1]);
     }
+    std::size_t covered = 0;
+    for (auto c : image.covered) covered += c;
+    if (covered == 0)
+        throw geo::InputError(o.mesh + ": the projection covers no pixel at " + std::to_string(size[0]) + "x" +
+                              std::to_string(size[1]) + " (faces too small or edge-on); try a larger --size");
     passes::write_cylinder_files(o.out, image, frame, {o.mesh, o.method});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-    std::size_t covered = 0;
-    for (auto c : image.covered) covered += c;
     if (!global.quiet) {
         std::printf("%s: %zu faces -> %ux%u cylindrical image by %s%s%s\n", o.mesh.c_str(), mesh.face_count(), size[0],
                     size[1], o.method.c_str(), ctx ? " on " : "", ctx ? ctx->device_info().name.c_str() : "");
@@ -72,7 +79,11 @@ void add_cylinder_command(CLI::App& app, const GlobalOptions& global) {
         ->check(CLI::IsMember({"zbuffer", "raycast", "scanline"}));
     cmd->add_flag("--no-align", opts->no_align, "Keep the model's orientation (no PCA), only centre and scale");
     cmd->add_option("--json", opts->json, "Write the figures as JSON");
-    cmd->callback([opts, &global] { run_cylinder(*opts, global); });
+    cmd->callback([opts, &global] {
+        auto outputs = folder_outputs("--out", opts->out, {"distance.exr", "distance.png", "frame.json"});
+        outputs.push_back(json_output(opts->json));
+        run_writing({opts->mesh}, outputs, [&] { run_cylinder(*opts, global); });
+    });
 }
 
 }  // namespace gimg::cli

@@ -2,6 +2,7 @@
 // rendered, projected into a cylindrical geometry image on the GPU (checked against the CPU ray
 // caster), reconstructed from it on the GPU (measured against the model), and mapped conformally
 // onto the sphere; demo-output/index.html shows the pictures and the key figures.
+#include "command_files.h"
 #include "commands.h"
 #include "gpu_context.h"
 #include "timing.h"
@@ -153,7 +154,13 @@ void add_demo_command(CLI::App& app, const GlobalOptions& global) {
     auto out = std::make_shared<std::string>("demo-output");
     auto* cmd = app.add_subcommand("demo", "Every capability on a model built in code; writes demo-output/index.html");
     cmd->add_option("--out", *out, "Output folder (default demo-output)");
-    cmd->callback([out, &global] { run_demo(*out, global); });
+    cmd->callback([out, &global] {
+        run_writing({},
+                    folder_outputs("--out", *out,
+                                   {"distance.exr", "distance.png", "frame.json", "model.png", "reconstruction.ply",
+                                    "reconstruction.png", "checker.png", "sphere.png", "index.html"}),
+                    [&] { run_demo(*out, global); });
+    });
 }
 
 }  // namespace gimg::cli

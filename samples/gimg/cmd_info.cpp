@@ -1,6 +1,7 @@
 // gimg info MESH [--json FILE] [--weld]: a mesh's counts, topology and defects, as a short
 // summary and optionally as JSON (keys fixed by DESIGN.md, documented in the README).
 
+#include "command_files.h"
 #include "commands.h"
 #include "json_output.h"
 
@@ -148,7 +149,8 @@ void add_info_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("MESH", args->mesh, "Mesh file: .obj, .ply (ascii or binary), .off, .stl")->required();
     cmd->add_option("--json", args->json, "Also write the figures as JSON to FILE")->type_name("FILE");
     cmd->add_flag("--weld", args->weld, "Merge vertices at identical positions before the analysis");
-    cmd->callback([args, &global] { run_info(*args, global); });
+    cmd->callback(
+        [args, &global] { run_writing({args->mesh}, {json_output(args->json)}, [&] { run_info(*args, global); }); });
 }
 
 }  // namespace gimg::cli

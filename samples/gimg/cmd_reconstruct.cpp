@@ -1,4 +1,5 @@
 // gimg reconstruct GI.exr --out MESH.ply [--threshold T|off] [--fill-caps] [--lod K] [--cpu] [--json FILE]
+#include "command_files.h"
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
@@ -9,7 +10,9 @@
 #include "gimg/geometry/io.h"
 #include "gimg/passes/reconstruct.h"
 
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <limits>
 
@@ -26,11 +29,16 @@ struct ReconstructCliOptions {
 std::optional<float> parse_threshold(const std::string& text) {
     if (text.empty()) return std::nullopt;
     if (text == "off") return std::numeric_limits<float>::infinity();
+    // Decimal only (no hex, no inf or nan), and representable: 1e-400 is not a float, nor 0 by another name.
+    const bool decimal = text.find_first_not_of("0123456789.eE+-") == std::string::npos;
     char* end = nullptr;
-    const float t = std::strtof(text.c_str(), &end);
-    if (end == text.c_str() || *end != '\0' || !(t >= 0.0f))
-        throw geo::InputError("--threshold takes a distance >= 0 or 'off', got '" + text + "'");
-    return t;
+    errno = 0;
+    const double t = std::strtod(text.c_str(), &end);
+    const bool in_range = errno == 0 && t <= double(std::numeric_limits<float>::max()) &&
+                          (t == 0.0 || t >= double(std::numeric_limits<float>::min()));
+    if (!decimal || end == text.c_str() || *end != '\0' || !(t >= 0.0) || !in_range)
+        throw geo::InputError("--threshold takes a distance from 0 to 3.4e38 or 'off', got '" + text + "'");
+    return float(t);
 }
 
 void run_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global) {
@@ -47,17 +55,22 @@ void run_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global
     geo::Mesh mesh;
     const double ms = time_ms([&] {
         if (cylindrical) {
-            const auto frame_path = image_path.parent_path() / "frame.json";
-            const passes::CylinderFrame frame = passes::read_cylinder_frame(frame_path);
-            const passes::CylinderImage image = passes::read_cylinder_exr(image_path);
-            mesh = o.cpu ? passes::reconstruct_cpu(image, frame, options, &stats)
-                         : passes::reconstruct_gpu(*ctx, image, frame, options, &stats);
+            const passes::CylinderFiles files = passes::read_cylinder_files(image_path);
+            mesh = o.cpu ? passes::reconstruct_cpu(files.image, files.frame, options, &stats)
+                         : passes::reconstruct_gpu(*ctx, files.image, files.frame, options, &stats);
         } else {
             const passes::PositionImage image = passes::read_position_exr(image_path);
             mesh = o.cpu ? passes::reconstruct_cpu(image, options, &stats)
                          : passes::reconstruct_gpu(*ctx, image, options, &stats);
         }
     });
+    if (mesh.face_count() == 0)
+        throw geo::InputError(o.image + ": nothing to reconstruct: " +
+                              (mesh.vertex_count() == 0 ? std::string("no pixel is covered")
+                               : stats.holes > 0
+                                   ? "every block of four covered pixels is cut by the threshold " +
+                                         std::to_string(stats.threshold) + " (try a larger --threshold or off)"
+                                   : std::string("no 2x2 block of covered pixels")));
     geo::save_mesh(mesh, o.out);
     if (!global.quiet) {
         std::printf("%s: %s image %ux%u -> %zu vertices, %zu triangles, %zu holes (threshold %g) in %.2f ms",
@@ -98,10 +111,15 @@ void add_reconstruct_command(CLI::App& app, const GlobalOptions& global) {
                     "Largest distance jump inside a 2x2 block before it becomes a hole, or 'off' (default: six "
                     "pixel pitches for cylindrical images, off for position images)");
     cmd->add_flag("--fill-caps", opts->fill_caps, "Close the top and bottom openings (cylindrical images)");
-    cmd->add_option("--lod", opts->lod, "Reduce the image K times (2x2 means of valid pixels) first");
+    add_count_option(cmd, "--lod", opts->lod, 0, 14, "Reduce the image K times (2x2 means of valid pixels) first");
     cmd->add_flag("--cpu", opts->cpu, "Use the CPU reference instead of the GPU passes (same output)");
     cmd->add_option("--json", opts->json, "Write the figures as JSON");
-    cmd->callback([opts, &global] { run_reconstruct(*opts, global); });
+    cmd->callback([opts, &global] {
+        const std::filesystem::path image = opts->image;
+        run_writing({image, image.parent_path() / "frame.json"},
+                    {{"--out", opts->out, {".ply", ".obj"}}, json_output(opts->json)},
+                    [&] { run_reconstruct(*opts, global); });
+    });
 }
 
 }  // namespace gimg::cli

@@ -1,5 +1,6 @@
 // gimg render MESH --out IMG.png [--size WxH] [--view AZ,EL] [--wireframe]
 //             [--color plain|normal|curvature|checker|scalar FILE] [--compare OTHER_MESH] [--flat]
+#include "command_files.h"
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
@@ -98,6 +99,7 @@ void run_render(const RenderCliOptions& o, const GlobalOptions& global) {
         const geo::Mesh other = geo::load_mesh(o.compare);
         image = passes::render_side_by_side(*ctx, mesh, other, r);
     }
+    check_picture_shows_something(image, o.mesh);
     // Opaque PNG: the colour is already blended over the background.
     for (std::size_t i = 3; i < image.pixels.size(); i += 4) image.pixels[i] = 255;
     geo::write_png(image, o.out);
@@ -133,7 +135,8 @@ void add_render_command(CLI::App& app, const GlobalOptions& global) {
         if (!modes.count(opts->color.front()))
             throw geo::InputError("--color must be plain, normal, curvature, checker or scalar FILE, got '" +
                                   opts->color.front() + "'");
-        run_render(*opts, global);
+        run_writing({opts->mesh, opts->compare, opts->color.size() == 2 ? opts->color[1] : std::string()},
+                    {{"--out", opts->out, {".png"}}, json_output(opts->json)}, [&] { run_render(*opts, global); });
     });
 }
 

@@ -1,4 +1,5 @@
 // gimg sample MESH --size N --out GI.exr [--cpu] [--json FILE]
+#include "command_files.h"
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
@@ -20,11 +21,13 @@ void add_sample_command(CLI::App& app, const GlobalOptions& global) {
     auto o = std::make_shared<Options>();
     auto* cmd = app.add_subcommand("sample", "Sample a mesh with texture coordinates into a position geometry image");
     cmd->add_option("mesh", o->mesh, "Mesh whose file carries per-vertex texture coordinates")->required();
-    cmd->add_option("--size", o->size, "Image size N (N x N; default 256)");
+    add_count_option(cmd, "--size", o->size, 2, 16384, "Image size N (N x N; default 256)");
     cmd->add_option("--out", o->out, "Output EXR (channels R, G, B = x, y, z and A = covered)")->required();
     cmd->add_flag("--cpu", o->cpu, "Use the CPU reference instead of the GPU pass");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] {
+        check_command_files({o->mesh}, {{"--out", o->out, {".exr"}}, json_output(o->json)});
+        geo::OutputSet files;
         const geo::Mesh mesh = geo::load_mesh(o->mesh);
         std::unique_ptr<Context> ctx;
         if (!o->cpu) ctx = open_context(global);
@@ -45,6 +48,7 @@ void add_sample_command(CLI::App& app, const GlobalOptions& global) {
                          {"seconds", ms / 1000.0}};
         add_machine_figures(j, ctx.get());
         write_json(o->json, j);
+        files.commit();
     });
 }
 

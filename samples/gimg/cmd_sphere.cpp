@@ -1,4 +1,5 @@
 // gimg sphere MESH --out DIR [--method harmonic|kanai|gu|linear] [--json FILE]
+#include "command_files.h"
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
@@ -7,6 +8,7 @@
 
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/image.h"
+#include "gimg/engine/error.h"
 #include "gimg/geometry/io.h"
 #include "gimg/passes/render.h"
 #include "gimg/passes/sphere.h"
@@ -74,7 +76,18 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
             line.show("%s  iteration %zu  energy %.6g  flips %zu  %.1f s", stage.c_str(), iteration, energy, flips,
                       seconds);
         };
-    std::unique_ptr<Context> ctx = open_context(global);  // the pictures need it for every method
+    // The CPU methods run without a Vulkan device; the pictures need one.
+    std::unique_ptr<Context> ctx;
+    if (o.method == "harmonic") {
+        ctx = open_context(global);
+    } else {
+        try {
+            ctx = open_context(global);
+        } catch (const gimg::Error& e) {
+            if (!global.quiet)
+                std::fprintf(stderr, "gimg: note: %s; checker.png and sphere.png are not drawn\n", e.what());
+        }
+    }
     passes::SphereResult result;
     const double solve_ms = time_ms([&] {
         if (o.method == "harmonic") {
@@ -97,10 +110,10 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
     const passes::SphereMetrics m = passes::sphere_metrics(mesh, result.positions);
 
     const std::filesystem::path dir = o.out;
-    std::filesystem::create_directories(dir);
+    make_output_folder("--out", dir);
     // float64: the tiniest triangles of a conformal map are below float32's resolution.
     geo::save_mesh(sphere_mesh(mesh, result.positions), dir / "sphere.ply", {.double_precision = true});
-    write_sphere_pictures(*ctx, mesh, result.positions, dir);
+    if (ctx) write_sphere_pictures(*ctx, mesh, result.positions, dir);
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     nlohmann::json j = metrics_json(m);
@@ -145,7 +158,9 @@ void write_sphere_pictures(Context& ctx, const geo::Mesh& mesh, const std::vecto
     view.height = 800;
     view.color = passes::MeshColor::Checker;
     view.checker_cells = 12.0;
-    geo::write_png(passes::render_mesh(ctx, passes::spherical_texture_mesh(mesh, y), view), dir / "checker.png");
+    const geo::RgbaImage checker = passes::render_mesh(ctx, passes::spherical_texture_mesh(mesh, y), view);
+    check_picture_shows_something(checker, "checker.png");
+    geo::write_png(checker, dir / "checker.png");
     geo::Mesh on_sphere = mesh;
     on_sphere.positions = y;
     geo::write_png(passes::render_mesh(ctx, passes::spherical_texture_mesh(on_sphere, y), view), dir / "sphere.png");
@@ -165,8 +180,8 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option(
         "--tolerance", opts->harmonic.tolerance,
         "harmonic: a level ends when the energy changes less than this per iteration, relative (default 3e-6)");
-    cmd->add_option("--max-iterations", opts->harmonic.max_iterations_per_level,
-                    "harmonic: at most this many sweeps per level (default 4000)");
+    add_count_option(cmd, "--max-iterations", opts->harmonic.max_iterations_per_level, 1, 100'000'000,
+                     "harmonic: at most this many sweeps per level (default 4000)");
     cmd->add_flag_callback(
         "--no-polish", [opts] { opts->harmonic.plane_polish = false; },
         "harmonic: skip the harmonic map in a stereographic chart after the finest level (faster, "
@@ -175,7 +190,11 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global) {
         "--hierarchy", [opts] { opts->harmonic.direct = false; },
         "harmonic: skip the pinned-triangle start and relax on the progressive-mesh hierarchy at once");
     cmd->add_option("--json", opts->json, "Write the metrics and timings as JSON");
-    cmd->callback([opts, &global] { run_sphere(*opts, global); });
+    cmd->callback([opts, &global] {
+        auto outputs = folder_outputs("--out", opts->out, {"sphere.ply", "checker.png", "sphere.png", "metrics.json"});
+        outputs.push_back(json_output(opts->json));
+        run_writing({opts->mesh}, outputs, [&] { run_sphere(*opts, global); });
+    });
 }
 
 }  // namespace gimg::cli

@@ -10,13 +10,20 @@
 
 #include <sys/resource.h>
 
+#include <cstdio>
 #include <string>
 
 namespace gimg::cli {
 
+// "-" writes to standard output.
 inline void write_json(const std::string& path, const nlohmann::json& j) {
     if (path.empty()) return;
-    gimg::geo::write_file_atomically(path, j.dump(2) + "\n");
+    const std::string text = j.dump(2) + "\n";
+    if (path == "-") {
+        std::fwrite(text.data(), 1, text.size(), stdout);
+        return;
+    }
+    gimg::geo::write_file_atomically(path, text);
 }
 
 inline double peak_rss_mb() {

@@ -5,11 +5,38 @@
 #include "gimg/engine/error.h"
 #include "gimg/geometry/error.h"
 
+#include "gimg/geometry/atomic_file.h"
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <exception>
+#include <filesystem>
+#include <new>
+#include <string>
+
+namespace {
+
+// CLI11's messages in one line: its own text, without the hints on further lines.
+std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
+
+int fail(int code, const std::string& message) {
+    std::fprintf(stderr, "gimg: error: %s\n", message.c_str());
+    return code;
+}
+
+// Standard output that could not be written (a full disk, a closed pipe) is a failure too.
+int finish(int code) {
+    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+        return fail(1, std::string("cannot write to standard output: ") + std::strerror(errno));
+    return code;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
     using namespace gimg::cli;
+    gimg::geo::remove_outputs_on_signals();
     CLI::App app{
         "gimg: triangle meshes to geometry images and parameterizations, and back, on a "
         "Vulkan render graph"};
@@ -33,24 +60,39 @@ int main(int argc, char** argv) {
     add_bench_command(app, global);
     add_devices_command(app, global);
 
+    // `--json -` writes the figures to standard output, so nothing else goes there.
+    for (int i = 1; i + 1 < argc; ++i)
+        if (std::string(argv[i]) == "--json" && std::string(argv[i + 1]) == "-") global.quiet = true;
+    if (argc > 1 && argv[1][0] != '-') {
+        std::string names;
+        bool known = false;
+        for (const CLI::App* sub : app.get_subcommands({})) {
+            known = known || sub->get_name() == argv[1];
+            names += (names.empty() ? "" : ", ") + sub->get_name();
+        }
+        if (!known) return fail(2, std::string("unknown command '") + argv[1] + "'; the commands are " + names);
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::CallForHelp& e) {
-        return app.exit(e);
+        return finish(app.exit(e));
     } catch (const CLI::CallForAllHelp& e) {
-        return app.exit(e);
+        return finish(app.exit(e));
+    } catch (const CLI::RequiredError& e) {
+        if (argc == 1) return fail(2, "no command given; `gimg --help` lists them");
+        return fail(2, first_line(e.what()) + " (see --help)");
     } catch (const CLI::ParseError& e) {
-        app.exit(e);
-        return 2;
+        return fail(2, first_line(e.what()) + " (see --help)");
     } catch (const gimg::geo::InputError& e) {
-        std::fprintf(stderr, "gimg: error: %s\n", e.what());
-        return 2;
+        return fail(2, e.what());
     } catch (const gimg::Error& e) {
-        std::fprintf(stderr, "gimg: error: %s\n", e.what());
-        return e.is_input_error() ? 2 : 1;
+        return fail(e.is_input_error() ? 2 : 1, e.what());
+    } catch (const std::bad_alloc&) {
+        return fail(1, "out of memory: the input needs more memory than this machine has; try a smaller size or model");
+    } catch (const std::filesystem::filesystem_error& e) {
+        return fail(1, e.path1().string() + ": " + e.code().message());
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "gimg: error: %s\n", e.what());
-        return 1;
+        return fail(1, e.what());
     }
-    return 0;
+    return finish(0);
 }

@@ -7,8 +7,9 @@
 //  - The machine's limits and failures (no device, a missing feature, out of memory, device loss,
 //    a failed Vulkan call) and misuse of the render graph throw gimg::Error with its ErrorKind
 //    (gimg/engine/error.h).
-// The command line prints either message as `gimg: error: ...` and exits with 2 for InputError,
-// 1 for gimg::Error.
+//  - The disk failing under a write (full, read-only, an I/O error) throws geo::EnvironmentError.
+// The command line prints each message as `gimg: error: ...` and exits with 2 for InputError,
+// 1 for gimg::Error and EnvironmentError.
 
 #include <stdexcept>
 #include <string>
@@ -18,6 +19,11 @@ namespace gimg::geo {
 class InputError : public std::runtime_error {
 public:
     explicit InputError(const std::string& message) : std::runtime_error(message) {}
+};
+
+class EnvironmentError : public std::runtime_error {
+public:
+    explicit EnvironmentError(const std::string& message) : std::runtime_error(message) {}
 };
 
 }  // namespace gimg::geo

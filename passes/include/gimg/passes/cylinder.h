@@ -85,9 +85,19 @@ struct CylinderFileInfo {
 };
 void write_cylinder_files(const std::filesystem::path& dir, const CylinderImage& image, const CylinderFrame& frame,
                           const CylinderFileInfo& info);
-// Reading them back (reconstruction). Throws geo::InputError for missing or malformed files.
+// The three appear together (geo::OutputSet), and frame.json records the image's size and a stamp of
+// its contents.
+// Reading them back (reconstruction). Throws geo::InputError for missing or malformed files: no
+// "mask" channel or one not 0 or 1, d outside [-1, 1], a rotation that is not one, non-finite
+// values.
 CylinderImage read_cylinder_exr(const std::filesystem::path& path);
 CylinderFrame read_cylinder_frame(const std::filesystem::path& path);
+// An image with the frame.json beside it, checked to belong together (size and stamp).
+struct CylinderFiles {
+    CylinderImage image;
+    CylinderFrame frame;
+};
+CylinderFiles read_cylinder_files(const std::filesystem::path& exr_path);
 
 // The directions of the W pixel columns, (cos theta_u, sin theta_u) in double: every method uses
 // this same table, as the paper tabulates it.

@@ -1,0 +1,191 @@
+#!/usr/bin/env bash
+# Careless and hostile use of the gimg command line, one case per run: ./hostile.sh CASE
+# Environment: GIMG (the binary), MAKE (make_hostile_files), WORK (a scratch folder of its own).
+# Every case asserts the exit code, the one-line message and which files exist afterwards; ctest
+# gives each 10 seconds.
+set -uo pipefail
+case_name=$1
+W="$WORK/$case_name"
+rm -rf "$W" && mkdir -p "$W" && cd "$W" || exit 1
+
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# run CODE REGEX CMD...: CMD exits CODE; if CODE != 0, stderr is one line matching REGEX.
+run() {
+  local want=$1 regex=$2
+  shift 2
+  "$@" >"$W/out" 2>"$W/err"
+  local got=$?
+  [ "$got" -eq "$want" ] || fail "'$*' exited $got, not $want: $(cat "$W/err")"
+  if [ "$want" -ne 0 ]; then
+    [ "$(wc -l <"$W/err")" -eq 1 ] || fail "'$*': stderr is not one line: $(cat "$W/err")"
+    grep -Eq "^gimg: error: .*$regex" "$W/err" || fail "'$*': stderr '$(cat "$W/err")' does not match '$regex'"
+  fi
+}
+exists() { for f in "$@"; do [ -e "$f" ] || fail "$f is missing"; done; }
+absent() { for f in "$@"; do [ ! -e "$f" ] || fail "$f exists but must not"; done; }
+no_temps() { local t; t=$(find "$W" -name '*.gimg-*.tmp' | head -1); [ -z "$t" ] || fail "temporary file left: $t"; }
+
+"$MAKE" image good "$W/good" >/dev/null || exit 1
+cp "$W/good/distance.exr" "$W/good.exr.bak"
+
+case "$case_name" in
+nonregular_outputs)
+  "$MAKE" scaled 1 "$W/m.off"
+  mkfifo "$W/pipe.json"
+  run 2 "not a regular file" "$GIMG" info "$W/m.off" --json "$W/pipe.json"
+  run 2 "not a regular file" "$GIMG" cylinder "$W/m.off" --out "$W/c" --json "$W/pipe.json"
+  [ -p "$W/pipe.json" ] || fail "the pipe was replaced"
+  absent "$W/c/distance.exr"
+  echo '{"keep": 1}' >"$W/target.json"
+  ln -s "$W/target.json" "$W/link.json"
+  run 2 "symbolic link" "$GIMG" info "$W/m.off" --json "$W/link.json"
+  [ -L "$W/link.json" ] || fail "the link was replaced"
+  grep -q keep "$W/target.json" || fail "the link's target changed"
+  run 0 "" "$GIMG" info "$W/m.off" --json -
+  grep -q '"vertices"' "$W/out" || fail "--json - wrote no JSON to standard output"
+  ;;
+output_is_input)
+  "$MAKE" scaled 1 "$W/m.off"
+  cp "$W/m.off" "$W/m.keep"
+  run 2 "must end in .png" "$GIMG" render "$W/m.off" --out "$W/m.off"
+  cmp -s "$W/m.off" "$W/m.keep" || fail "the input mesh changed"
+  run 2 "must end in .png" "$GIMG" render "$W/m.off" --out "$W/x.jpg"
+  absent "$W/x.jpg"
+  run 2 "also written as --out" "$GIMG" cylinder "$W/m.off" --out "$W/d" --json "$W/d/frame.json"
+  absent "$W/d/distance.exr"
+  run 2 "also written as --out" "$GIMG" sphere "$W/m.off" --out "$W/s" --json "$W/s/metrics.json"
+  run 2 "is an input" "$GIMG" reconstruct "$W/good/distance.exr" --out "$W/r.ply" --json "$W/good/frame.json"
+  cmp -s "$W/good/distance.exr" "$W/good.exr.bak" || fail "the input image changed"
+  ;;
+signal_leaves_nothing)
+  "$MAKE" scaled 1 "$W/m.off"
+  # The roundtrip writes its image files (as temporary files) and then measures for seconds.
+  "$GIMG" roundtrip "$W/m.off" --out "$W/rt" --size 256x128 --samples 20000000 >/dev/null 2>&1 &
+  pid=$!
+  for _ in $(seq 100); do
+    [ -n "$(find "$W/rt" -name '.distance.exr.gimg-*.tmp' 2>/dev/null | head -1)" ] && break
+    sleep 0.05
+  done
+  [ -n "$(find "$W/rt" -name '.distance.exr.gimg-*.tmp' 2>/dev/null | head -1)" ] || fail "no temporary file seen"
+  kill -TERM "$pid"
+  wait "$pid"
+  code=$?
+  [ "$code" -eq 143 ] || fail "the run ended with $code, not by SIGTERM (143)"
+  no_temps
+  absent "$W/rt/distance.exr" "$W/rt/frame.json" "$W/rt/reconstruction.ply"
+  # A temporary file a killed run left (its process gone) is cleaned by the next write.
+  mkdir -p "$W/c"
+  touch "$W/c/.frame.json.gimg-999999999-0.tmp"
+  run 0 "" "$GIMG" cylinder "$W/m.off" --out "$W/c" --size 32x16
+  no_temps
+  exists "$W/c/frame.json"
+  ;;
+mixed_runs)
+  "$MAKE" scaled 1 "$W/m.off"
+  printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n' >"$W/other.off"
+  run 0 "" "$GIMG" cylinder "$W/m.off" --out "$W/a" --size 64x32
+  run 0 "" "$GIMG" cylinder "$W/other.off" --out "$W/b" --size 64x32
+  cp "$W/b/distance.exr" "$W/a/distance.exr"
+  run 2 "not the image" "$GIMG" reconstruct "$W/a/distance.exr" --out "$W/r.ply"
+  run 0 "" "$GIMG" cylinder "$W/other.off" --out "$W/c" --size 32x16
+  cp "$W/c/distance.exr" "$W/b/distance.exr"
+  run 2 "describes a 64x32 image" "$GIMG" reconstruct "$W/b/distance.exr" --out "$W/r.ply"
+  absent "$W/r.ply"
+  ;;
+bounded_work)
+  "$MAKE" copies 10000 "$W/c10k.off"
+  "$MAKE" copies 100000 "$W/c100k.off"
+  run 0 "" "$GIMG" compare "$W/c10k.off" "$W/c10k.off"
+  run 0 "" "$GIMG" cylinder "$W/c100k.off" --out "$W/c" --method raycast
+  run 0 "" "$GIMG" render "$W/c100k.off" --out "$W/c.png"
+  run 2 "--samples takes a whole number" "$GIMG" roundtrip "$W/c10k.off" --out "$W/rt" --samples -1
+  run 2 "--samples takes a whole number" "$GIMG" roundtrip "$W/c10k.off" --out "$W/rt" --samples 4294967296
+  absent "$W/rt"
+  ;;
+pictures_at_any_scale)
+  for s in 1e-15 1e20 1e38; do
+    "$MAKE" scaled "$s" "$W/m$s.off"
+    run 0 "" "$GIMG" render "$W/m$s.off" --out "$W/m$s.png"
+  done
+  "$MAKE" stray "$W/stray.off"
+  run 0 "" "$GIMG" render "$W/stray.off" --out "$W/stray.png"
+  run 0 "" "$GIMG" cylinder "$W/stray.off" --out "$W/c" --json "$W/c.json"
+  grep -Eq '"covered_pixels": [1-9]' "$W/c.json" || fail "the stray-vertex model covers no pixel"
+  "$MAKE" flat "$W/flat.off"
+  run 2 "shows nothing" "$GIMG" render "$W/flat.off" --out "$W/flat.png"
+  run 2 "covers no pixel" "$GIMG" cylinder "$W/flat.off" --out "$W/f"
+  absent "$W/flat.png" "$W/f/distance.exr"
+  ;;
+checks_before_writing)
+  "$MAKE" scaled 1 "$W/m.off"
+  run 2 "at least 2x2" "$GIMG" roundtrip "$W/m.off" --out "$W/rt" --size 1x1
+  absent "$W/rt"
+  printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n' >"$W/tetra.off"
+  run 0 "" "$GIMG" roundtrip "$W/tetra.off" --out "$W/tiny" --samples 1000
+  exists "$W/tiny/reconstruction.ply" "$W/tiny/compare.png"
+  ;;
+nothing_to_reconstruct)
+  for kind in empty checker; do
+    "$MAKE" image "$kind" "$W/$kind" >/dev/null
+    run 2 "nothing to reconstruct" "$GIMG" reconstruct "$W/$kind/distance.exr" --out "$W/$kind.ply"
+    absent "$W/$kind.ply"
+  done
+  run 2 "nothing to reconstruct: every block" "$GIMG" reconstruct "$W/good/distance.exr" --out "$W/t0.ply" --threshold 0
+  absent "$W/t0.ply"
+  ;;
+bad_image_data)
+  run 2 "no channel \"mask\"" sh -c "'$MAKE' image no-mask '$W/nm' && '$GIMG' reconstruct '$W/nm/distance.exr' --out '$W/x.ply'"
+  run 2 "mask = nan" sh -c "'$MAKE' image nan-mask '$W/nan' && '$GIMG' reconstruct '$W/nan/distance.exr' --out '$W/x.ply'"
+  run 2 "data window" sh -c "'$MAKE' image window '$W/win' && '$GIMG' reconstruct '$W/win/distance.exr' --out '$W/x.ply'"
+  run 2 "rotation is not a rotation" sh -c "'$MAKE' image zero-rotation '$W/rot' && '$GIMG' reconstruct '$W/rot/distance.exr' --out '$W/x.ply'"
+  absent "$W/x.ply"
+  ;;
+plain_messages)
+  "$MAKE" scaled 1 "$W/m.off"
+  run 2 "more than this device projects at once" "$GIMG" cylinder "$W/m.off" --out "$W/big" --size 16384x16384
+  absent "$W/big"
+  mkdir -p "$W/dirframe" && cp "$W/good/distance.exr" "$W/dirframe/" && mkdir "$W/dirframe/frame.json"
+  run 2 "is a folder" "$GIMG" reconstruct "$W/dirframe/distance.exr" --out "$W/x.ply"
+  run 1 "no Vulkan driver found" env VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json \
+    "$GIMG" cylinder "$W/m.off" --out "$W/nv"
+  run 2 "unknown command 'frobnicate'" "$GIMG" frobnicate
+  run 2 "not expected: --loud" "$GIMG" info "$W/m.off" --loud
+  touch "$W/afile"
+  run 2 "is a file; it takes a folder" "$GIMG" sphere "$W/m.off" --out "$W/afile"
+  run 2 "is a file; it takes a folder" "$GIMG" cylinder "$W/m.off" --out "$W/afile"
+  ;;
+cpu_methods_without_vulkan)
+  "$MAKE" scaled 1 "$W/m.off"
+  for method in kanai linear; do
+    VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json \
+      "$GIMG" --quiet sphere "$W/m.off" --out "$W/$method" --method "$method" >/dev/null 2>&1 ||
+      fail "sphere --method $method without a Vulkan driver failed"
+    exists "$W/$method/sphere.ply" "$W/$method/metrics.json"
+  done
+  for cmd in "cylinder $W/m.off --out $W/ray --method raycast" "cylinder $W/m.off --out $W/scan --method scanline" \
+             "reconstruct $W/good/distance.exr --out $W/r.ply --cpu" "compare $W/m.off $W/m.off" "info $W/m.off"; do
+    # shellcheck disable=SC2086
+    VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json "$GIMG" --quiet $cmd >/dev/null 2>&1 ||
+      fail "'gimg $cmd' without a Vulkan driver failed"
+  done
+  ;;
+strict_numbers)
+  "$MAKE" scaled 1 "$W/m.off"
+  run 2 "--max-iterations takes a whole number" "$GIMG" sphere "$W/m.off" --out "$W/s" --max-iterations -1
+  run 2 "--seed takes a whole number" "$GIMG" compare "$W/m.off" "$W/m.off" --seed -1
+  run 2 "--lod takes a whole number" "$GIMG" reconstruct "$W/good/distance.exr" --out "$W/x.ply" --lod 0x10
+  run 2 "--threshold takes a distance" "$GIMG" reconstruct "$W/good/distance.exr" --out "$W/x.ply" --threshold 1e-400
+  run 2 "--runs takes a whole number" "$GIMG" bench cylinder --runs 0
+  run 1 "cannot write to standard output" sh -c "'$GIMG' info '$W/m.off' >/dev/full"
+  absent "$W/s" "$W/x.ply"
+  ;;
+*)
+  echo "unknown case $case_name"
+  exit 2 ;;
+esac
+
+no_temps
+[ "$failures" -eq 0 ] && echo "ok: $case_name" && exit 0
+exit 1
