@@ -85,7 +85,8 @@ void check_command_files(const std::vector<fs::path>& inputs, const std::vector<
             try {
                 geo::check_output_target(o.path);
             } catch (const geo::InputError& e) {
-                throw geo::InputError(o.option + ": " + e.what());
+                throw geo::InputError(o.option + ": " + e.what() +
+                                      (o.option == "--json" ? "; --json - writes to standard output" : ""));
             }
         }
         if (!o.extensions.empty() &&
