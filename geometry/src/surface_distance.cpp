@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <vector>
 
 namespace gimg::geo {
@@ -67,6 +68,8 @@ DistanceStats one_sided_distance(const Mesh& from, const TriangleBvh& to, const 
         face_sample_counts(areas, resolve_sample_count(options.sampling, from.face_count()), seed);
 
     std::vector<Partial> partials(chunk_count(from.face_count(), kFacesPerChunk));
+    std::mutex progress_lock;
+    std::size_t chunks_done = 0;
     parallel_for_chunks(
         from.face_count(), kFacesPerChunk,
         [&](std::size_t chunk, std::size_t begin, std::size_t end) {
@@ -88,6 +91,10 @@ DistanceStats one_sided_distance(const Mesh& from, const TriangleBvh& to, const 
                 }
             }
             partials[chunk] = p;
+            if (options.progress) {
+                const std::lock_guard<std::mutex> lock(progress_lock);
+                options.progress(double(++chunks_done) / double(partials.size()));
+            }
         },
         options.threads);
 
@@ -114,8 +121,11 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, const SurfaceDist
     const TriangleBvh bvh_a(a, build), bvh_b(b, build);
 
     SurfaceDistance d;
-    d.a_to_b = one_sided_distance(a, bvh_b, options);
-    d.b_to_a = one_sided_distance(b, bvh_a, options);
+    SurfaceDistanceOptions half = options;
+    if (options.progress) half.progress = [&](double done) { options.progress(0.5 * done); };
+    d.a_to_b = one_sided_distance(a, bvh_b, half);
+    if (options.progress) half.progress = [&](double done) { options.progress(0.5 + 0.5 * done); };
+    d.b_to_a = one_sided_distance(b, bvh_a, half);
     d.bbox_diagonal = a.bounds().diagonal();
 
     // Union of both sample sets: recover the sums from mean and RMS.

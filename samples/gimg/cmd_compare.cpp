@@ -3,6 +3,7 @@
 #include "command_files.h"
 #include "commands.h"
 #include "json_output.h"
+#include "progress_line.h"
 
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/surface_distance.h"
@@ -44,7 +45,10 @@ void run_compare(const CompareOptions& o, const GlobalOptions& global) {
     options.sampling.sample_count = o.samples;
     options.sampling.seed = o.seed;
     const auto measure_start = std::chrono::steady_clock::now();
+    ProgressLine line(global.quiet);
+    if (line.on()) options.progress = [&line](double done) { line.percent("surface distance", done); };
     const geo::SurfaceDistance d = geo::surface_distance(a, b, options);
+    line.finish();
     const auto end = std::chrono::steady_clock::now();
     const double seconds = std::chrono::duration<double>(end - start).count();
     const double distance_seconds = std::chrono::duration<double>(end - measure_start).count();

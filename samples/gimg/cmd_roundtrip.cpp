@@ -4,6 +4,7 @@
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
+#include "progress_line.h"
 #include "size_option.h"
 #include "timing.h"
 
@@ -54,7 +55,10 @@ void run_roundtrip(const RoundtripOptions& o, const GlobalOptions& global) {
     geo::save_mesh(back, std::filesystem::path(o.out) / "reconstruction.ply");
     geo::SurfaceDistanceOptions so;
     if (o.samples) so.sampling.sample_count = o.samples;
+    ProgressLine line(global.quiet);
+    if (line.on()) so.progress = [&line](double done) { line.percent("surface distance", done); };
     const geo::SurfaceDistance d = geo::surface_distance(mesh, back, so);
+    line.finish();
     passes::RenderOptions view;
     view.width = 640;
     view.height = 640;

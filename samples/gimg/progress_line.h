@@ -27,6 +27,13 @@ public:
         std::fflush(stderr);
         shown_ = true;
     }
+    // "<what> N%" for a share of the work done in [0, 1], redrawn only when N changes.
+    void percent(const char* what, double done) {
+        const int now = int(100.0 * done);
+        if (now == last_percent_) return;
+        last_percent_ = now;
+        show("%s %d%%", what, now);
+    }
     // Ends the line (before normal output follows).
     void finish() {
         if (shown_) std::fputs("\r\033[K", stderr);
@@ -36,6 +43,7 @@ public:
 private:
     bool on_;
     bool shown_ = false;
+    int last_percent_ = -1;
 };
 
 }  // namespace gimg::cli

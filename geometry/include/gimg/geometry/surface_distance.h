@@ -23,6 +23,7 @@
 #include "gimg/geometry/surface_sampling.h"
 
 #include <cstddef>
+#include <functional>
 
 namespace gimg::geo {
 
@@ -50,6 +51,9 @@ struct SurfaceDistance {
 struct SurfaceDistanceOptions {
     SurfaceSamplingOptions sampling;  // used for both directions
     unsigned threads = 0;             // 0: default_thread_count()
+    // Called now and then with the share of the work done, in [0, 1], one call at a time (from
+    // worker threads); surface_distance reports both directions as one.
+    std::function<void(double done)> progress;
 };
 
 // One direction: samples of `from` against the surface held by `to`.
