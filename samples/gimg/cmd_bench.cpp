@@ -302,11 +302,12 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
     cyl->add_option("--mesh", opts->meshes, "Meshes (default: armadillo, bunny, derived/bunny_loop1, dragon)");
     cyl->add_option("--size", opts->sizes, "Sizes: WxH or auto (default: auto and 540x270)");
     add_count_option(cyl, "--runs", opts->runs, 1, 1000, "Runs per case; the median is reported (default 5)");
-    cyl->add_option("--batch-images", opts->batch_images, "Images per batch execution at 144x144 (0: skip)");
+    add_count_option(cyl, "--batch-images", opts->batch_images, 0, 4096,
+                     "Images per batch execution at 144x144 (0: skip)");
     cyl->add_option("--batch-mesh", opts->batch_meshes, "Meshes for the batch case (default: ~10K-face shared meshes)");
-    cyl->add_option("--small-pixels", opts->small_pixels,
-                    "zbuffer: pieces of at most this many pixels are decided in the classify pass (0: none; "
-                    "default 64)");
+    add_count_option(cyl, "--small-pixels", opts->small_pixels, 0, UINT32_MAX,
+                     "zbuffer: pieces of at most this many pixels are decided in the classify pass (0: none; "
+                     "default 64)");
     cyl->add_option("--large-pieces", opts->large_pieces,
                     "zbuffer: larger pieces through the graphics pipeline or a compute pass (default auto: compute on "
                     "CPU devices, graphics on GPUs)")

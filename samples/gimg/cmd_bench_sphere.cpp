@@ -127,7 +127,8 @@ void add_bench_sphere_command(CLI::App& bench, const GlobalOptions& global) {
         ->transform(CLI::Transformer(std::map<std::string, std::string>{{"gpu", "harmonic"}}))
         ->check(CLI::IsMember({"harmonic", "kanai", "gu", "linear"}));
     add_count_option(cmd, "--runs", o->runs, 1, 1000, "Runs per case; the median is reported (default 3)");
-    cmd->add_option("--gu-max-vertices", o->gu_max_vertices, "Run gu only on meshes up to this size (default 10000)");
+    add_count_option(cmd, "--gu-max-vertices", o->gu_max_vertices, 0, UINT32_MAX,
+                     "Run gu only on meshes up to this size (default 10000)");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_sphere_bench(*o, global); }); });
 }

@@ -19,7 +19,7 @@ inline std::array<std::uint32_t, 2> parse_size(const std::string& text, std::uin
     const std::uint32_t w = x == std::string::npos ? 0 : side(text.substr(0, x));
     const std::uint32_t h = x == std::string::npos ? 0 : side(text.substr(x + 1));
     if (w == 0 || h == 0 || w > max_side || h > max_side)
-        throw geo::InputError("size must be WxH with sides from 1 to " + std::to_string(max_side) + ", got '" + text +
+        throw geo::InputError("--size takes WxH with sides from 1 to " + std::to_string(max_side) + ", got '" + text +
                               "'");
     return {w, h};
 }
