@@ -5,6 +5,8 @@
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/exr.h"
 
+#include "frame_json.h"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -39,23 +41,8 @@ geo::RgbaImage cylinder_preview(const CylinderImage& image) {
 
 namespace {
 
-// FNV-1a over the image's size, mask and covered distances: frame.json records it, so a reader can
-// tell an image from another run (an interrupted or concurrent one) beside it.
 std::string image_stamp(const CylinderImage& image) {
-    std::uint64_t h = 14695981039346656037ull;
-    auto mix = [&](const void* data, std::size_t n) {
-        const auto* b = static_cast<const unsigned char*>(data);
-        for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
-    };
-    mix(&image.width, 4);
-    mix(&image.height, 4);
-    for (std::size_t i = 0; i < image.covered.size(); ++i) {
-        mix(&image.covered[i], 1);
-        if (image.covered[i]) mix(&image.distance[i], 4);
-    }
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
-    return text;
+    return detail::stamp_of(image.width, image.height, image.covered, image.distance);
 }
 
 }  // namespace
@@ -83,13 +70,7 @@ void write_cylinder_files(const std::filesystem::path& dir, const CylinderImage&
     geo::write_exr(exr, dir / "distance.exr");
     geo::write_png(cylinder_preview(image), dir / "distance.png");
 
-    nlohmann::json j;
-    j["rotation"] = nlohmann::json::array();
-    for (int r = 0; r < 3; ++r)
-        j["rotation"].push_back({frame.rotation[0][r], frame.rotation[1][r], frame.rotation[2][r]});
-    j["translation"] = {frame.translation.x, frame.translation.y, frame.translation.z};
-    j["scale"] = frame.scale;
-    j["to_cylinder"] = "p_cylinder = scale * rotation * p + translation (rotation as rows)";
+    nlohmann::json j = detail::frame_json(frame);
     j["image"] = {{"width", image.width},    {"height", image.height}, {"theta", "2*pi*(u+0.5)/width"},
                   {"y", "1-(v+0.5)/height"}, {"row_0", "top"},         {"point", "(d*cos(theta), y, d*sin(theta))"},
                   {"empty", "mask == 0"}};
@@ -125,53 +106,14 @@ CylinderImage read_cylinder_exr(const std::filesystem::path& path) {
     return image;
 }
 
-namespace {
-
-nlohmann::json read_frame_json(const std::filesystem::path& path) {
-    std::error_code ec;
-    if (std::filesystem::is_directory(path, ec))
-        throw geo::InputError(path.string() + " is a folder, not a frame.json");
-    std::ifstream in(path);
-    if (!in)
-        throw geo::InputError("cannot read " + path.string() + ": no such file (it is written beside distance.exr)");
-    try {
-        return nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& e) {
-        throw geo::InputError(path.string() + " is not a gimg frame.json: " + e.what());
-    }
+CylinderFrame read_cylinder_frame(const std::filesystem::path& path) {
+    return detail::frame_of(detail::read_frame_json(path), path);
 }
-
-CylinderFrame frame_of(const nlohmann::json& j, const std::filesystem::path& path) {
-    CylinderFrame f;
-    try {
-        for (int r = 0; r < 3; ++r)
-            for (int c = 0; c < 3; ++c) f.rotation[c][r] = j.at("rotation").at(r).at(c).get<double>();
-        for (int k = 0; k < 3; ++k) f.translation[k] = j.at("translation").at(k).get<double>();
-        f.scale = j.at("scale").get<double>();
-    } catch (const nlohmann::json::exception& e) {
-        throw geo::InputError(path.string() + " is not a gimg frame.json: " + e.what());
-    }
-    if (!(f.scale > 0.0) || !std::isfinite(f.scale)) throw geo::InputError(path.string() + ": scale must be positive");
-    for (int k = 0; k < 3; ++k)
-        if (!std::isfinite(f.translation[k])) throw geo::InputError(path.string() + ": translation is not finite");
-    // A rotation: orthonormal rows (to the precision a dump of doubles keeps) and no mirror.
-    const glm::dmat3 should_be_identity = glm::transpose(f.rotation) * f.rotation;
-    for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-            if (!(std::abs(should_be_identity[c][r] - (r == c ? 1.0 : 0.0)) <= 1e-9))
-                throw geo::InputError(path.string() + ": rotation is not a rotation (its rows are not orthonormal)");
-    if (!(glm::determinant(f.rotation) > 0.0)) throw geo::InputError(path.string() + ": rotation is a mirror");
-    return f;
-}
-
-}  // namespace
-
-CylinderFrame read_cylinder_frame(const std::filesystem::path& path) { return frame_of(read_frame_json(path), path); }
 
 CylinderFiles read_cylinder_files(const std::filesystem::path& exr_path) {
     const std::filesystem::path frame_path = exr_path.parent_path() / "frame.json";
-    const nlohmann::json j = read_frame_json(frame_path);
-    CylinderFiles files{read_cylinder_exr(exr_path), frame_of(j, frame_path)};
+    const nlohmann::json j = detail::read_frame_json(frame_path);
+    CylinderFiles files{read_cylinder_exr(exr_path), detail::frame_of(j, frame_path)};
     if (j.contains("image")) {
         const auto& layout = j["image"];
         if (layout.value("width", 0u) != files.image.width || layout.value("height", 0u) != files.image.height)

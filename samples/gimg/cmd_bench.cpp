@@ -324,6 +324,7 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
         run_writing({}, {json_output(ropts->json)}, [&] { run_reconstruct_bench(*ropts, global); });
     });
     add_bench_sphere_command(*bench, global);
+    add_bench_hierarchy_command(*bench, global);
 }
 
 }  // namespace gimg::cli

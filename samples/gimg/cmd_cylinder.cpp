@@ -7,6 +7,7 @@
 
 #include "gimg/geometry/io.h"
 #include "gimg/passes/cylinder.h"
+#include "gimg/passes/cylinder_hierarchy.h"
 
 #include <chrono>
 #include <cstdio>
@@ -17,9 +18,52 @@ namespace {
 struct CylinderOptions {
     std::string mesh, out, size, method = "zbuffer", json;
     bool auto_size = false, no_align = false;
+    std::uint32_t base = 32;
+    double reach = passes::CylinderHierarchyOptions{}.reach;
+    std::string misses = "surface";
 };
 
+// --method hierarchical: the thesis's chapter 3, into DIR/hierarchy.exr, hierarchy.png, frame.json.
+void run_hierarchy(const CylinderOptions& o, const GlobalOptions& global) {
+    const auto start = std::chrono::steady_clock::now();
+    std::uint32_t n = 256;
+    if (!o.size.empty()) {
+        const std::string text = o.size.find('x') == std::string::npos ? o.size + "x" + o.size : o.size;
+        const auto wh = parse_size(text);
+        if (wh[0] != wh[1]) throw geo::InputError("--size: a hierarchy is square (N or NxN), got '" + o.size + "'");
+        n = wh[0];
+    }
+    passes::check_hierarchy_sizes(o.base, n);
+    const geo::Mesh mesh = geo::load_mesh(o.mesh);
+    if (mesh.face_count() == 0) throw geo::InputError(o.mesh + " has no faces to project");
+    const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh, !o.no_align);
+    const passes::CylinderHierarchy h = passes::cylinder_hierarchy_cpu(
+        passes::make_cylinder_mesh(mesh, frame),
+        {.base = o.base,
+         .size = n,
+         .reach = o.reach,
+         .miss = o.misses == "empty" ? passes::HierarchyMiss::Invalid : passes::HierarchyMiss::Surface});
+    std::size_t valid = 0;
+    for (auto v : h.valid) valid += v;
+    if (valid == 0)
+        throw geo::InputError(o.mesh + ": the hierarchy's first level covers no pixel; try a larger --base");
+    passes::write_hierarchy_files(o.out, h, frame, {o.mesh, "hierarchical"});
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    if (!global.quiet) {
+        std::printf("%s: %zu faces -> %ux%u hierarchy from %ux%u (%u levels), %zu of %u samples valid; %.3f s\n",
+                    o.mesh.c_str(), mesh.face_count(), n, n, o.base, o.base, h.levels(), valid, n * n, seconds);
+        std::printf("wrote %s/{hierarchy.exr, hierarchy.png, frame.json}\n", o.out.c_str());
+    }
+    nlohmann::json j{{"mesh", o.mesh},         {"faces", mesh.face_count()}, {"size", n},
+                     {"base", o.base},         {"levels", h.levels()},       {"method", "hierarchical"},
+                     {"reach", o.reach},       {"misses", o.misses},         {"aligned", !o.no_align},
+                     {"valid_samples", valid}, {"seconds", seconds},         {"scale", frame.scale}};
+    add_machine_figures(j, nullptr);
+    write_json(o.json, j);
+}
+
 void run_cylinder(const CylinderOptions& o, const GlobalOptions& global) {
+    if (o.method == "hierarchical") return run_hierarchy(o, global);
     const auto start = std::chrono::steady_clock::now();
     const std::optional<std::array<std::uint32_t, 2>> asked =
         o.size.empty() ? std::nullopt : std::optional(parse_size(o.size));
@@ -75,12 +119,24 @@ void add_cylinder_command(CLI::App& app, const GlobalOptions& global) {
     auto* size = cmd->add_option("--size", opts->size, "Image size WxH");
     cmd->add_flag("--auto", opts->auto_size, "W = 2H with 2WH close to the face count (the default)")->excludes(size);
     cmd->add_option("--method", opts->method,
-                    "zbuffer (GPU, default), raycast (CPU reference) or scanline (the paper's CPU algorithm)")
-        ->check(CLI::IsMember({"zbuffer", "raycast", "scanline"}));
+                    "zbuffer (GPU, default), raycast (CPU reference), scanline (the paper's CPU algorithm) or "
+                    "hierarchical (the thesis's chapter 3: levels of rays along the surface normal)")
+        ->check(CLI::IsMember({"zbuffer", "raycast", "scanline", "hierarchical"}));
+    add_count_option(cmd, "--base", opts->base, 2, 8192, "hierarchical: level 1 is B x B (default 32)");
+    add_number_option(cmd, "--reach", opts->reach, 0.0, 1e6,
+                      "hierarchical: a ray goes at most this many times the distance between its parents (0: "
+                      "without limit, as the thesis; default 2)");
+    cmd->add_option("--misses", opts->misses,
+                    "hierarchical: a ray that finds nothing leaves a sample on the interpolated surface (surface, "
+                    "default) or a hole (empty)")
+        ->check(CLI::IsMember({"surface", "empty"}));
     cmd->add_flag("--no-align", opts->no_align, "Keep the model's orientation (no PCA), only centre and scale");
     cmd->add_option("--json", opts->json, "Write the figures as JSON");
     cmd->callback([opts, &global] {
-        auto outputs = folder_outputs("--out", opts->out, {"distance.exr", "distance.png", "frame.json"});
+        auto outputs = folder_outputs("--out", opts->out,
+                                      opts->method == "hierarchical"
+                                          ? std::vector<std::string>{"hierarchy.exr", "hierarchy.png", "frame.json"}
+                                          : std::vector<std::string>{"distance.exr", "distance.png", "frame.json"});
         outputs.push_back(json_output(opts->json));
         run_writing({opts->mesh}, outputs, [&] { run_cylinder(*opts, global); });
     });

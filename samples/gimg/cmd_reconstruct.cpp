@@ -8,6 +8,7 @@
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/exr.h"
 #include "gimg/geometry/io.h"
+#include "gimg/passes/cylinder_hierarchy.h"
 #include "gimg/passes/reconstruct.h"
 
 #include <cerrno>
@@ -41,6 +42,37 @@ std::optional<float> parse_threshold(const std::string& text) {
     return float(t);
 }
 
+// hierarchy.exr (cylinder --method hierarchical): decoded at its last level, or --lod K levels up.
+void run_hierarchy_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global) {
+    if (o.fill_caps || !o.threshold.empty())
+        throw geo::InputError("--fill-caps and --threshold are for cylindrical and position images, not hierarchies");
+    const passes::HierarchyFiles files = passes::read_hierarchy_files(o.image);
+    const std::uint32_t levels = files.hierarchy.levels();
+    if (o.lod >= levels)
+        throw geo::InputError("--lod " + std::to_string(o.lod) + ": the hierarchy has " + std::to_string(levels) +
+                              " levels");
+    geo::Mesh mesh;
+    passes::HierarchyGrid grid;
+    const double ms = time_ms([&] {
+        grid = passes::decode_cylinder_hierarchy(files.hierarchy, levels - o.lod);
+        mesh = passes::hierarchy_mesh(grid, files.frame);
+    });
+    if (mesh.face_count() == 0)
+        throw geo::InputError(o.image + ": nothing to reconstruct: no 2x2 block of valid samples at level " +
+                              std::to_string(levels - o.lod));
+    geo::save_mesh(mesh, o.out);
+    if (!global.quiet)
+        std::printf("%s: hierarchy %ux%u, level %u -> %zu vertices, %zu triangles in %.2f ms\nwrote %s\n",
+                    o.image.c_str(), grid.side, grid.side, levels - o.lod, mesh.vertex_count(), mesh.face_count(), ms,
+                    o.out.c_str());
+    nlohmann::json j{{"image", o.image},           {"out", o.out},        {"kind", "hierarchy"},
+                     {"width", grid.side},         {"height", grid.side}, {"lod", o.lod},
+                     {"level", levels - o.lod},    {"levels", levels},    {"vertices", mesh.vertex_count()},
+                     {"faces", mesh.face_count()}, {"method", "cpu"},     {"seconds", ms / 1000.0}};
+    add_machine_figures(j, nullptr);
+    write_json(o.json, j);
+}
+
 void run_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global) {
     const std::filesystem::path image_path = o.image;
     passes::ReconstructOptions options;
@@ -48,6 +80,7 @@ void run_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global
     options.fill_caps = o.fill_caps;
     options.lod = o.lod;
     const geo::FloatImage probe = geo::read_exr(image_path);
+    if (probe.channels.count("t") != 0) return run_hierarchy_reconstruct(o, global);
     const bool cylindrical = probe.channels.count("d") != 0;
     std::unique_ptr<Context> ctx;
     if (!o.cpu) ctx = open_context(global);

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cerrno>
+#include <cstdlib>
 #include <system_error>
 
 namespace gimg::cli {
@@ -102,6 +104,25 @@ void check_command_files(const std::vector<fs::path>& inputs, const std::vector<
                 throw geo::InputError(o.option + " " + o.path.string() + " is also written as " + outputs[k].option +
                                       "; give each output its own file");
     }
+}
+
+CLI::Option* add_number_option(CLI::App* cmd, const std::string& name, double& value, double lo, double hi,
+                               const std::string& help) {
+    return cmd
+        ->add_option_function<std::string>(
+            name,
+            [&value, name, lo, hi](const std::string& text) {
+                const bool decimal = !text.empty() && text.find_first_not_of("0123456789.eE+-") == std::string::npos;
+                char* end = nullptr;
+                errno = 0;
+                const double v = decimal ? std::strtod(text.c_str(), &end) : 0.0;
+                if (!decimal || errno != 0 || end != text.c_str() + text.size() || !(v >= lo && v <= hi))
+                    throw geo::InputError(name + " takes a number from " + std::to_string(lo) + " to " +
+                                          std::to_string(hi) + ", got '" + text + "'");
+                value = v;
+            },
+            help)
+        ->type_name("X");
 }
 
 CLI::Option* add_count_option(CLI::App* cmd, const std::string& name, std::uint64_t& value, std::uint64_t lo,

@@ -1,0 +1,146 @@
+// Launch points and outward normals of a level (the thesis, 3.3.1; the spec's orientation rule:
+// grid-order normals, which point away from the axis where the surface is seen directly, times the
+// sign of the level-1 ancestors).
+#include "launch_rays.h"
+
+#include "gimg/geometry/error.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace gimg::passes::detail {
+
+namespace {
+
+// Adds the unit normal of triangle (a, b, c) unless it is degenerate.
+void add_unit_normal(glm::dvec3& sum, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    const double len = glm::length(n);
+    if (len > 0.0 && std::isfinite(len)) sum += n / len;
+}
+
+// The outward unit normal from a sum of grid-order unit normals, or the radial direction where it
+// vanishes.
+glm::dvec3 oriented(const glm::dvec3& sum, const glm::dvec3& origin, int outward) {
+    const double len = glm::length(sum);
+    if (len > 1e-12) return double(outward) * sum / len;
+    const double r = std::hypot(origin.x, origin.z);
+    const glm::dvec3 radial = r > 0.0 ? glm::dvec3(origin.x / r, 0.0, origin.z / r) : glm::dvec3(1.0, 0.0, 0.0);
+    return double(outward) * radial;
+}
+
+}  // namespace
+
+HierarchyGrid level_one_grid(std::uint32_t base, const std::vector<float>& t, const std::vector<std::uint8_t>& valid) {
+    HierarchyGrid g;
+    g.side = base;
+    g.points.assign(std::size_t(base) * base, glm::dvec3(0.0));
+    g.valid = valid;
+    g.outward.assign(g.points.size(), 1);
+    const auto dirs = cylinder_directions(base);
+    for (std::uint32_t v = 0; v < base; ++v) {
+        const double y = 1.0 - (double(v) + 0.5) / double(base);
+        for (std::uint32_t u = 0; u < base; ++u) {
+            const std::size_t i = std::size_t(v) * base + u;
+            if (!valid[i]) continue;
+            const double d = 1.0 - double(t[i]);
+            g.points[i] = {d * dirs[u][0], y, d * dirs[u][1]};
+            g.outward[i] = d >= 0.0 ? 1 : -1;
+        }
+    }
+    return g;
+}
+
+LevelLaunches level_launches(const HierarchyGrid& g) {
+    const std::uint32_t s = g.side;
+    auto at = [&](std::uint32_t u, std::uint32_t v) { return std::size_t(v) * s + (u % s); };
+    LevelLaunches out;
+    out.h.resize(std::size_t(s) * s);
+    out.v.resize(std::size_t(s) * s);
+    out.d.resize(std::size_t(s) * s);
+    // Cell centres first: the edge samples use them.
+    for (std::uint32_t v = 0; v + 1 < s; ++v)
+        for (std::uint32_t u = 0; u < s; ++u) {
+            const std::size_t a = at(u, v), b = at(u + 1, v), c = at(u, v + 1), d = at(u + 1, v + 1);
+            Launch& l = out.d[at(u, v)];
+            if (!(g.valid[a] && g.valid[b] && g.valid[c] && g.valid[d])) continue;
+            l.valid = 1;
+            l.origin = 0.25 * (g.points[a] + g.points[b] + g.points[c] + g.points[d]);
+            l.span = std::max(glm::distance(g.points[a], g.points[d]), glm::distance(g.points[b], g.points[c]));
+            l.outward = g.outward[a] + g.outward[b] + g.outward[c] + g.outward[d] >= 0 ? 1 : -1;
+            // The ring (u, v + 1) -> (u, v) -> (u + 1, v) -> (u + 1, v + 1) around the centre: its
+            // fan's normals point away from the axis where the grid sees the surface directly.
+            glm::dvec3 sum(0.0);
+            const glm::dvec3 ring[4] = {g.points[c], g.points[a], g.points[b], g.points[d]};
+            for (int k = 0; k < 4; ++k) add_unit_normal(sum, l.origin, ring[k], ring[(k + 1) % 4]);
+            l.normal = oriented(sum, l.origin, l.outward);
+        }
+    for (std::uint32_t v = 0; v < s; ++v)
+        for (std::uint32_t u = 0; u < s; ++u) {
+            // Horizontal: between (u, v) and (u + 1, v); the cells above (row v - 1) and below (row v).
+            const std::size_t a = at(u, v), b = at(u + 1, v);
+            Launch& h = out.h[at(u, v)];
+            if (g.valid[a] && g.valid[b]) {
+                h.valid = 1;
+                h.origin = 0.5 * (g.points[a] + g.points[b]);
+                h.span = glm::distance(g.points[a], g.points[b]);
+                h.outward = g.outward[a];
+                glm::dvec3 sum(0.0);
+                if (v + 1 < s && out.d[at(u, v)].valid) add_unit_normal(sum, g.points[a], g.points[b], out.d[at(u, v)].origin);
+                if (v > 0 && out.d[at(u, v - 1)].valid)
+                    add_unit_normal(sum, g.points[b], g.points[a], out.d[at(u, v - 1)].origin);
+                h.normal = oriented(sum, h.origin, h.outward);
+            }
+            // Vertical: between (u, v) and (u, v + 1); the cells to the left (column u - 1) and right.
+            if (v + 1 >= s) continue;
+            const std::size_t c = at(u, v + 1);
+            Launch& vl = out.v[at(u, v)];
+            if (!(g.valid[a] && g.valid[c])) continue;
+            vl.valid = 1;
+            vl.origin = 0.5 * (g.points[a] + g.points[c]);
+            vl.span = glm::distance(g.points[a], g.points[c]);
+            vl.outward = g.outward[a];
+            glm::dvec3 sum(0.0);
+            const Launch& right = out.d[at(u, v)];
+            const Launch& left = out.d[at(u + s - 1, v)];
+            if (right.valid) add_unit_normal(sum, g.points[c], g.points[a], right.origin);
+            if (left.valid) add_unit_normal(sum, g.points[a], g.points[c], left.origin);
+            vl.normal = oriented(sum, vl.origin, vl.outward);
+        }
+    return out;
+}
+
+HierarchyGrid interleave(const HierarchyGrid& g, const LevelLaunches& l, const std::vector<float>& th,
+                         const std::vector<float>& tv, const std::vector<float>& td, const std::vector<std::uint8_t>& hit_h,
+                         const std::vector<std::uint8_t>& hit_v, const std::vector<std::uint8_t>& hit_d) {
+    const std::uint32_t s = g.side, n = 2 * s;
+    HierarchyGrid out;
+    out.side = n;
+    out.points.assign(std::size_t(n) * n, glm::dvec3(0.0));
+    out.valid.assign(out.points.size(), 0);
+    out.outward.assign(out.points.size(), 1);
+    auto put = [&](std::uint32_t u, std::uint32_t v, const Launch& launch, float t, std::uint8_t kind) {
+        const std::size_t i = std::size_t(v) * n + u;
+        if (!launch.valid || kind == kHierarchyEmpty) return;
+        out.points[i] = launch.origin + double(t) * launch.normal;
+        out.valid[i] = kind;
+        out.outward[i] = launch.outward;
+    };
+    for (std::uint32_t v = 0; v < s; ++v)
+        for (std::uint32_t u = 0; u < s; ++u) {
+            const std::size_t i = std::size_t(v) * s + u;
+            const std::size_t o = std::size_t(2 * v) * n + 2 * u;
+            out.points[o] = g.points[i];
+            out.valid[o] = g.valid[i];
+            out.outward[o] = g.outward[i];
+            put(2 * u + 1, 2 * v, l.h[i], th[i], hit_h[i]);
+            put(2 * u, 2 * v + 1, l.v[i], tv[i], hit_v[i]);
+            put(2 * u + 1, 2 * v + 1, l.d[i], td[i], hit_d[i]);
+        }
+    return out;
+}
+
+}  // namespace gimg::passes::detail

@@ -1,0 +1,96 @@
+#pragma once
+// Hierarchical cylindrical ray casting (the cylindrical-projection thesis, chapter 3;
+// docs/cylinder-hierarchy.md): the regions one cylindrical projection cannot see (behind an ear,
+// under a collar) are reached by casting new rays, level by level, from the cell centres and edge
+// midpoints of the previous level's hits, along the local surface normal.
+//
+// Level 1 is the ordinary cylindrical image at B x B (rays from the wall towards the axis). Each
+// further level doubles the grid: first from every cell centre (the mean of its 4 hits, the mean
+// of the 4 fan triangles' unit normals), then from every edge midpoint (the mean of the 2
+// triangles the edge forms with the neighbouring cell centres). A launch point inside the model
+// (an odd number of crossings on the radial segment from the wall) fires along the outward
+// normal, one outside against it. Values are stored as the thesis's multiresolution image: level 1
+// top-left, each level's horizontal band to the right, vertical band below, diagonal band
+// bottom-right, as the signed distance along the outward normal, so a decoder recomputes every
+// launch point and direction from the decoded points without the mesh.
+
+#include "gimg/geometry/mesh.h"
+#include "gimg/passes/cylinder.h"
+
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <vector>
+
+namespace gimg::passes {
+
+// What a ray that finds no surface within its reach leaves.
+enum class HierarchyMiss {
+    Surface,  // a sample on the interpolated surface (t = 0), marked as a miss: the grid stays whole
+    Invalid,  // no sample: a hole, and none of its descendants
+};
+
+struct CylinderHierarchyOptions {
+    std::uint32_t base = 32;   // B: level 1 is B x B
+    std::uint32_t size = 256;  // N: the last level's grid is N x N (N = B 2^k)
+    // How far a ray of level 2 and later may go, in units of the distance between its parents; 0:
+    // without limit, as the thesis casts. A ray that travels much farther than its parents lie
+    // apart reaches another part of the model (the other ear, the body behind an arm) and pulls a
+    // fin across the gap; too short a reach never gets behind an occluder. The trade-off is
+    // measured in docs/cylinder-hierarchy.md.
+    double reach = 2.0;
+    HierarchyMiss miss = HierarchyMiss::Surface;
+};
+
+// Per sample of a hierarchy or a decoded grid.
+enum : std::uint8_t { kHierarchyEmpty = 0, kHierarchyHit = 1, kHierarchyMiss = 2 };
+
+// The multiresolution image: N x N, row-major from the top row, in the band layout above. Level 1
+// holds t = 1 - d (the distance from the wall); later levels the signed distance along the outward
+// normal. valid is kHierarchyHit for a hit, kHierarchyMiss for a ray that found nothing within
+// its reach (kept on the interpolated surface, t = 0), kHierarchyEmpty where a level-1 ray hit
+// nothing, a parent is empty, or the sample has no upper partner (the last row of V and D bands).
+struct CylinderHierarchy {
+    std::uint32_t base = 0, size = 0;
+    std::vector<float> t;
+    std::vector<std::uint8_t> valid;
+    double reach = 2.0;  // the options it was cast with (recorded in frame.json)
+    std::vector<double> level_ms;  // the encoder's wall time per level (not stored in files)
+    std::uint32_t levels() const;  // 1 + log2(size / base)
+};
+
+// Throws geo::InputError unless base >= 2 and size = base 2^k <= 16384.
+void check_hierarchy_sizes(std::uint32_t base, std::uint32_t size);
+
+// The encoder on the CPU: rays through geo::TriangleBvh in double precision, threads over rows.
+// The mesh is in the cylinder frame (make_cylinder_mesh). Throws geo::InputError for sizes that
+// are not B 2^k with B >= 2.
+CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const CylinderHierarchyOptions& options = {});
+
+// The grid of points a hierarchy decodes to at `level` (1 .. levels()): side B 2^(level - 1),
+// points in the cylinder frame, row-major from the top row.
+struct HierarchyGrid {
+    std::uint32_t side = 0;
+    std::vector<glm::dvec3> points;
+    std::vector<std::uint8_t> valid;  // kHierarchyEmpty, kHierarchyHit or kHierarchyMiss
+    std::vector<std::int8_t> outward;  // +1: seen from the wall directly, -1: through the axis
+};
+HierarchyGrid decode_cylinder_hierarchy(const CylinderHierarchy& hierarchy, std::uint32_t level);
+
+// The grid as a mesh in the model's coordinates: a vertex per valid point, two triangles per
+// block of four valid points (cut along the shorter diagonal, wrapping around in u, facing out).
+geo::Mesh hierarchy_mesh(const HierarchyGrid& grid, const CylinderFrame& frame);
+
+// DIR/hierarchy.exr (float32 channels "t" and "mask": 1 hit, 0.5 a miss kept on the surface, 0 empty), DIR/hierarchy.png (each band rescaled for
+// people) and DIR/frame.json (the frame, base, size and a stamp of the image), written together.
+void write_hierarchy_files(const std::filesystem::path& dir, const CylinderHierarchy& hierarchy,
+                           const CylinderFrame& frame, const CylinderFileInfo& info);
+// Reading them back, checked as read_cylinder_files checks an ordinary image. Throws geo::InputError.
+struct HierarchyFiles {
+    CylinderHierarchy hierarchy;
+    CylinderFrame frame;
+};
+HierarchyFiles read_hierarchy_files(const std::filesystem::path& exr_path);
+
+}  // namespace gimg::passes

@@ -1,0 +1,105 @@
+// gimg bench hierarchical [--mesh PATH]... [--size N]... [--base B] [--reach R] [--samples N] [--json FILE]
+//
+// The thesis's table 3.1 redone: per mesh and size N, the ordinary N x N cylindrical image (ray
+// cast, every block connected) against the hierarchy from B x B, each reconstructed and measured
+// against the original both ways (RMS in cylinder units, radius 1, as the thesis reports), with
+// the wall time of each and of every level of the hierarchy.
+#include "bench_paths.h"
+#include "command_files.h"
+#include "commands.h"
+#include "json_output.h"
+#include "timing.h"
+
+#include "gimg/geometry/io.h"
+#include "gimg/geometry/surface_distance.h"
+#include "gimg/passes/cylinder_hierarchy.h"
+#include "gimg/passes/reconstruct.h"
+
+#include <cstdio>
+#include <limits>
+
+namespace gimg::cli {
+
+namespace {
+
+struct HierarchyBenchOptions {
+    std::vector<std::string> meshes;
+    std::vector<std::uint32_t> sizes{64, 128, 256};
+    std::uint32_t base = 32;
+    double reach = passes::CylinderHierarchyOptions{}.reach;
+    std::uint64_t samples = 300000;
+    std::string json;
+};
+
+// RMS both ways, in cylinder units.
+std::pair<double, double> error_of(const geo::Mesh& original, const geo::Mesh& rebuilt, double scale,
+                                   std::uint64_t samples) {
+    geo::SurfaceDistanceOptions so;
+    so.sampling.sample_count = samples;
+    const geo::SurfaceDistance d = geo::surface_distance(original, rebuilt, so);
+    return {d.a_to_b.rms * scale, d.b_to_a.rms * scale};
+}
+
+void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& global) {
+    std::vector<std::string> meshes = o.meshes;
+    if (meshes.empty())
+        for (const char* name : {"armadillo", "bunny", "camel", "homer", "elephant"})
+            meshes.push_back((shared_mesh_dir() / (std::string(name) + ".off")).string());
+    for (std::uint32_t n : o.sizes) passes::check_hierarchy_sizes(o.base, n);
+    if (!global.quiet) {
+        std::printf("gimg bench hierarchical: ordinary N x N ray cast (every block connected) vs hierarchy from %ux%u "
+                    "(reach %g); RMS in cylinder units, original->reconstruction / reconstruction->original; times "
+                    "in ms on the CPU\n",
+                    o.base, o.base, o.reach);
+        std::printf("%-14s %5s | %10s %10s %8s | %10s %10s %8s | %s\n", "mesh", "N", "ord A->B", "ord B->A", "ord ms",
+                    "hier A->B", "hier B->A", "hier ms", "hier ms per level");
+    }
+    nlohmann::json rows = nlohmann::json::array();
+    for (const std::string& path : meshes) {
+        const geo::Mesh mesh = geo::load_mesh(path);
+        const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh);
+        const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, frame);
+        passes::ReconstructOptions off;
+        off.threshold = std::numeric_limits<float>::infinity();
+        for (std::uint32_t n : o.sizes) {
+            geo::Mesh ordinary, hierarchical;
+            passes::CylinderHierarchy h;
+            const double ord_ms = time_ms([&] { ordinary = passes::reconstruct_cpu(passes::cylinder_raycast(cyl, n, n), frame, off); });
+            const double hier_ms = time_ms([&] {
+                h = passes::cylinder_hierarchy_cpu(cyl, {.base = o.base, .size = n, .reach = o.reach});
+                hierarchical = passes::hierarchy_mesh(passes::decode_cylinder_hierarchy(h, h.levels()), frame);
+            });
+            const auto [oa, ob] = error_of(mesh, ordinary, frame.scale, o.samples);
+            const auto [ha, hb] = error_of(mesh, hierarchical, frame.scale, o.samples);
+            std::string levels;
+            for (double ms : h.level_ms) levels += (levels.empty() ? "" : " ") + std::to_string(int(ms + 0.5));
+            const std::string name = std::filesystem::path(path).stem().string();
+            if (!global.quiet)
+                std::printf("%-14s %5u | %10.6f %10.6f %8.1f | %10.6f %10.6f %8.1f | %s\n", name.c_str(), n, oa, ob,
+                            ord_ms, ha, hb, hier_ms, levels.c_str());
+            rows.push_back({{"mesh", name},
+                            {"size", n},
+                            {"ordinary", {{"a_to_b_rms", oa}, {"b_to_a_rms", ob}, {"ms", ord_ms}}},
+                            {"hierarchical", {{"a_to_b_rms", ha}, {"b_to_a_rms", hb}, {"ms", hier_ms}, {"level_ms", h.level_ms}}}});
+        }
+    }
+    nlohmann::json j{{"base", o.base}, {"reach", o.reach}, {"samples", o.samples}, {"rows", rows}};
+    add_machine_figures(j, nullptr);
+    write_json(o.json, j);
+}
+
+}  // namespace
+
+void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global) {
+    auto o = std::make_shared<HierarchyBenchOptions>();
+    auto* cmd = bench.add_subcommand("hierarchical", "Ordinary vs hierarchical cylindrical images (the thesis's table 3.1)");
+    cmd->add_option("--mesh", o->meshes, "Meshes (default: armadillo, bunny, camel, homer, elephant of ../shared/meshes)");
+    cmd->add_option("--size", o->sizes, "Final sizes N (default 64 128 256)");
+    add_count_option(cmd, "--base", o->base, 2, 8192, "Level 1 is B x B (default 32)");
+    add_number_option(cmd, "--reach", o->reach, 0.0, 1e6, "Ray reach in parent spans (0: without limit; default 2)");
+    add_count_option(cmd, "--samples", o->samples, 1000, 100'000'000, "Surface samples per direction (default 300000)");
+    cmd->add_option("--json", o->json, "Write the figures as JSON");
+    cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_hierarchy_bench(*o, global); }); });
+}
+
+}  // namespace gimg::cli
