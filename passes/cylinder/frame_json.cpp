@@ -60,7 +60,6 @@ CylinderFrame frame_of(const nlohmann::json& j, const std::filesystem::path& pat
     return f;
 }
 
-
 std::string stamp_of(std::uint32_t width, std::uint32_t height, const std::vector<std::uint8_t>& valid,
                      const std::vector<float>& values) {
     std::uint64_t h = 14695981039346656037ull;

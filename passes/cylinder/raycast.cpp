@@ -6,6 +6,7 @@
 
 #include "gimg/geometry/bvh.h"
 #include "gimg/geometry/parallel_for.h"
+#include "gimg/passes/raycast.h"
 
 namespace gimg::passes {
 
@@ -25,6 +26,10 @@ geo::Mesh to_cylinder_frame(const CylinderMesh& mesh, const CylinderTransform& m
     return out;
 }
 
+namespace {
+geo::Ray pixel_ray(const std::array<double, 2>& direction, std::uint32_t v, std::uint32_t height);
+}  // namespace
+
 struct CylinderRaycaster::Bvh {
     geo::TriangleBvh tree;
 };
@@ -43,14 +48,8 @@ CylinderImage CylinderRaycaster::project(std::uint32_t width, std::uint32_t heig
     const auto directions = cylinder_directions(width);
     geo::parallel_for_chunks(height, 1, [&](std::size_t, std::size_t begin, std::size_t end) {
         for (std::size_t v = begin; v < end; ++v) {
-            geo::Ray ray;
-            ray.origin = {0.0, 1.0 - (double(v) + 0.5) / double(height), 0.0};
-            ray.t_min = -1.0;
-            ray.t_max = 1.0;
-            ray.front_faces_only = true;
             for (std::uint32_t u = 0; u < width; ++u) {
-                ray.direction = {-directions[u][0], 0.0, -directions[u][1]};
-                if (auto hit = bvh.intersect_nearest(ray)) {
+                if (auto hit = bvh.intersect_nearest(pixel_ray(directions[u], std::uint32_t(v), height))) {
                     const std::size_t i = image.index(u, std::uint32_t(v));
                     image.covered[i] = 1;
                     image.distance[i] = float(-hit->t);
@@ -58,6 +57,38 @@ CylinderImage CylinderRaycaster::project(std::uint32_t width, std::uint32_t heig
             }
         }
     });
+    return image;
+}
+
+namespace {
+// Pixel (u, v)'s ray.
+geo::Ray pixel_ray(const std::array<double, 2>& direction, std::uint32_t v, std::uint32_t height) {
+    geo::Ray ray;
+    ray.origin = {0.0, 1.0 - (double(v) + 0.5) / double(height), 0.0};
+    ray.direction = {-direction[0], 0.0, -direction[1]};
+    ray.t_min = -1.0;
+    ray.t_max = 1.0;
+    ray.front_faces_only = true;
+    return ray;
+}
+}  // namespace
+
+CylinderImage cylinder_raycast_gpu(Context& ctx, const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
+                                   const CylinderTransform& transform) {
+    CylinderImage image(width, height);
+    if (mesh.face_count() == 0) return image;
+    GpuRayCaster caster(ctx, to_cylinder_frame(mesh, transform));
+    const auto directions = cylinder_directions(width);
+    std::vector<geo::Ray> rays;
+    rays.reserve(std::size_t(width) * height);
+    for (std::uint32_t v = 0; v < height; ++v)
+        for (std::uint32_t u = 0; u < width; ++u) rays.push_back(pixel_ray(directions[u], v, height));
+    const std::vector<GpuRayHit> hits = caster.nearest(rays);
+    for (std::size_t i = 0; i < hits.size(); ++i)
+        if (hits[i].found()) {
+            image.covered[i] = 1;
+            image.distance[i] = float(-hits[i].t);
+        }
     return image;
 }
 

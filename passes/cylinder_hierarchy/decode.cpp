@@ -69,7 +69,8 @@ geo::Mesh hierarchy_mesh(const HierarchyGrid& g, const CylinderFrame& frame) {
                                       std::size_t(v + 1) * s + u1};
             if (!(g.valid[c[0]] && g.valid[c[1]] && g.valid[c[2]] && g.valid[c[3]])) continue;
             const bool faces_plus = g.outward[c[0]] + g.outward[c[1]] + g.outward[c[2]] + g.outward[c[3]] >= 0;
-            const detail::BlockTriangles t = detail::block_triangles(squared(c[0], c[3]) <= squared(c[1], c[2]), faces_plus);
+            const detail::BlockTriangles t =
+                detail::block_triangles(squared(c[0], c[3]) <= squared(c[1], c[2]), faces_plus);
             for (const auto& tri : t.corner)
                 mesh.triangles.push_back({vertex[c[tri[0]]], vertex[c[tri[1]]], vertex[c[tri[2]]]});
         }

@@ -71,15 +71,17 @@ void write_hierarchy_files(const std::filesystem::path& dir, const CylinderHiera
     geo::write_exr(exr, dir / "hierarchy.exr");
     geo::write_png(hierarchy_preview(h), dir / "hierarchy.png");
     nlohmann::json j = detail::frame_json(frame);
-    j["hierarchy"] = {{"base", h.base},
-                      {"size", h.size},
-                      {"levels", h.levels()},
-                      {"reach", h.reach},
-                      {"mask", "1 hit, 0.5 a ray that found nothing within reach (kept on the interpolated surface), 0 empty"},
-                      {"layout", "level 1 top-left; level L: horizontal band right, vertical below, diagonal "
-                                 "bottom-right"},
-                      {"level_1", "t = 1 - d along the inward radial ray"},
-                      {"later_levels", "signed distance along the outward normal of the launch point"}};
+    j["hierarchy"] = {
+        {"base", h.base},
+        {"size", h.size},
+        {"levels", h.levels()},
+        {"reach", h.reach},
+        {"mask", "1 hit, 0.5 a ray that found nothing within reach (kept on the interpolated surface), 0 empty"},
+        {"layout",
+         "level 1 top-left; level L: horizontal band right, vertical below, diagonal "
+         "bottom-right"},
+        {"level_1", "t = 1 - d along the inward radial ray"},
+        {"later_levels", "signed distance along the outward normal of the launch point"}};
     j["source"] = info.source;
     j["method"] = info.method;
     j["image_stamp"] = detail::stamp_of(h.size, h.size, h.valid, h.t);

@@ -89,7 +89,8 @@ LevelLaunches level_launches(const HierarchyGrid& g) {
                 h.span = glm::distance(g.points[a], g.points[b]);
                 h.outward = g.outward[a];
                 glm::dvec3 sum(0.0);
-                if (v + 1 < s && out.d[at(u, v)].valid) add_unit_normal(sum, g.points[a], g.points[b], out.d[at(u, v)].origin);
+                if (v + 1 < s && out.d[at(u, v)].valid)
+                    add_unit_normal(sum, g.points[a], g.points[b], out.d[at(u, v)].origin);
                 if (v > 0 && out.d[at(u, v - 1)].valid)
                     add_unit_normal(sum, g.points[b], g.points[a], out.d[at(u, v - 1)].origin);
                 h.normal = oriented(sum, h.origin, h.outward);
@@ -114,8 +115,9 @@ LevelLaunches level_launches(const HierarchyGrid& g) {
 }
 
 HierarchyGrid interleave(const HierarchyGrid& g, const LevelLaunches& l, const std::vector<float>& th,
-                         const std::vector<float>& tv, const std::vector<float>& td, const std::vector<std::uint8_t>& hit_h,
-                         const std::vector<std::uint8_t>& hit_v, const std::vector<std::uint8_t>& hit_d) {
+                         const std::vector<float>& tv, const std::vector<float>& td,
+                         const std::vector<std::uint8_t>& hit_h, const std::vector<std::uint8_t>& hit_v,
+                         const std::vector<std::uint8_t>& hit_d) {
     const std::uint32_t s = g.side, n = 2 * s;
     HierarchyGrid out;
     out.side = n;

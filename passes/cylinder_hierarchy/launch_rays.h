@@ -28,8 +28,9 @@ LevelLaunches level_launches(const HierarchyGrid& grid);
 // The next grid (side 2S): G'[2v][2u] = G[v][u], G'[2v][2u + 1] = H, G'[2v + 1][2u] = V,
 // G'[2v + 1][2u + 1] = D, each new point origin + t normal where valid.
 HierarchyGrid interleave(const HierarchyGrid& grid, const LevelLaunches& launches, const std::vector<float>& th,
-                         const std::vector<float>& tv, const std::vector<float>& td, const std::vector<std::uint8_t>& hit_h,
-                         const std::vector<std::uint8_t>& hit_v, const std::vector<std::uint8_t>& hit_d);
+                         const std::vector<float>& tv, const std::vector<float>& td,
+                         const std::vector<std::uint8_t>& hit_h, const std::vector<std::uint8_t>& hit_v,
+                         const std::vector<std::uint8_t>& hit_d);
 
 // Level 1 from its band: t = 1 - d along the inward radial ray of pixel (u, v) of a B x B image.
 HierarchyGrid level_one_grid(std::uint32_t base, const std::vector<float>& t, const std::vector<std::uint8_t>& valid);

@@ -7,9 +7,11 @@
 #include "bench_paths.h"
 #include "command_files.h"
 #include "commands.h"
+#include "gpu_context.h"
 #include "json_output.h"
 #include "timing.h"
 
+#include "gimg/engine/error.h"
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/surface_distance.h"
 #include "gimg/passes/cylinder_hierarchy.h"
@@ -47,13 +49,16 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
             meshes.push_back((shared_mesh_dir() / (std::string(name) + ".off")).string());
     for (std::uint32_t n : o.sizes) passes::check_hierarchy_sizes(o.base, n);
     if (!global.quiet) {
-        std::printf("gimg bench hierarchical: ordinary N x N ray cast (every block connected) vs hierarchy from %ux%u "
-                    "(reach %g); RMS in cylinder units, original->reconstruction / reconstruction->original; times "
-                    "in ms on the CPU\n",
-                    o.base, o.base, o.reach);
-        std::printf("%-14s %5s | %10s %10s %8s | %10s %10s %8s | %s\n", "mesh", "N", "ord A->B", "ord B->A", "ord ms",
-                    "hier A->B", "hier B->A", "hier ms", "hier ms per level");
+        std::printf(
+            "gimg bench hierarchical: ordinary N x N ray cast (every block connected) vs hierarchy from %ux%u "
+            "(reach %g); RMS in cylinder units, original->reconstruction / reconstruction->original; times "
+            "in ms (the ordinary image; the hierarchy's CPU and GPU encoders, the same hierarchy)\n",
+            o.base, o.base, o.reach);
+        std::printf("%-14s %5s | %10s %10s %8s | %10s %10s %8s %8s | %s\n", "mesh", "N", "ord A->B", "ord B->A",
+                    "ord ms", "hier A->B", "hier B->A", "cpu ms", "gpu ms", "per level cpu/gpu ms");
     }
+    auto context = open_context(global);
+    Context& ctx = *context;
     nlohmann::json rows = nlohmann::json::array();
     for (const std::string& path : meshes) {
         const geo::Mesh mesh = geo::load_mesh(path);
@@ -64,27 +69,39 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
         for (std::uint32_t n : o.sizes) {
             geo::Mesh ordinary, hierarchical;
             passes::CylinderHierarchy h;
-            const double ord_ms = time_ms([&] { ordinary = passes::reconstruct_cpu(passes::cylinder_raycast(cyl, n, n), frame, off); });
-            const double hier_ms = time_ms([&] {
-                h = passes::cylinder_hierarchy_cpu(cyl, {.base = o.base, .size = n, .reach = o.reach});
-                hierarchical = passes::hierarchy_mesh(passes::decode_cylinder_hierarchy(h, h.levels()), frame);
-            });
+            const double ord_ms =
+                time_ms([&] { ordinary = passes::reconstruct_cpu(passes::cylinder_raycast(cyl, n, n), frame, off); });
+            const passes::CylinderHierarchyOptions options{.base = o.base, .size = n, .reach = o.reach};
+            const double hier_ms = time_ms([&] { h = passes::cylinder_hierarchy_cpu(cyl, options); });
+            passes::CylinderHierarchy on_gpu;
+            const double gpu_ms = time_ms([&] { on_gpu = passes::cylinder_hierarchy_gpu(ctx, cyl, options); });
+            if (on_gpu.t != h.t || on_gpu.valid != h.valid)
+                throw std::runtime_error("bench hierarchical: the GPU encoder differs from the CPU encoder");
+            hierarchical = passes::hierarchy_mesh(passes::decode_cylinder_hierarchy(h, h.levels()), frame);
             const auto [oa, ob] = error_of(mesh, ordinary, frame.scale, o.samples);
             const auto [ha, hb] = error_of(mesh, hierarchical, frame.scale, o.samples);
             std::string levels;
-            for (double ms : h.level_ms) levels += (levels.empty() ? "" : " ") + std::to_string(int(ms + 0.5));
+            for (std::size_t k = 0; k < h.level_ms.size(); ++k)
+                levels += (k ? " " : "") + std::to_string(int(h.level_ms[k] + 0.5)) + "/" +
+                          std::to_string(int(on_gpu.level_ms[k] + 0.5));
             const std::string name = std::filesystem::path(path).stem().string();
             if (!global.quiet)
-                std::printf("%-14s %5u | %10.6f %10.6f %8.1f | %10.6f %10.6f %8.1f | %s\n", name.c_str(), n, oa, ob,
-                            ord_ms, ha, hb, hier_ms, levels.c_str());
+                std::printf("%-14s %5u | %10.6f %10.6f %8.1f | %10.6f %10.6f %8.1f %8.1f | %s\n", name.c_str(), n, oa,
+                            ob, ord_ms, ha, hb, hier_ms, gpu_ms, levels.c_str());
             rows.push_back({{"mesh", name},
                             {"size", n},
                             {"ordinary", {{"a_to_b_rms", oa}, {"b_to_a_rms", ob}, {"ms", ord_ms}}},
-                            {"hierarchical", {{"a_to_b_rms", ha}, {"b_to_a_rms", hb}, {"ms", hier_ms}, {"level_ms", h.level_ms}}}});
+                            {"hierarchical",
+                             {{"a_to_b_rms", ha},
+                              {"b_to_a_rms", hb},
+                              {"ms", hier_ms},
+                              {"level_ms", h.level_ms},
+                              {"gpu_ms", gpu_ms},
+                              {"gpu_level_ms", on_gpu.level_ms}}}});
         }
     }
     nlohmann::json j{{"base", o.base}, {"reach", o.reach}, {"samples", o.samples}, {"rows", rows}};
-    add_machine_figures(j, nullptr);
+    add_machine_figures(j, &ctx);
     write_json(o.json, j);
 }
 
@@ -92,8 +109,10 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
 
 void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global) {
     auto o = std::make_shared<HierarchyBenchOptions>();
-    auto* cmd = bench.add_subcommand("hierarchical", "Ordinary vs hierarchical cylindrical images (the thesis's table 3.1)");
-    cmd->add_option("--mesh", o->meshes, "Meshes (default: armadillo, bunny, camel, homer, elephant of ../shared/meshes)");
+    auto* cmd =
+        bench.add_subcommand("hierarchical", "Ordinary vs hierarchical cylindrical images (the thesis's table 3.1)");
+    cmd->add_option("--mesh", o->meshes,
+                    "Meshes (default: armadillo, bunny, camel, homer, elephant of ../shared/meshes)");
     cmd->add_option("--size", o->sizes, "Final sizes N (default 64 128 256)");
     add_count_option(cmd, "--base", o->base, 2, 8192, "Level 1 is B x B (default 32)");
     add_number_option(cmd, "--reach", o->reach, 0.0, 1e6, "Ray reach in parent spans (0: without limit; default 2)");

@@ -21,6 +21,7 @@ struct CylinderOptions {
     std::uint32_t base = 32;
     double reach = passes::CylinderHierarchyOptions{}.reach;
     std::string misses = "surface";
+    bool cpu = false;
 };
 
 // --method hierarchical: the thesis's chapter 3, into DIR/hierarchy.exr, hierarchy.png, frame.json.
@@ -37,12 +38,16 @@ void run_hierarchy(const CylinderOptions& o, const GlobalOptions& global) {
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
     if (mesh.face_count() == 0) throw geo::InputError(o.mesh + " has no faces to project");
     const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh, !o.no_align);
-    const passes::CylinderHierarchy h = passes::cylinder_hierarchy_cpu(
-        passes::make_cylinder_mesh(mesh, frame),
-        {.base = o.base,
-         .size = n,
-         .reach = o.reach,
-         .miss = o.misses == "empty" ? passes::HierarchyMiss::Invalid : passes::HierarchyMiss::Surface});
+    const passes::CylinderHierarchyOptions options{
+        .base = o.base,
+        .size = n,
+        .reach = o.reach,
+        .miss = o.misses == "empty" ? passes::HierarchyMiss::Invalid : passes::HierarchyMiss::Surface};
+    std::unique_ptr<Context> ctx;
+    if (!o.cpu) ctx = open_context(global);
+    const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, frame);
+    const passes::CylinderHierarchy h =
+        ctx ? passes::cylinder_hierarchy_gpu(*ctx, cyl, options) : passes::cylinder_hierarchy_cpu(cyl, options);
     std::size_t valid = 0;
     for (auto v : h.valid) valid += v;
     if (valid == 0)
@@ -58,7 +63,9 @@ void run_hierarchy(const CylinderOptions& o, const GlobalOptions& global) {
                      {"base", o.base},         {"levels", h.levels()},       {"method", "hierarchical"},
                      {"reach", o.reach},       {"misses", o.misses},         {"aligned", !o.no_align},
                      {"valid_samples", valid}, {"seconds", seconds},         {"scale", frame.scale}};
-    add_machine_figures(j, nullptr);
+    j["encoder"] = ctx ? "gpu" : "cpu";
+    j["level_ms"] = h.level_ms;
+    add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }
 
@@ -81,6 +88,9 @@ void run_cylinder(const CylinderOptions& o, const GlobalOptions& global) {
         passes::CylinderZBuffer zbuffer(*ctx, size[0], size[1], {.timestamps = true});
         image = zbuffer.project(zbuffer.add_mesh(cyl));
         gpu_ms = zbuffer.last_gpu_ms();
+    } else if (o.method == "raycast-gpu") {
+        ctx = open_context(global);
+        image = passes::cylinder_raycast_gpu(*ctx, cyl, size[0], size[1]);
     } else if (o.method == "scanline") {
         image = passes::cylinder_scanline(cyl, size[0], size[1]);
     } else {
@@ -118,10 +128,12 @@ void add_cylinder_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--out", opts->out, "Output folder for distance.exr, distance.png and frame.json")->required();
     auto* size = cmd->add_option("--size", opts->size, "Image size WxH");
     cmd->add_flag("--auto", opts->auto_size, "W = 2H with 2WH close to the face count (the default)")->excludes(size);
-    cmd->add_option("--method", opts->method,
-                    "zbuffer (GPU, default), raycast (CPU reference), scanline (the paper's CPU algorithm) or "
-                    "hierarchical (the thesis's chapter 3: levels of rays along the surface normal)")
-        ->check(CLI::IsMember({"zbuffer", "raycast", "scanline", "hierarchical"}));
+    cmd->add_option(
+           "--method", opts->method,
+           "zbuffer (GPU, default), raycast (CPU reference), raycast-gpu (the same rays on the GPU), scanline (the "
+           "paper's CPU algorithm) or "
+           "hierarchical (the thesis's chapter 3: levels of rays along the surface normal)")
+        ->check(CLI::IsMember({"zbuffer", "raycast", "raycast-gpu", "scanline", "hierarchical"}));
     add_count_option(cmd, "--base", opts->base, 2, 8192, "hierarchical: level 1 is B x B (default 32)");
     add_number_option(cmd, "--reach", opts->reach, 0.0, 1e6,
                       "hierarchical: a ray goes at most this many times the distance between its parents (0: "
@@ -130,6 +142,7 @@ void add_cylinder_command(CLI::App& app, const GlobalOptions& global) {
                     "hierarchical: a ray that finds nothing leaves a sample on the interpolated surface (surface, "
                     "default) or a hole (empty)")
         ->check(CLI::IsMember({"surface", "empty"}));
+    cmd->add_flag("--cpu", opts->cpu, "hierarchical: cast on the CPU instead of the GPU (the same hierarchy)");
     cmd->add_flag("--no-align", opts->no_align, "Keep the model's orientation (no PCA), only centre and scale");
     cmd->add_option("--json", opts->json, "Write the figures as JSON");
     cmd->callback([opts, &global] {

@@ -2,9 +2,12 @@
 // surface it was cast at, level 1 is the ordinary image, and the hierarchy reaches what one
 // projection cannot see.
 #include "cylinder_cases.h"
+#include "gpu_test.h"
+#include "test_data.h"
 
 #include "gimg/geometry/bvh.h"
 #include "gimg/geometry/error.h"
+#include "gimg/geometry/io.h"
 #include "gimg/geometry/shapes.h"
 #include "gimg/geometry/surface_distance.h"
 #include "gimg/passes/cylinder_hierarchy.h"
@@ -161,4 +164,26 @@ TEST(CylinderHierarchy, RaysOfASphereLandNearTheirLaunchPoints) {
         }
     EXPECT_LT(worst, 0.05);
     EXPECT_GT(positive, later * 9 / 10) << "chord midpoints lie inside: most rays fire outwards";
+}
+
+namespace {
+class CylinderHierarchyGpu : public gimg::test::GpuTest {};
+}  // namespace
+
+TEST_F(CylinderHierarchyGpu, TheGpuEncoderGivesTheCpuHierarchy) {
+    std::vector<geo::Mesh> meshes{geo::make_torus(0.3, 0.12, 48, 24)};
+    if (const auto path = gimg::test::shared_mesh("bunny.off")) meshes.push_back(geo::load_mesh(*path));
+    for (const geo::Mesh& m : meshes) {
+        const gp::CylinderMesh mesh = gp::make_cylinder_mesh(m, gp::fit_cylinder_frame(m));
+        for (double reach : {2.0, 0.0}) {
+            const gp::CylinderHierarchyOptions options{.base = 32, .size = 128, .reach = reach};
+            const gp::CylinderHierarchy cpu = gp::cylinder_hierarchy_cpu(mesh, options);
+            const gp::CylinderHierarchy gpu = gp::cylinder_hierarchy_gpu(ctx(), mesh, options);
+            ASSERT_EQ(gpu.valid, cpu.valid);
+            ASSERT_EQ(gpu.t, cpu.t);
+            std::size_t hits = 0;
+            for (auto v : cpu.valid) hits += v == gp::kHierarchyHit;
+            EXPECT_GT(hits, 2000u);
+        }
+    }
 }

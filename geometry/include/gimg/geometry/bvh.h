@@ -94,16 +94,19 @@ public:
     // corner reports each face it touches (callers counting crossings must merge those).
     std::vector<RayHit> intersect_all(const Ray& ray) const;
 
+    struct Triangle {
+        glm::dvec3 a, b, c;
+    };
     const BvhNodeArray& nodes() const { return nodes_; }
+    // Corner positions in BVH order (the slots the leaves name; copies of a triangle sit in slots
+    // no leaf names).
+    const std::vector<Triangle>& triangles() const { return triangles_; }
     // BVH order -> original face index.
     const std::vector<std::uint32_t>& face_order() const { return face_order_; }
     std::size_t face_count() const { return face_order_.size(); }
     bool empty() const { return face_order_.empty(); }
 
 private:
-    struct Triangle {
-        glm::dvec3 a, b, c;
-    };
     BvhNodeArray nodes_;
     std::vector<std::uint32_t> face_order_;
     std::vector<std::uint32_t> slot_of_face_;  // original face index -> BVH order

@@ -110,6 +110,11 @@ geo::Mesh to_cylinder_frame(const CylinderMesh& mesh, const CylinderTransform& t
 CylinderImage cylinder_raycast(const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
                                const CylinderTransform& transform = kIdentityTransform);
 
+// The same rays on the GPU (GpuRayCaster, gimg/passes/raycast.h): the same image bit for bit.
+// Needs shaderFloat64.
+CylinderImage cylinder_raycast_gpu(Context& ctx, const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
+                                   const CylinderTransform& transform = kIdentityTransform);
+
 // The same with the BVH built once and reused (benchmarks time the two apart).
 class CylinderRaycaster {
 public:

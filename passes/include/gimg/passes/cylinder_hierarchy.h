@@ -14,6 +14,7 @@
 // bottom-right, as the signed distance along the outward normal, so a decoder recomputes every
 // launch point and direction from the decoded points without the mesh.
 
+#include "gimg/engine/context.h"
 #include "gimg/geometry/mesh.h"
 #include "gimg/passes/cylinder.h"
 
@@ -55,7 +56,7 @@ struct CylinderHierarchy {
     std::uint32_t base = 0, size = 0;
     std::vector<float> t;
     std::vector<std::uint8_t> valid;
-    double reach = 2.0;  // the options it was cast with (recorded in frame.json)
+    double reach = 2.0;            // the options it was cast with (recorded in frame.json)
     std::vector<double> level_ms;  // the encoder's wall time per level (not stored in files)
     std::uint32_t levels() const;  // 1 + log2(size / base)
 };
@@ -63,17 +64,22 @@ struct CylinderHierarchy {
 // Throws geo::InputError unless base >= 2 and size = base 2^k <= 16384.
 void check_hierarchy_sizes(std::uint32_t base, std::uint32_t size);
 
-// The encoder on the CPU: rays through geo::TriangleBvh in double precision, threads over rows.
+// The encoder on the CPU: rays through geo::TriangleBvh in double precision, over all cores.
 // The mesh is in the cylinder frame (make_cylinder_mesh). Throws geo::InputError for sizes that
 // are not B 2^k with B >= 2.
 CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const CylinderHierarchyOptions& options = {});
+// The encoder with its rays on the GPU (GpuRayCaster: per level a pass of parity segments and a
+// pass of rays; the launch points on the host): the CPU encoder's hierarchy bit for bit. Needs
+// shaderFloat64.
+CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
+                                         const CylinderHierarchyOptions& options = {});
 
 // The grid of points a hierarchy decodes to at `level` (1 .. levels()): side B 2^(level - 1),
 // points in the cylinder frame, row-major from the top row.
 struct HierarchyGrid {
     std::uint32_t side = 0;
     std::vector<glm::dvec3> points;
-    std::vector<std::uint8_t> valid;  // kHierarchyEmpty, kHierarchyHit or kHierarchyMiss
+    std::vector<std::uint8_t> valid;   // kHierarchyEmpty, kHierarchyHit or kHierarchyMiss
     std::vector<std::int8_t> outward;  // +1: seen from the wall directly, -1: through the axis
 };
 HierarchyGrid decode_cylinder_hierarchy(const CylinderHierarchy& hierarchy, std::uint32_t level);

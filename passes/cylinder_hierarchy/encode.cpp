@@ -1,0 +1,133 @@
+// The hierarchy's encoder: level 1 from the ordinary image, every later level's rays cast by the
+// CPU (the BVH in double precision) or the GPU (GpuRayCaster, the same arithmetic). Each level's
+// grid is rebuilt from the stored float values, exactly as the decoder will, so encoder and
+// decoder agree on every later launch, and the CPU and GPU encoders give the same hierarchy.
+#include "gimg/passes/cylinder_hierarchy.h"
+
+#include "gimg/geometry/bvh.h"
+#include "gimg/geometry/parallel_for.h"
+
+#include "encode.h"
+#include "ray_rules.h"
+
+#include "gimg/geometry/error.h"
+
+#include <chrono>
+#include <cmath>
+#include <string>
+
+namespace gimg::passes {
+
+void check_hierarchy_sizes(std::uint32_t base, std::uint32_t size) {
+    std::uint32_t s = base;
+    while (s < size && s <= 16384) s *= 2;
+    if (base < 2 || s != size || size > 16384)
+        throw geo::InputError("hierarchy sizes: --size " + std::to_string(size) + " must be --base " +
+                              std::to_string(base) + " times a power of 2 (base at least 2, size at most 16384)");
+}
+
+std::uint32_t CylinderHierarchy::levels() const {
+    std::uint32_t l = 1;
+    for (std::uint32_t s = base; s < size; s *= 2) ++l;
+    return l;
+}
+
+namespace detail {
+
+CylinderHierarchy encode_hierarchy(const CylinderImage& first, double first_ms, const CylinderHierarchyOptions& options,
+                                   const CastLevel& cast) {
+    check_hierarchy_sizes(options.base, options.size);
+    if (!(options.reach >= 0.0) || !std::isfinite(options.reach))
+        throw geo::InputError("hierarchy reach must be a finite number >= 0 (0: without limit)");
+    const std::uint32_t b = options.base, n = options.size;
+    CylinderHierarchy out;
+    out.base = b;
+    out.size = n;
+    out.reach = options.reach;
+    out.t.assign(std::size_t(n) * n, 0.0f);
+    out.valid.assign(out.t.size(), kHierarchyEmpty);
+    auto clock = std::chrono::steady_clock::now();
+    auto lap = [&] {
+        const auto now = std::chrono::steady_clock::now();
+        out.level_ms.push_back(std::chrono::duration<double, std::milli>(now - clock).count());
+        clock = now;
+    };
+    // Level 1: the ordinary image at B x B, stored as the distance from the wall.
+    std::vector<float> t1(std::size_t(b) * b, 0.0f);
+    for (std::size_t i = 0; i < t1.size(); ++i)
+        if (first.covered[i]) t1[i] = float(1.0 - double(first.distance[i]));
+    for (std::uint32_t v = 0; v < b; ++v)
+        for (std::uint32_t u = 0; u < b; ++u) {
+            out.t[std::size_t(v) * n + u] = t1[std::size_t(v) * b + u];
+            out.valid[std::size_t(v) * n + u] = first.covered[std::size_t(v) * b + u];
+        }
+    HierarchyGrid grid = level_one_grid(b, t1, first.covered);
+    lap();
+    out.level_ms.front() += first_ms;
+    for (std::uint32_t s = b; s < n; s *= 2) {
+        const LevelLaunches launches = level_launches(grid);
+        const std::size_t count = std::size_t(s) * s;
+        // One cast for the level: H, V and D one after another.
+        std::vector<Launch> all;
+        all.reserve(3 * count);
+        for (const auto* band : {&launches.h, &launches.v, &launches.d})
+            all.insert(all.end(), band->begin(), band->end());
+        const std::vector<std::optional<double>> t = cast(all);
+        std::vector<float> values[3];
+        std::vector<std::uint8_t> kinds[3];
+        for (int k = 0; k < 3; ++k) {
+            values[k].assign(count, 0.0f);
+            kinds[k].assign(count, kHierarchyEmpty);
+            for (std::size_t i = 0; i < count; ++i) {
+                if (!all[k * count + i].valid) continue;
+                if (const auto& hit = t[k * count + i]) {
+                    values[k][i] = float(*hit);
+                    kinds[k][i] = kHierarchyHit;
+                } else if (options.miss == HierarchyMiss::Surface) {
+                    kinds[k][i] = kHierarchyMiss;
+                }
+            }
+        }
+        const Bands bands{s};
+        for (std::uint32_t v = 0; v < s; ++v)
+            for (std::uint32_t u = 0; u < s; ++u) {
+                const std::size_t i = std::size_t(v) * s + u;
+                out.t[bands.h(u, v, n)] = values[0][i], out.valid[bands.h(u, v, n)] = kinds[0][i];
+                out.t[bands.v(u, v, n)] = values[1][i], out.valid[bands.v(u, v, n)] = kinds[1][i];
+                out.t[bands.d(u, v, n)] = values[2][i], out.valid[bands.d(u, v, n)] = kinds[2][i];
+            }
+        grid = interleave(grid, launches, values[0], values[1], values[2], kinds[0], kinds[1], kinds[2]);
+        lap();
+    }
+    return out;
+}
+
+}  // namespace detail
+
+CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const CylinderHierarchyOptions& options) {
+    check_hierarchy_sizes(options.base, options.size);
+    // Level 1 and the BVH the later levels cast through count as level 1's time.
+    const auto start = std::chrono::steady_clock::now();
+    const CylinderImage first = cylinder_raycast(mesh, options.base, options.base);
+    const geo::TriangleBvh bvh(to_cylinder_frame(mesh));
+    const double first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
+        std::vector<std::optional<double>> t(launches.size());
+        geo::parallel_for_chunks(launches.size(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
+            std::vector<double> crossings;
+            for (std::size_t i = begin; i < end; ++i) {
+                const detail::Launch& l = launches[i];
+                if (!l.valid) continue;
+                crossings.clear();
+                for (const geo::RayHit& h : bvh.intersect_all(detail::parity_segment(l.origin)))
+                    crossings.push_back(h.t);
+                const bool inside = detail::inside_by_parity(detail::count_crossings(crossings));
+                if (const auto hit = bvh.intersect_nearest(detail::launch_ray(l, inside, options.reach)))
+                    t[i] = inside ? hit->t : -hit->t;
+            }
+        });
+        return t;
+    });
+}
+
+}  // namespace gimg::passes

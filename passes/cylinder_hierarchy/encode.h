@@ -1,0 +1,19 @@
+#pragma once
+// The encoder's levels, whichever device casts the rays.
+#include "launch_rays.h"
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace gimg::passes::detail {
+
+// Casts the valid launches of one level (launch_ray, parity included): the signed distance along
+// each launch's outward normal, or nullopt for a miss (and for invalid launches).
+using CastLevel = std::function<std::vector<std::optional<double>>(const std::vector<Launch>& launches)>;
+
+// Level 1 from the ordinary B x B image (which took first_ms), then every later level through `cast`.
+CylinderHierarchy encode_hierarchy(const CylinderImage& first, double first_ms, const CylinderHierarchyOptions& options,
+                                   const CastLevel& cast);
+
+}  // namespace gimg::passes::detail

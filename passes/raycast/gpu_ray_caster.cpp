@@ -1,0 +1,136 @@
+// GpuRayCaster: the BVH's nodes, corners (double) and face order in storage buffers, and one
+// compute pass (shaders/raycast/raycast.comp) per call.
+#include "gimg/passes/raycast.h"
+
+#include "gimg/engine/error.h"
+#include "gimg/geometry/bvh.h"
+#include "gimg/geometry/error.h"
+
+#include "raycast/raycast_comp.h"
+
+#include <algorithm>
+#include <cstring>
+
+namespace gimg::passes {
+
+namespace {
+
+const Spirv kRaycast = GIMG_SPIRV(gimg_spv_raycast_raycast_comp);
+
+struct RaycastPush {
+    std::uint32_t count, mode, front_faces_only;
+};
+
+template <class T>
+Buffer upload(Context& ctx, const std::vector<T>& data, const char* name) {
+    const std::size_t bytes = std::max<std::size_t>(data.size() * sizeof(T), 16);
+    Buffer b = ctx.create_buffer({bytes, name});
+    if (!data.empty()) ctx.upload(b, data.data(), data.size() * sizeof(T));
+    return b;
+}
+
+}  // namespace
+
+struct GpuRayCaster::State {
+    Context& ctx;
+    geo::TriangleBvh bvh;
+    Buffer nodes, triangles, faces;
+    explicit State(Context& c) : ctx(c) {}
+};
+
+GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh) : state_(std::make_unique<State>(ctx)) {
+    if (!ctx.device_info().shader_float64)
+        throw Error(ErrorKind::Unsupported, "GPU ray casting needs shaderFloat64 (use the CPU ray caster)");
+    if (mesh.face_count() == 0) throw geo::InputError("ray casting: the mesh has no faces");
+    State& s = *state_;
+    s.bvh = geo::TriangleBvh(mesh);
+    const auto& nodes = s.bvh.nodes();
+    s.nodes = ctx.create_buffer({nodes.size() * sizeof(geo::BvhNode), "raycast nodes"});
+    ctx.upload(s.nodes, nodes.data(), nodes.size() * sizeof(geo::BvhNode));
+    std::vector<double> corners;
+    corners.reserve(9 * s.bvh.triangles().size());
+    for (const auto& t : s.bvh.triangles())
+        for (const glm::dvec3& p : {t.a, t.b, t.c}) corners.insert(corners.end(), {p.x, p.y, p.z});
+    s.triangles = upload(ctx, corners, "raycast corners");
+    s.faces = upload(ctx, s.bvh.face_order(), "raycast face order");
+}
+
+GpuRayCaster::~GpuRayCaster() = default;
+
+RaycastHandles add_raycast(Graph& graph, GpuRayCaster& caster, BufferHandle rays, BufferHandle t, BufferHandle face,
+                           std::uint32_t count, std::uint32_t mode, bool front_faces_only, const std::string& name) {
+    GpuRayCaster::State& s = *caster.state_;
+    auto nodes = graph.import_buffer(s.nodes), tris = graph.import_buffer(s.triangles),
+         faces = graph.import_buffer(s.faces);
+    const RaycastPush push{count, mode, front_faces_only ? 1u : 0u};
+    graph.add_compute_pass(
+        name,
+        [&](PassBuilder& b) {
+            for (auto h : {nodes, tris, faces, rays}) b.read(h, Access::ComputeRead);
+            t = b.write(t, Access::ComputeWrite);
+            face = b.write(face, Access::ComputeWrite);
+        },
+        [=](Cmd& c) { c.dispatch_threads(kRaycast, {count}, {nodes, tris, faces, rays, t, face}, push); });
+    return {t, face};
+}
+
+std::vector<std::uint32_t> GpuRayCaster::run(std::span<const geo::Ray> rays, std::uint32_t mode,
+                                             std::vector<double>* t_out) {
+    State& s = *state_;
+    if (rays.empty()) return {};
+    const bool front = rays.front().front_faces_only;
+    std::vector<double> packed(8 * rays.size());
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        const geo::Ray& r = rays[i];
+        if (r.front_faces_only != front)
+            throw geo::InputError("GpuRayCaster: every ray of one call must have the same front_faces_only");
+        const double v[8] = {r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y, r.direction.z,
+                             r.t_min, r.t_max};
+        std::memcpy(&packed[8 * i], v, sizeof v);
+    }
+    const auto count = std::uint32_t(rays.size());
+    Buffer ray_buf = upload(s.ctx, packed, "rays");
+    Buffer t_buf = s.ctx.create_buffer({VkDeviceSize(count) * 8, "ray t"});
+    Buffer face_buf = s.ctx.create_buffer({VkDeviceSize(count) * 4, "ray faces"});
+    Graph g(s.ctx);
+    const RaycastHandles out = add_raycast(g, *this, g.import_buffer(ray_buf), g.import_buffer(t_buf),
+                                           g.import_buffer(face_buf), count, mode, front);
+    g.export_buffer(out.t, Access::TransferSrc);
+    g.export_buffer(out.face, Access::TransferSrc);
+    Plan plan = g.compile();
+    const bool timed = s.ctx.device_info().timestamp_period_ns > 0.0;
+    plan.execute({.wait = true, .timestamps = timed});
+    last_gpu_ms_ = timed ? plan.total_gpu_ms() : 0.0;
+    std::vector<std::uint32_t> faces(count);
+    s.ctx.download(face_buf, faces.data(), faces.size() * 4);
+    if (t_out) {
+        t_out->resize(count);
+        s.ctx.download(t_buf, t_out->data(), t_out->size() * 8);
+    }
+    return faces;
+}
+
+std::vector<GpuRayHit> GpuRayCaster::nearest(std::span<const geo::Ray> rays) {
+    std::vector<double> t;
+    const std::vector<std::uint32_t> faces = run(rays, 0, &t);
+    std::vector<GpuRayHit> out(faces.size());
+    for (std::size_t i = 0; i < out.size(); ++i)
+        if (faces[i] != 0xffffffffu) out[i] = {t[i], faces[i]};
+    return out;
+}
+
+std::vector<std::uint32_t> GpuRayCaster::crossings(std::span<const geo::Ray> rays) {
+    std::vector<std::uint32_t> counts = run(rays, 1, nullptr);
+    // Rays with more hits than the pass keeps: counted here, by the same rule.
+    for (std::size_t i = 0; i < counts.size(); ++i) {
+        if (counts[i] != 0xffffffffu) continue;
+        const std::vector<geo::RayHit> hits = state_->bvh.intersect_all(rays[i]);
+        std::uint32_t n = 0;
+        for (std::size_t k = 0; k < hits.size(); ++k)
+            if (k == 0 || hits[k].t - hits[k - 1].t > 1e-12) ++n;
+        counts[i] = n;
+    }
+    return counts;
+}
+
+}  // namespace gimg::passes
