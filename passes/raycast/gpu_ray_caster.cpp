@@ -70,7 +70,9 @@ RaycastHandles add_raycast(Graph& graph, GpuRayCaster& caster, BufferHandle rays
             t = b.write(t, Access::ComputeWrite);
             face = b.write(face, Access::ComputeWrite);
         },
-        [=](Cmd& c) { c.dispatch_threads(kRaycast, {count}, {nodes, tris, faces, rays, t, face}, push); });
+        [=](Cmd& c) {
+            c.dispatch_threads(kRaycast, {count}, {nodes, tris, faces, rays, t, face}, push);
+        });
     return {t, face};
 }
 
@@ -84,8 +86,8 @@ std::vector<std::uint32_t> GpuRayCaster::run(std::span<const geo::Ray> rays, std
         const geo::Ray& r = rays[i];
         if (r.front_faces_only != front)
             throw geo::InputError("GpuRayCaster: every ray of one call must have the same front_faces_only");
-        const double v[8] = {r.origin.x, r.origin.y, r.origin.z, r.direction.x, r.direction.y, r.direction.z,
-                             r.t_min, r.t_max};
+        const double v[8] = {r.origin.x,    r.origin.y,    r.origin.z, r.direction.x,
+                             r.direction.y, r.direction.z, r.t_min,    r.t_max};
         std::memcpy(&packed[8 * i], v, sizeof v);
     }
     const auto count = std::uint32_t(rays.size());

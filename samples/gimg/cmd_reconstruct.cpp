@@ -51,10 +51,13 @@ void run_hierarchy_reconstruct(const ReconstructCliOptions& o, const GlobalOptio
     if (o.lod >= levels)
         throw geo::InputError("--lod " + std::to_string(o.lod) + ": the hierarchy has " + std::to_string(levels) +
                               " levels");
+    std::unique_ptr<Context> ctx;
+    if (!o.cpu) ctx = open_context(global);
     geo::Mesh mesh;
     passes::HierarchyGrid grid;
     const double ms = time_ms([&] {
-        grid = passes::decode_cylinder_hierarchy(files.hierarchy, levels - o.lod);
+        grid = ctx ? passes::decode_cylinder_hierarchy_gpu(*ctx, files.hierarchy, levels - o.lod)
+                   : passes::decode_cylinder_hierarchy(files.hierarchy, levels - o.lod);
         mesh = passes::hierarchy_mesh(grid, files.frame);
     });
     if (mesh.face_count() == 0)
@@ -65,11 +68,19 @@ void run_hierarchy_reconstruct(const ReconstructCliOptions& o, const GlobalOptio
         std::printf("%s: hierarchy %ux%u, level %u -> %zu vertices, %zu triangles in %.2f ms\nwrote %s\n",
                     o.image.c_str(), grid.side, grid.side, levels - o.lod, mesh.vertex_count(), mesh.face_count(), ms,
                     o.out.c_str());
-    nlohmann::json j{{"image", o.image},           {"out", o.out},        {"kind", "hierarchy"},
-                     {"width", grid.side},         {"height", grid.side}, {"lod", o.lod},
-                     {"level", levels - o.lod},    {"levels", levels},    {"vertices", mesh.vertex_count()},
-                     {"faces", mesh.face_count()}, {"method", "cpu"},     {"seconds", ms / 1000.0}};
-    add_machine_figures(j, nullptr);
+    nlohmann::json j{{"image", o.image},
+                     {"out", o.out},
+                     {"kind", "hierarchy"},
+                     {"width", grid.side},
+                     {"height", grid.side},
+                     {"lod", o.lod},
+                     {"level", levels - o.lod},
+                     {"levels", levels},
+                     {"vertices", mesh.vertex_count()},
+                     {"faces", mesh.face_count()},
+                     {"method", ctx ? "gpu" : "cpu"},
+                     {"seconds", ms / 1000.0}};
+    add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }
 

@@ -187,3 +187,23 @@ TEST_F(CylinderHierarchyGpu, TheGpuEncoderGivesTheCpuHierarchy) {
         }
     }
 }
+
+TEST_F(CylinderHierarchyGpu, DecodingOnTheGpuGivesTheCpuGrid) {
+    std::vector<geo::Mesh> meshes{geo::make_torus(0.3, 0.12, 48, 24)};
+    if (const auto path = gimg::test::shared_mesh("armadillo.off")) meshes.push_back(geo::load_mesh(*path));
+    for (const geo::Mesh& m : meshes) {
+        const gp::CylinderMesh mesh = gp::make_cylinder_mesh(m, gp::fit_cylinder_frame(m));
+        const gp::CylinderHierarchy h = gp::cylinder_hierarchy_cpu(mesh, {.base = 16, .size = 128});
+        for (std::uint32_t level = 1; level <= h.levels(); ++level) {
+            const gp::HierarchyGrid cpu = gp::decode_cylinder_hierarchy(h, level);
+            const gp::HierarchyGrid gpu = gp::decode_cylinder_hierarchy_gpu(ctx(), h, level);
+            ASSERT_EQ(gpu.side, cpu.side);
+            ASSERT_EQ(gpu.valid, cpu.valid) << "level " << level;
+            ASSERT_EQ(gpu.outward, cpu.outward) << "level " << level;
+            double worst = 0.0;
+            for (std::size_t i = 0; i < cpu.points.size(); ++i)
+                if (cpu.valid[i]) worst = std::max(worst, glm::distance(gpu.points[i], cpu.points[i]));
+            EXPECT_LT(worst, 1e-9) << "level " << level;
+        }
+    }
+}

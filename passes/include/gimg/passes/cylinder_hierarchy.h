@@ -83,6 +83,9 @@ struct HierarchyGrid {
     std::vector<std::int8_t> outward;  // +1: seen from the wall directly, -1: through the axis
 };
 HierarchyGrid decode_cylinder_hierarchy(const CylinderHierarchy& hierarchy, std::uint32_t level);
+// The same on the GPU, the CPU's arithmetic in double precision (points agree to rounding in the
+// square roots). Needs shaderFloat64.
+HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarchy& hierarchy, std::uint32_t level);
 
 // The grid as a mesh in the model's coordinates: a vertex per valid point, two triangles per
 // block of four valid points (cut along the shorter diagonal, wrapping around in u, facing out).
