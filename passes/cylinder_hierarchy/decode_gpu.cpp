@@ -3,6 +3,7 @@
 #include "gimg/passes/cylinder_hierarchy.h"
 
 #include "gimg/engine/error.h"
+#include "gimg/engine/upload.h"
 #include "gimg/engine/graph.h"
 
 #include "cylinder_hierarchy/decode_level_comp.h"
@@ -19,13 +20,6 @@ struct DecodePush {
     std::uint32_t step, side, n;
 };
 
-template <class T>
-Buffer upload(Context& ctx, const std::vector<T>& data, const char* name) {
-    Buffer b = ctx.create_buffer({std::max<std::size_t>(data.size() * sizeof(T), 16), name});
-    ctx.upload(b, data.data(), data.size() * sizeof(T));
-    return b;
-}
-
 }  // namespace
 
 HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarchy& h, std::uint32_t level) {
@@ -38,8 +32,8 @@ HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarch
     std::vector<std::uint32_t> valid(h.valid.begin(), h.valid.end());
     std::vector<double> dirs;
     for (const auto& d : cylinder_directions(b)) dirs.insert(dirs.end(), {d[0], d[1]});
-    Buffer band_t = upload(ctx, h.t, "hierarchy t"), band_valid = upload(ctx, valid, "hierarchy valid"),
-           directions = upload(ctx, dirs, "hierarchy directions");
+    Buffer band_t = upload_buffer(ctx, h.t, "hierarchy t"), band_valid = upload_buffer(ctx, valid, "hierarchy valid"),
+           directions = upload_buffer(ctx, dirs, "hierarchy directions");
 
     Graph g(ctx);
     auto bt = g.import_buffer(band_t), bv = g.import_buffer(band_valid), dr = g.import_buffer(directions);

@@ -3,6 +3,7 @@
 #include "gimg/passes/raycast.h"
 
 #include "gimg/engine/error.h"
+#include "gimg/engine/upload.h"
 #include "gimg/geometry/bvh.h"
 #include "gimg/geometry/error.h"
 
@@ -20,14 +21,6 @@ const Spirv kRaycast = GIMG_SPIRV(gimg_spv_raycast_raycast_comp);
 struct RaycastPush {
     std::uint32_t count, mode, front_faces_only;
 };
-
-template <class T>
-Buffer upload(Context& ctx, const std::vector<T>& data, const char* name) {
-    const std::size_t bytes = std::max<std::size_t>(data.size() * sizeof(T), 16);
-    Buffer b = ctx.create_buffer({bytes, name});
-    if (!data.empty()) ctx.upload(b, data.data(), data.size() * sizeof(T));
-    return b;
-}
 
 }  // namespace
 
@@ -51,8 +44,8 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh) : state_(std::ma
     corners.reserve(9 * s.bvh.triangles().size());
     for (const auto& t : s.bvh.triangles())
         for (const glm::dvec3& p : {t.a, t.b, t.c}) corners.insert(corners.end(), {p.x, p.y, p.z});
-    s.triangles = upload(ctx, corners, "raycast corners");
-    s.faces = upload(ctx, s.bvh.face_order(), "raycast face order");
+    s.triangles = upload_buffer(ctx, corners, "raycast corners");
+    s.faces = upload_buffer(ctx, s.bvh.face_order(), "raycast face order");
 }
 
 GpuRayCaster::~GpuRayCaster() = default;
@@ -91,7 +84,7 @@ std::vector<std::uint32_t> GpuRayCaster::run(std::span<const geo::Ray> rays, std
         std::memcpy(&packed[8 * i], v, sizeof v);
     }
     const auto count = std::uint32_t(rays.size());
-    Buffer ray_buf = upload(s.ctx, packed, "rays");
+    Buffer ray_buf = upload_buffer(s.ctx, packed, "rays");
     Buffer t_buf = s.ctx.create_buffer({VkDeviceSize(count) * 8, "ray t"});
     Buffer face_buf = s.ctx.create_buffer({VkDeviceSize(count) * 4, "ray faces"});
     Graph g(s.ctx);

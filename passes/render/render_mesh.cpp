@@ -1,6 +1,7 @@
 #include "gimg/passes/render.h"
 
 #include "gimg/engine/graph.h"
+#include "gimg/engine/upload.h"
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/normals.h"
 
@@ -61,14 +62,6 @@ std::pair<float, float> default_range(std::vector<float> values, bool symmetric)
         return {-m, m};
     }
     return {lo, hi > lo ? hi : lo + 1.0f};
-}
-
-Buffer upload(Context& ctx, const void* data, std::size_t bytes, const char* name) {
-    const float dummy[4] = {0, 0, 0, 0};
-    if (bytes == 0) data = dummy, bytes = sizeof dummy;  // every binding needs a buffer
-    Buffer b = ctx.create_buffer({bytes, name});
-    ctx.upload(b, data, bytes);
-    return b;
 }
 
 // The vertices some face uses.
@@ -207,12 +200,13 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
     if (mesh.has_texcoords())
         for (const auto& t : mesh.texcoords) texcoords.push_back(float(t.x)), texcoords.push_back(float(t.y));
 
-    Buffer pos_buf = upload(ctx, positions.data(), positions.size() * 4, "positions");
+    Buffer pos_buf = upload_buffer(ctx, positions.data(), positions.size() * 4, "positions");
     const std::vector<glm::uvec3> faces = without_copies(mesh.triangles);
-    Buffer tri_buf = upload(ctx, faces.data(), faces.size() * sizeof(glm::uvec3), "triangles");
-    Buffer nrm_buf = upload(ctx, normals.data(), normals.size() * 4, "normals");
-    Buffer sca_buf = upload(ctx, options.scalars.data(), scalar_mode ? options.scalars.size() * 4 : 0, "scalars");
-    Buffer tex_buf = upload(ctx, texcoords.data(), texcoords.size() * 4, "texcoords");
+    Buffer tri_buf = upload_buffer(ctx, faces.data(), faces.size() * sizeof(glm::uvec3), "triangles");
+    Buffer nrm_buf = upload_buffer(ctx, normals.data(), normals.size() * 4, "normals");
+    Buffer sca_buf =
+        upload_buffer(ctx, options.scalars.data(), scalar_mode ? options.scalars.size() * 4 : 0, "scalars");
+    Buffer tex_buf = upload_buffer(ctx, texcoords.data(), texcoords.size() * 4, "texcoords");
 
     RenderOptions o = options;
     if (scalar_mode && !o.scalar_range) o.scalar_range = default_range(o.scalars, o.color == MeshColor::Diverging);
