@@ -1,13 +1,16 @@
-// GpuRayCaster: the BVH's nodes, corners (double) and face order in storage buffers, and one
-// compute pass (shaders/raycast/raycast.comp) per call.
+// GpuRayCaster: the BVH's nodes and corners (double) in texel arrays, its face order in a storage
+// buffer, and one compute pass (shaders/raycast/raycast.comp) per call.
 #include "gimg/passes/raycast.h"
 
 #include "gimg/engine/error.h"
+#include "gimg/engine/texel_array.h"
 #include "gimg/engine/upload.h"
 #include "gimg/geometry/bvh.h"
 #include "gimg/geometry/error.h"
 
 #include "raycast/raycast_comp.h"
+
+#include <glm/vec4.hpp>
 
 #include <algorithm>
 #include <cstring>
@@ -27,7 +30,8 @@ struct RaycastPush {
 struct GpuRayCaster::State {
     Context& ctx;
     geo::TriangleBvh bvh;
-    Buffer nodes, triangles, faces;
+    Image nodes, corners;  // texel arrays (the shader's header says how)
+    Buffer faces;
     explicit State(Context& c) : ctx(c) {}
 };
 
@@ -38,13 +42,16 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh) : state_(std::ma
     State& s = *state_;
     s.bvh = geo::TriangleBvh(mesh);
     const auto& nodes = s.bvh.nodes();
-    s.nodes = ctx.create_buffer({nodes.size() * sizeof(geo::BvhNode), "raycast nodes"});
-    ctx.upload(s.nodes, nodes.data(), nodes.size() * sizeof(geo::BvhNode));
-    std::vector<double> corners;
-    corners.reserve(9 * s.bvh.triangles().size());
-    for (const auto& t : s.bvh.triangles())
-        for (const glm::dvec3& p : {t.a, t.b, t.c}) corners.insert(corners.end(), {p.x, p.y, p.z});
-    s.triangles = upload_buffer(ctx, corners, "raycast corners");
+    std::vector<glm::uvec4> node_texels(2 * nodes.size());
+    std::memcpy(node_texels.data(), nodes.data(), nodes.size() * sizeof(geo::BvhNode));
+    s.nodes = upload_texel_array(ctx, std::move(node_texels), Format::RGBA32U, "raycast nodes");
+    std::vector<glm::uvec4> corner_texels(5 * s.bvh.triangles().size(), glm::uvec4(0));
+    for (std::size_t i = 0; i < s.bvh.triangles().size(); ++i) {
+        const auto& t = s.bvh.triangles()[i];
+        const double v[9] = {t.a.x, t.a.y, t.a.z, t.b.x, t.b.y, t.b.z, t.c.x, t.c.y, t.c.z};
+        std::memcpy(&corner_texels[5 * i], v, sizeof v);
+    }
+    s.corners = upload_texel_array(ctx, std::move(corner_texels), Format::RGBA32U, "raycast corners");
     s.faces = upload_buffer(ctx, s.bvh.face_order(), "raycast face order");
 }
 
@@ -53,13 +60,15 @@ GpuRayCaster::~GpuRayCaster() = default;
 RaycastHandles add_raycast(Graph& graph, GpuRayCaster& caster, BufferHandle rays, BufferHandle t, BufferHandle face,
                            std::uint32_t count, std::uint32_t mode, bool front_faces_only, const std::string& name) {
     GpuRayCaster::State& s = *caster.state_;
-    auto nodes = graph.import_buffer(s.nodes), tris = graph.import_buffer(s.triangles),
-         faces = graph.import_buffer(s.faces);
+    auto nodes = graph.import_image(s.nodes), tris = graph.import_image(s.corners);
+    auto faces = graph.import_buffer(s.faces);
     const RaycastPush push{count, mode, front_faces_only ? 1u : 0u};
     graph.add_compute_pass(
         name,
         [&](PassBuilder& b) {
-            for (auto h : {nodes, tris, faces, rays}) b.read(h, Access::ComputeRead);
+            b.read(nodes, Access::ComputeRead);
+            b.read(tris, Access::ComputeRead);
+            for (auto h : {faces, rays}) b.read(h, Access::ComputeRead);
             t = b.write(t, Access::ComputeWrite);
             face = b.write(face, Access::ComputeWrite);
         },

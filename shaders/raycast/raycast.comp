@@ -7,18 +7,17 @@
 //  1 crossings: the number of hits in [t_min, t_max], hits within 1e-12 in t counted once (a ray
 //    through an edge or a corner of a closed mesh crosses it once), as TriangleBvh::intersect_all's
 //    callers count them. More than kMaxHits hits: 0xffffffff (the host counts that ray itself).
+//
+// The nodes and corners are texel arrays (common/texel_array.glsl: lavapipe gathers from images but
+// loads from storage buffers lane by lane): node n is texels 2n (lo, first) and 2n + 1 (hi, count);
+// slot s's corners are texels 5s .. 5s + 4, nine doubles as pairs of uints.
 #extension GL_GOOGLE_include_directive : require
+#include "common/texel_array.glsl"
 
 layout(local_size_x = 64) in;
 
-struct Node {
-    vec3 lo;
-    uint first;  // leaf: first slot; inner: first child
-    vec3 hi;
-    uint count;  // leaf: slots; inner: 0
-};
-layout(std430, binding = 0) readonly buffer Nodes { Node nodes[]; };
-layout(std430, binding = 1) readonly buffer Triangles { double tri[]; };  // 9 per slot: a, b, c
+layout(binding = 0, rgba32ui) uniform readonly uimage2D node_texels;
+layout(binding = 1, rgba32ui) uniform readonly uimage2D corner_texels;
 layout(std430, binding = 2) readonly buffer Faces { uint face_of[]; };    // slot -> face
 layout(std430, binding = 3) readonly buffer Rays { double ray[]; };       // 8 per ray: o, d, t_min, t_max
 layout(std430, binding = 4) writeonly buffer HitT { double hit_t[]; };
@@ -45,11 +44,32 @@ double dot_cpu(dvec3 x, dvec3 y) {  // glm::dot: (x.x y.x + x.y y.y) + x.z y.z
     return r;
 }
 
-dvec3 corner(uint slot, uint k) { return dvec3(tri[9 * slot + 3 * k], tri[9 * slot + 3 * k + 1], tri[9 * slot + 3 * k + 2]); }
+struct Node {
+    vec3 lo;
+    uint first;  // leaf: first slot; inner: first child
+    vec3 hi;
+    uint count;  // leaf: slots; inner: 0
+};
+
+Node node(uint n) {
+    const uvec4 a = imageLoad(node_texels, texel(2u * n)), b = imageLoad(node_texels, texel(2u * n + 1u));
+    return Node(uintBitsToFloat(a.xyz), a.w, uintBitsToFloat(b.xyz), b.w);
+}
+
+// The three corners of a slot.
+void corners(uint slot, out dvec3 a, out dvec3 b, out dvec3 c) {
+    const uvec4 t0 = imageLoad(corner_texels, texel(5u * slot)), t1 = imageLoad(corner_texels, texel(5u * slot + 1u));
+    const uvec4 t2 = imageLoad(corner_texels, texel(5u * slot + 2u)), t3 = imageLoad(corner_texels, texel(5u * slot + 3u));
+    const uvec4 t4 = imageLoad(corner_texels, texel(5u * slot + 4u));
+    a = dvec3(packDouble2x32(t0.xy), packDouble2x32(t0.zw), packDouble2x32(t1.xy));
+    b = dvec3(packDouble2x32(t1.zw), packDouble2x32(t2.xy), packDouble2x32(t2.zw));
+    c = dvec3(packDouble2x32(t3.xy), packDouble2x32(t3.zw), packDouble2x32(t4.xy));
+}
 
 // geo::intersect_ray_triangle.
 bool hit_triangle(uint slot, dvec3 o, dvec3 d, double t_min, double t_max, out double t) {
-    const dvec3 a = corner(slot, 0u), b = corner(slot, 1u), c = corner(slot, 2u);
+    dvec3 a, b, c;
+    corners(slot, a, b, c);
     precise dvec3 e1 = b - a;
     precise dvec3 e2 = c - a;
     if (front_faces_only != 0u && !(dot_cpu(cross_cpu(e1, e2), d) < 0.0LF)) return false;
@@ -74,7 +94,8 @@ bool hit_triangle(uint slot, dvec3 o, dvec3 d, double t_min, double t_max, out d
 double enter(uint n, dvec3 o, dvec3 inv_dir, bvec3 parallel, double t_near, double t_far) {
     precise double tn = t_near - 1e-12LF * abs(t_near);
     precise double tf = t_far + 1e-12LF * abs(t_far);
-    const dvec3 lo = dvec3(nodes[n].lo), hi = dvec3(nodes[n].hi);
+    const Node nd = node(n);
+    const dvec3 lo = dvec3(nd.lo), hi = dvec3(nd.hi);
     for (int a = 0; a < 3; ++a) {
         if (parallel[a]) {
             if (o[a] < lo[a] || o[a] > hi[a]) return inf();
@@ -124,8 +145,9 @@ void main() {
             --top;
             const uint n = stack_node[top];
             if (stack_t[top] > best_t) continue;
-            if (nodes[n].count > 0u) {
-                for (uint s = nodes[n].first; s < nodes[n].first + nodes[n].count; ++s) {
+            const Node nd = node(n);
+            if (nd.count > 0u) {
+                for (uint s = nd.first; s < nd.first + nd.count; ++s) {
                     double t;
                     if (!hit_triangle(s, o, d, t_min, best_t, t)) continue;
                     const uint f = face_of[s];
@@ -136,7 +158,7 @@ void main() {
                 }
                 continue;
             }
-            const uint l = nodes[n].first, rr = l + 1u;
+            const uint l = nd.first, rr = l + 1u;
             const double tl = enter(l, o, inv_dir, parallel, t_min, best_t);
             const double tr = enter(rr, o, inv_dir, parallel, t_min, best_t);
             const bool left_first = tl <= tr;
@@ -167,8 +189,9 @@ void main() {
         --top;
         const uint n = stack_node[top];
         if (enter(n, o, inv_dir, parallel, t_min, t_max) == inf()) continue;
-        if (nodes[n].count > 0u) {
-            for (uint s = nodes[n].first; s < nodes[n].first + nodes[n].count; ++s) {
+        const Node nd = node(n);
+        if (nd.count > 0u) {
+            for (uint s = nd.first; s < nd.first + nd.count; ++s) {
                 double t;
                 if (!hit_triangle(s, o, d, t_min, t_max, t)) continue;
                 if (found == kMaxHits) {
@@ -185,8 +208,8 @@ void main() {
             continue;
         }
         if (top + 2 <= kStack) {
-            stack_node[top++] = nodes[n].first + 1u;
-            stack_node[top++] = nodes[n].first;
+            stack_node[top++] = nd.first + 1u;
+            stack_node[top++] = nd.first;
         }
     }
     uint crossings = 0u;
