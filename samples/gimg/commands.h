@@ -35,6 +35,8 @@ void add_sphere_command(CLI::App& app, const GlobalOptions& global);
 // DIR/checker.png (the mesh textured through its sphere map `y`) and DIR/sphere.png (cmd_sphere.cpp).
 void write_sphere_pictures(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::dvec3>& y,
                            const std::filesystem::path& dir);
+// gimg index / search / eval (cmd_retrieval.cpp)
+void add_retrieval_commands(CLI::App& app, const GlobalOptions& global);
 // gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
 void add_info_command(CLI::App& app, const GlobalOptions& global);
 

@@ -1,0 +1,85 @@
+#pragma once
+// 3D model retrieval from cylindrical images (the cylindrical-projection thesis, chapter 5;
+// docs/retrieval.md): every model's 144 x 144 cylindrical image (the GPU Z-buffer), low-passed and
+// reduced to 48 x 48, projected on the principal components holding 95 % of the database's
+// variance; the nearest models by squared distance between those coefficients.
+
+#include "gimg/engine/context.h"
+#include "gimg/geometry/mesh.h"
+#include "gimg/passes/cylinder.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace gimg::passes {
+
+struct RetrievalOptions {
+    std::uint32_t size = 144;    // the cylindrical image is size x size
+    std::uint32_t reduced = 48;  // reduced to reduced x reduced (size must be a multiple of it)
+    double variance = 0.95;      // the smallest k principal components holding this share
+};
+
+// The feature of one cylindrical image: low-pass and decimation in one step (the thesis's "cubic
+// reduction"), each output pixel the Keys cubic kernel stretched by the reduction factor over the
+// input pixels around its centre, normalised; circular in theta, clamped in height. Empty pixels
+// count as d = 0. reduced x reduced values, row-major from the top row.
+std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32_t reduced);
+
+// The features of many meshes: each aligned by fit_cylinder_frame, projected by the GPU Z-buffer in
+// batches, reduced on the CPU.
+std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vector<geo::Mesh>& meshes,
+                                                  const RetrievalOptions& options = {});
+
+// PCA leaves each axis's sign open, so one model can come out turned over. BestOfFour compares a
+// query in the four poses the two free signs give (turned end over end, turned half way about
+// the axis, both) and keeps the nearest.
+enum class PoseHandling { AsAligned, BestOfFour };
+
+struct ShapeDatabase {
+    RetrievalOptions options;
+    std::uint32_t k = 0;                            // principal components kept
+    double variance_kept = 0.0;                     // their share of the variance
+    std::vector<float> mean;                        // reduced^2
+    std::vector<float> loadings;                    // reduced^2 x k, column after column
+    std::vector<std::vector<float>> coefficients;   // k per model
+    std::vector<std::string> paths, labels;         // per model; labels may be empty strings
+    std::size_t size() const { return coefficients.size(); }
+};
+
+// PCA of the centred features (Eigen's SVD); throws geo::InputError for fewer than 2 models or
+// features of different sizes.
+ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& features, std::vector<std::string> paths,
+                                   std::vector<std::string> labels, const RetrievalOptions& options);
+
+// The k coefficients of a feature.
+std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<float>& feature);
+
+struct ShapeMatch {
+    std::size_t model = 0;
+    double distance = 0.0;  // squared distance between coefficients
+};
+// Every model but `exclude` (e.g. the query itself), nearest first.
+std::vector<ShapeMatch> search_shapes(const ShapeDatabase& db, const std::vector<float>& feature, PoseHandling pose,
+                                      std::size_t exclude = static_cast<std::size_t>(-1));
+
+// A documented JSON file (docs/retrieval.md), written atomically; reading checks every array's size.
+void write_shape_database(const std::filesystem::path& path, const ShapeDatabase& db);
+ShapeDatabase read_shape_database(const std::filesystem::path& path);
+
+// The D2 shape distribution (Osada et al. 2002), the cheap floor retrieval is measured against:
+// the histogram of distances between 1,024 area-uniform surface points (all pairs), over [0, 3
+// mean distance) in `bins` bins, normalised to sum 1. Compare two with the L1 distance.
+std::vector<float> d2_histogram(const geo::Mesh& mesh, std::uint32_t bins = 64);
+
+// The Princeton Shape Benchmark's measures of one ranked list for a query of `label`: nearest
+// neighbour, first and second tier, normalised DCG and average precision; relevant = same label.
+struct RetrievalScores {
+    double nearest_neighbour = 0.0, first_tier = 0.0, second_tier = 0.0, dcg = 0.0, average_precision = 0.0;
+};
+RetrievalScores score_ranking(const std::vector<std::string>& ranked_labels, const std::string& label,
+                              std::size_t relevant);
+
+}  // namespace gimg::passes

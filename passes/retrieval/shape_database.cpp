@@ -1,0 +1,184 @@
+// The database: PCA of the features (the thesis, 5.3), the search with the pose variants, the file.
+#include "gimg/passes/retrieval.h"
+
+#include "gimg/geometry/atomic_file.h"
+#include "gimg/geometry/error.h"
+
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <limits>
+
+namespace gimg::passes {
+
+namespace {
+
+// The query in the four poses PCA's free signs give, on the reduced R x R image (R even): as
+// aligned; turned end over end (y -> -y, z -> -z: rows reversed, theta -> -theta); turned half way
+// about the axis (theta -> theta + pi); both.
+std::vector<std::vector<float>> poses(const std::vector<float>& f, std::uint32_t r, PoseHandling pose) {
+    std::vector<std::vector<float>> out{f};
+    if (pose == PoseHandling::AsAligned) return out;
+    auto make = [&](bool over, bool half) {
+        std::vector<float> g(f.size());
+        for (std::uint32_t v = 0; v < r; ++v)
+            for (std::uint32_t u = 0; u < r; ++u) {
+                std::uint32_t su = over ? r - 1 - u : u, sv = over ? r - 1 - v : v;
+                if (half) su = (su + r / 2) % r;
+                g[std::size_t(v) * r + u] = f[std::size_t(sv) * r + su];
+            }
+        return g;
+    };
+    out.push_back(make(true, false));
+    out.push_back(make(false, true));
+    out.push_back(make(true, true));
+    return out;
+}
+
+}  // namespace
+
+ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& features, std::vector<std::string> paths,
+                                   std::vector<std::string> labels, const RetrievalOptions& options) {
+    const std::size_t n = features.size(), d = std::size_t(options.reduced) * options.reduced;
+    if (n < 2) throw geo::InputError("retrieval: a database needs at least 2 models, got " + std::to_string(n));
+    if (paths.size() != n || labels.size() != n) throw geo::InputError("retrieval: paths and labels per model");
+    if (!(options.variance > 0.0 && options.variance <= 1.0))
+        throw geo::InputError("retrieval: the variance share must be in (0, 1]");
+    Eigen::MatrixXd x(n, d);
+    for (std::size_t i = 0; i < n; ++i) {
+        if (features[i].size() != d) throw geo::InputError("retrieval: features of different sizes");
+        for (std::size_t j = 0; j < d; ++j) x(Eigen::Index(i), Eigen::Index(j)) = features[i][j];
+    }
+    const Eigen::RowVectorXd mean = x.colwise().mean();
+    x.rowwise() -= mean;
+    const Eigen::BDCSVD<Eigen::MatrixXd> svd(x, Eigen::ComputeThinV);
+    const Eigen::VectorXd variances = svd.singularValues().array().square();
+    const double total = variances.sum();
+    ShapeDatabase db;
+    db.options = options;
+    double kept = 0.0;
+    while (db.k < variances.size() && (db.k == 0 || kept < options.variance * total)) kept += variances[db.k++];
+    db.variance_kept = total > 0.0 ? kept / total : 1.0;
+    const Eigen::MatrixXd loadings = svd.matrixV().leftCols(db.k);
+    db.mean.assign(mean.data(), mean.data() + d);
+    db.loadings.assign(loadings.data(), loadings.data() + loadings.size());  // column-major
+    const Eigen::MatrixXd coefficients = x * loadings;
+    for (std::size_t i = 0; i < n; ++i) {
+        std::vector<float> c(db.k);
+        for (std::uint32_t j = 0; j < db.k; ++j) c[j] = float(coefficients(Eigen::Index(i), Eigen::Index(j)));
+        db.coefficients.push_back(std::move(c));
+    }
+    db.paths = std::move(paths);
+    db.labels = std::move(labels);
+    return db;
+}
+
+std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<float>& feature) {
+    const std::size_t d = db.mean.size();
+    if (feature.size() != d) throw geo::InputError("retrieval: the feature does not match the database's size");
+    std::vector<float> c(db.k);
+    for (std::uint32_t j = 0; j < db.k; ++j) {
+        double s = 0.0;
+        const float* column = db.loadings.data() + std::size_t(j) * d;
+        for (std::size_t i = 0; i < d; ++i) s += (double(feature[i]) - double(db.mean[i])) * double(column[i]);
+        c[j] = float(s);
+    }
+    return c;
+}
+
+std::vector<ShapeMatch> search_shapes(const ShapeDatabase& db, const std::vector<float>& feature, PoseHandling pose,
+                                      std::size_t exclude) {
+    std::vector<std::vector<float>> queries;
+    for (const auto& variant : poses(feature, db.options.reduced, pose)) queries.push_back(project_feature(db, variant));
+    std::vector<ShapeMatch> out;
+    for (std::size_t m = 0; m < db.size(); ++m) {
+        if (m == exclude) continue;
+        double best = std::numeric_limits<double>::infinity();
+        for (const auto& q : queries) {
+            double s = 0.0;
+            for (std::uint32_t j = 0; j < db.k; ++j) {
+                const double e = double(q[j]) - double(db.coefficients[m][j]);
+                s += e * e;
+            }
+            best = std::min(best, s);
+        }
+        out.push_back({m, best});
+    }
+    std::stable_sort(out.begin(), out.end(), [](const ShapeMatch& a, const ShapeMatch& b) { return a.distance < b.distance; });
+    return out;
+}
+
+void write_shape_database(const std::filesystem::path& path, const ShapeDatabase& db) {
+    nlohmann::json j;
+    j["format"] = "gimg shape database";
+    j["version"] = 1;
+    j["size"] = db.options.size;
+    j["reduced"] = db.options.reduced;
+    j["variance"] = db.options.variance;
+    j["k"] = db.k;
+    j["variance_kept"] = db.variance_kept;
+    j["mean"] = db.mean;
+    j["loadings"] = db.loadings;
+    j["models"] = nlohmann::json::array();
+    for (std::size_t i = 0; i < db.size(); ++i)
+        j["models"].push_back({{"path", db.paths[i]}, {"label", db.labels[i]}, {"coefficients", db.coefficients[i]}});
+    geo::write_file_atomically(path, j.dump() + "\n");
+}
+
+ShapeDatabase read_shape_database(const std::filesystem::path& path) {
+    std::ifstream in(path);
+    if (!in) throw geo::InputError("cannot read " + path.string() + ": no such file");
+    ShapeDatabase db;
+    try {
+        const nlohmann::json j = nlohmann::json::parse(in);
+        if (j.value("format", std::string()) != "gimg shape database")
+            throw geo::InputError(path.string() + " is not a gimg shape database (gimg index writes one)");
+        db.options.size = j.at("size").get<std::uint32_t>();
+        db.options.reduced = j.at("reduced").get<std::uint32_t>();
+        db.options.variance = j.at("variance").get<double>();
+        db.k = j.at("k").get<std::uint32_t>();
+        db.variance_kept = j.at("variance_kept").get<double>();
+        db.mean = j.at("mean").get<std::vector<float>>();
+        db.loadings = j.at("loadings").get<std::vector<float>>();
+        for (const auto& m : j.at("models")) {
+            db.paths.push_back(m.at("path").get<std::string>());
+            db.labels.push_back(m.at("label").get<std::string>());
+            db.coefficients.push_back(m.at("coefficients").get<std::vector<float>>());
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw geo::InputError(path.string() + " is not a gimg shape database: " + e.what());
+    }
+    const std::size_t d = std::size_t(db.options.reduced) * db.options.reduced;
+    bool ok = db.options.reduced > 0 && db.options.reduced % 2 == 0 && db.options.size % db.options.reduced == 0 &&
+              db.mean.size() == d && db.loadings.size() == d * db.k && db.size() >= 2;
+    for (const auto& c : db.coefficients) ok = ok && c.size() == db.k;
+    if (!ok) throw geo::InputError(path.string() + ": its arrays do not match its sizes");
+    return db;
+}
+
+RetrievalScores score_ranking(const std::vector<std::string>& ranked, const std::string& label, std::size_t relevant) {
+    RetrievalScores s;
+    if (relevant == 0 || ranked.empty()) return s;
+    s.nearest_neighbour = ranked[0] == label ? 1.0 : 0.0;
+    std::size_t found = 0, in_first = 0, in_second = 0;
+    double dcg = 0.0, precision_sum = 0.0;
+    for (std::size_t i = 0; i < ranked.size(); ++i) {
+        if (ranked[i] != label) continue;
+        ++found;
+        if (i < relevant) ++in_first;
+        if (i < 2 * relevant) ++in_second;
+        dcg += i == 0 ? 1.0 : 1.0 / std::log2(double(i + 1));
+        precision_sum += double(found) / double(i + 1);
+    }
+    double ideal = 1.0;
+    for (std::size_t i = 1; i < relevant; ++i) ideal += 1.0 / std::log2(double(i + 1));
+    s.first_tier = double(in_first) / double(relevant);
+    s.second_tier = double(in_second) / double(relevant);
+    s.dcg = dcg / ideal;
+    s.average_precision = precision_sum / double(relevant);
+    return s;
+}
+
+}  // namespace gimg::passes

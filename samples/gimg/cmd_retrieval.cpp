@@ -1,0 +1,298 @@
+// gimg index DIR_OR_LIST --out DB.json [--size 144] [--reduced 48] [--variance 0.95] [--json FILE]
+// gimg search DB.json MESH [--k N] [--pose aligned|best-of-four] [--json FILE]
+// gimg eval DB.json [--pose aligned|best-of-four] [--json FILE]
+// Retrieval from cylindrical images (the thesis's chapter 5; docs/retrieval.md).
+#include "command_files.h"
+#include "commands.h"
+#include "gpu_context.h"
+#include "json_output.h"
+#include "progress_line.h"
+#include "timing.h"
+
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/io.h"
+#include "gimg/passes/retrieval.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace gimg::cli {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Model {
+    std::string path, label;
+};
+
+// A folder (every mesh below it; labels from its classes.tsv, else the parent folder's name) or a
+// list file (a path a line, a tab and a label optional).
+std::vector<Model> models_of(const std::string& source) {
+    std::vector<Model> models;
+    const fs::path root = source;
+    if (fs::is_directory(root)) {
+        std::map<std::string, std::string> labels;
+        if (std::ifstream tsv(root / "classes.tsv"); tsv) {
+            std::string line;
+            std::getline(tsv, line);  // header: class, file, ...
+            while (std::getline(tsv, line)) {
+                std::istringstream fields(line);
+                std::string label, file;
+                if (std::getline(fields, label, '\t') && std::getline(fields, file, '\t'))
+                    labels[(root / file).lexically_normal().string()] = label;
+            }
+        }
+        for (const auto& e : fs::recursive_directory_iterator(root)) {
+            if (!e.is_regular_file()) continue;
+            std::string ext = e.path().extension().string();
+            std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+            if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl") continue;
+            const std::string path = e.path().lexically_normal().string();
+            const auto known = labels.find(path);
+            models.push_back({path, known != labels.end() ? known->second : e.path().parent_path().filename().string()});
+        }
+        std::sort(models.begin(), models.end(), [](const Model& a, const Model& b) { return a.path < b.path; });
+    } else {
+        std::ifstream list(root);
+        if (!list) throw geo::InputError(source + ": no such folder or list file");
+        std::string line;
+        while (std::getline(list, line)) {
+            if (line.empty()) continue;
+            const auto tab = line.find('\t');
+            models.push_back({line.substr(0, tab), tab == std::string::npos ? std::string() : line.substr(tab + 1)});
+        }
+    }
+    if (models.empty()) throw geo::InputError(source + ": no meshes (.obj, .off, .ply, .stl) found");
+    return models;
+}
+
+passes::PoseHandling pose_of(const std::string& text) {
+    return text == "aligned" ? passes::PoseHandling::AsAligned : passes::PoseHandling::BestOfFour;
+}
+
+struct IndexOptions {
+    std::string source, out, json;
+    passes::RetrievalOptions retrieval;
+};
+
+void run_index(const IndexOptions& o, const GlobalOptions& global) {
+    if (o.retrieval.reduced % 2 != 0 || o.retrieval.size % o.retrieval.reduced != 0)
+        throw geo::InputError("--size must be a multiple of --reduced, and --reduced even");
+    const std::vector<Model> models = models_of(o.source);
+    auto ctx = open_context(global);
+    std::vector<geo::Mesh> meshes;
+    std::vector<std::string> paths, labels;
+    nlohmann::json failed = nlohmann::json::array();
+    ProgressLine line(global.quiet);
+    double load_ms = 0.0;
+    for (std::size_t i = 0; i < models.size(); ++i) {
+        line.show("loading %zu of %zu", i + 1, models.size());
+        try {
+            load_ms += time_ms([&] { meshes.push_back(geo::load_mesh(models[i].path)); });
+            paths.push_back(models[i].path);
+            labels.push_back(models[i].label);
+        } catch (const geo::InputError& e) {
+            failed.push_back({{"path", models[i].path}, {"error", e.what()}});  // skipped, never fatal
+        }
+    }
+    line.finish();
+    std::vector<std::vector<float>> features;
+    const double feature_ms = time_ms([&] { features = passes::cylinder_features(*ctx, meshes, o.retrieval); });
+    passes::ShapeDatabase db;
+    const double pca_ms =
+        time_ms([&] { db = passes::build_shape_database(features, paths, labels, o.retrieval); });
+    passes::write_shape_database(o.out, db);
+    if (!global.quiet) {
+        std::printf("%s: %zu models indexed (%zu skipped), k = %u components holding %.1f %% of the variance\n",
+                    o.out.c_str(), db.size(), failed.size(), db.k, 100.0 * db.variance_kept);
+        std::printf("load %.0f ms, images and reduction %.0f ms (%.0f models/s), PCA %.0f ms\n", load_ms, feature_ms,
+                    1000.0 * double(db.size()) / std::max(feature_ms, 1e-9), pca_ms);
+        for (const auto& f : failed)
+            std::printf("skipped %s: %s\n", f["path"].get<std::string>().c_str(), f["error"].get<std::string>().c_str());
+    }
+    nlohmann::json j{{"models", db.size()}, {"skipped", failed},      {"k", db.k},
+                     {"variance_kept", db.variance_kept}, {"load_ms", load_ms}, {"feature_ms", feature_ms},
+                     {"pca_ms", pca_ms}};
+    add_machine_figures(j, ctx.get());
+    write_json(o.json, j);
+}
+
+struct SearchOptions {
+    std::string db, mesh, pose = "best-of-four", json;
+    std::uint32_t k = 10;
+};
+
+void run_search(const SearchOptions& o, const GlobalOptions& global) {
+    const passes::ShapeDatabase db = passes::read_shape_database(o.db);
+    auto ctx = open_context(global);
+    geo::Mesh mesh;
+    const double load_ms = time_ms([&] { mesh = geo::load_mesh(o.mesh); });
+    std::vector<float> feature;
+    const double project_ms =
+        time_ms([&] { feature = passes::cylinder_features(*ctx, {mesh}, db.options).front(); });
+    std::vector<passes::ShapeMatch> matches;
+    const double match_ms = time_ms([&] { matches = passes::search_shapes(db, feature, pose_of(o.pose)); });
+    matches.resize(std::min<std::size_t>(matches.size(), o.k));
+    nlohmann::json list = nlohmann::json::array();
+    for (std::size_t r = 0; r < matches.size(); ++r) {
+        const auto& m = matches[r];
+        if (!global.quiet)
+            std::printf("%2zu  %-12s %.6g  %s\n", r + 1, db.labels[m.model].c_str(), m.distance, db.paths[m.model].c_str());
+        list.push_back({{"rank", r + 1}, {"path", db.paths[m.model]}, {"label", db.labels[m.model]}, {"distance", m.distance}});
+    }
+    if (!global.quiet)
+        std::printf("load %.1f ms, projection %.1f ms, matching %.2f ms\n", load_ms, project_ms, match_ms);
+    nlohmann::json j{{"query", o.mesh}, {"results", list}, {"pose", o.pose}, {"load_ms", load_ms},
+                     {"projection_ms", project_ms}, {"matching_ms", match_ms}};
+    add_machine_figures(j, ctx.get());
+    write_json(o.json, j);
+}
+
+struct EvalOptions {
+    std::string db, pose = "best-of-four", method = "cylinder", json;
+};
+
+// Leave-one-out: every model of the database as a query against the others.
+void run_eval(const EvalOptions& o, const GlobalOptions& global) {
+    const passes::ShapeDatabase db = passes::read_shape_database(o.db);
+    auto ctx = open_context(global);
+    std::map<std::string, std::size_t> class_size;
+    for (const auto& l : db.labels) ++class_size[l];
+    std::map<std::string, passes::RetrievalScores> per_class;
+    std::map<std::string, std::size_t> per_class_queries;
+    passes::RetrievalScores total;
+    std::size_t queries = 0;
+    double load_ms = 0.0, project_ms = 0.0, match_ms = 0.0;
+    ProgressLine line(global.quiet);
+    // D2: every model's histogram first (the database holds cylindrical coefficients only).
+    std::vector<std::vector<float>> d2;
+    if (o.method == "d2")
+        for (std::size_t m = 0; m < db.size(); ++m) {
+            line.show("D2 of model %zu of %zu", m + 1, db.size());
+            d2.push_back(passes::d2_histogram(geo::load_mesh(db.paths[m])));
+        }
+    for (std::size_t q = 0; q < db.size(); ++q) {
+        line.show("query %zu of %zu", q + 1, db.size());
+        const std::size_t relevant = class_size[db.labels[q]] - 1;
+        if (relevant == 0) continue;  // a class of one has nothing to find
+        std::vector<passes::ShapeMatch> matches;
+        if (o.method == "d2") {
+            match_ms += time_ms([&] {
+                for (std::size_t m = 0; m < db.size(); ++m) {
+                    if (m == q) continue;
+                    double l1 = 0.0;
+                    for (std::size_t b = 0; b < d2[q].size(); ++b) l1 += std::abs(double(d2[q][b]) - double(d2[m][b]));
+                    matches.push_back({m, l1});
+                }
+                std::stable_sort(matches.begin(), matches.end(),
+                                 [](const auto& a, const auto& b) { return a.distance < b.distance; });
+            });
+        } else {
+            geo::Mesh mesh;
+            load_ms += time_ms([&] { mesh = geo::load_mesh(db.paths[q]); });
+            std::vector<float> feature;
+            project_ms += time_ms([&] { feature = passes::cylinder_features(*ctx, {mesh}, db.options).front(); });
+            match_ms += time_ms([&] { matches = passes::search_shapes(db, feature, pose_of(o.pose), q); });
+        }
+        std::vector<std::string> ranked;
+        for (const auto& m : matches) ranked.push_back(db.labels[m.model]);
+        const passes::RetrievalScores s = passes::score_ranking(ranked, db.labels[q], relevant);
+        for (auto* acc : {&total, &per_class[db.labels[q]]}) {
+            acc->nearest_neighbour += s.nearest_neighbour;
+            acc->first_tier += s.first_tier;
+            acc->second_tier += s.second_tier;
+            acc->dcg += s.dcg;
+            acc->average_precision += s.average_precision;
+        }
+        ++per_class_queries[db.labels[q]];
+        ++queries;
+    }
+    line.finish();
+    if (queries == 0) throw geo::InputError(o.db + ": no class has two models; nothing to evaluate");
+    auto row = [](const passes::RetrievalScores& s, double n) {
+        return nlohmann::json{{"nn", s.nearest_neighbour / n}, {"first_tier", s.first_tier / n},
+                              {"second_tier", s.second_tier / n}, {"dcg", s.dcg / n},
+                              {"map", s.average_precision / n}};
+    };
+    nlohmann::json classes = nlohmann::json::object();
+    for (const auto& [label, s] : per_class) classes[label] = row(s, double(per_class_queries[label]));
+    const nlohmann::json overall = row(total, double(queries));
+    if (!global.quiet) {
+        std::printf("%s: %zu queries, leave-one-out, %s\n", o.db.c_str(), queries,
+                    o.method == "d2" ? "D2 shape distributions" : ("cylindrical images, pose " + o.pose).c_str());
+        std::printf("%-14s %6s %6s %6s %6s %6s\n", "class", "NN", "FT", "ST", "DCG", "mAP");
+        for (const auto& [label, r] : classes.items())
+            std::printf("%-14s %6.3f %6.3f %6.3f %6.3f %6.3f\n", label.c_str(), r["nn"].get<double>(),
+                        r["first_tier"].get<double>(), r["second_tier"].get<double>(), r["dcg"].get<double>(),
+                        r["map"].get<double>());
+        std::printf("%-14s %6.3f %6.3f %6.3f %6.3f %6.3f\n", "overall", overall["nn"].get<double>(),
+                    overall["first_tier"].get<double>(), overall["second_tier"].get<double>(),
+                    overall["dcg"].get<double>(), overall["map"].get<double>());
+        std::printf("per query: load %.1f ms, projection %.1f ms, matching %.3f ms\n", load_ms / double(queries),
+                    project_ms / double(queries), match_ms / double(queries));
+    }
+    nlohmann::json j{{"queries", queries},
+                     {"method", o.method},
+                     {"pose", o.pose},
+                     {"overall", overall},
+                     {"classes", classes},
+                     {"load_ms_per_query", load_ms / double(queries)},
+                     {"projection_ms_per_query", project_ms / double(queries)},
+                     {"matching_ms_per_query", match_ms / double(queries)}};
+    add_machine_figures(j, ctx.get());
+    write_json(o.json, j);
+}
+
+void add_pose_option(CLI::App* cmd, std::string& pose) {
+    cmd->add_option("--pose", pose,
+                    "best-of-four (default: the query in the four poses PCA's free signs allow, the nearest kept) "
+                    "or aligned (as PCA leaves it, the thesis)")
+        ->check(CLI::IsMember({"aligned", "best-of-four"}));
+}
+
+}  // namespace
+
+void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
+    auto io = std::make_shared<IndexOptions>();
+    auto* index = app.add_subcommand("index", "Index a folder of models for retrieval by cylindrical images");
+    index->add_option("source", io->source, "A folder (labels from its classes.tsv or sub-folders) or a list file")
+        ->required();
+    index->add_option("--out", io->out, "The database (.json)")->required();
+    add_count_option(index, "--size", io->retrieval.size, 8, 4096, "Cylindrical image side (default 144)");
+    add_count_option(index, "--reduced", io->retrieval.reduced, 2, 512, "Reduced side (default 48)");
+    add_number_option(index, "--variance", io->retrieval.variance, 0.01, 1.0,
+                      "Share of the variance the kept components hold (default 0.95)");
+    index->add_option("--json", io->json, "Write the figures as JSON");
+    index->callback([io, &global] {
+        run_writing({}, {{"--out", io->out, {".json"}}, json_output(io->json)}, [&] { run_index(*io, global); });
+    });
+
+    auto so = std::make_shared<SearchOptions>();
+    auto* search = app.add_subcommand("search", "The models of a database most like a query mesh");
+    search->add_option("db", so->db, "The database (gimg index)")->required();
+    search->add_option("mesh", so->mesh, "The query mesh")->required();
+    add_count_option(search, "--k", so->k, 1, 1000000, "How many results (default 10)");
+    add_pose_option(search, so->pose);
+    search->add_option("--json", so->json, "Write the results as JSON");
+    search->callback([so, &global] {
+        run_writing({so->db, so->mesh}, {json_output(so->json)}, [&] { run_search(*so, global); });
+    });
+
+    auto eo = std::make_shared<EvalOptions>();
+    auto* eval = app.add_subcommand("eval", "Leave-one-out retrieval scores of a labelled database");
+    eval->add_option("db", eo->db, "The database (gimg index)")->required();
+    add_pose_option(eval, eo->pose);
+    eval->add_option("--method", eo->method,
+                     "cylinder (the database's cylindrical images, default) or d2 (D2 shape distributions of the "
+                     "same models, L1 distance: the floor)")
+        ->check(CLI::IsMember({"cylinder", "d2"}));
+    eval->add_option("--json", eo->json, "Write the scores as JSON");
+    eval->callback([eo, &global] { run_writing({eo->db}, {json_output(eo->json)}, [&] { run_eval(*eo, global); }); });
+}
+
+}  // namespace gimg::cli

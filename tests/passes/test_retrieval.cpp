@@ -1,0 +1,127 @@
+// Retrieval from cylindrical images: the reduction, the PCA, the search's pose handling and the
+// benchmark measures.
+#include "gpu_test.h"
+
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/shapes.h"
+#include "gimg/passes/retrieval.h"
+
+#include <glm/ext/matrix_transform.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <random>
+
+using namespace gimg;
+namespace gp = gimg::passes;
+
+TEST(Retrieval, ReductionKeepsConstantsAndTurnsWithTheImage) {
+    gp::CylinderImage image(144, 144);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> d(-0.9f, 0.9f);
+    for (std::size_t i = 0; i < image.distance.size(); ++i) image.covered[i] = 1, image.distance[i] = 0.5f;
+    for (float v : gp::reduce_cylinder_image(image, 48)) ASSERT_NEAR(v, 0.5f, 1e-6f);
+    for (std::size_t i = 0; i < image.distance.size(); ++i) image.covered[i] = i % 7 != 0, image.distance[i] = d(rng);
+    // Turning the model about the axis by 3 input columns turns the feature by one column (circular).
+    gp::CylinderImage turned(144, 144);
+    for (std::uint32_t v = 0; v < 144; ++v)
+        for (std::uint32_t u = 0; u < 144; ++u) {
+            turned.covered[turned.index((u + 3) % 144, v)] = image.covered[image.index(u, v)];
+            turned.distance[turned.index((u + 3) % 144, v)] = image.distance[image.index(u, v)];
+        }
+    const auto a = gp::reduce_cylinder_image(image, 48), b = gp::reduce_cylinder_image(turned, 48);
+    for (std::uint32_t v = 0; v < 48; ++v)
+        for (std::uint32_t u = 0; u < 48; ++u) ASSERT_NEAR(b[v * 48 + (u + 1) % 48], a[v * 48 + u], 1e-6f);
+    EXPECT_THROW(gp::reduce_cylinder_image(image, 50), geo::InputError);
+}
+
+TEST(Retrieval, PcaKeepsTheVarianceItClaimsAndProjectsLikeTheDatabase) {
+    std::mt19937 rng(5);
+    std::normal_distribution<float> noise(0.0f, 1.0f);
+    const std::size_t n = 30, d = 16 * 16;
+    std::vector<std::vector<float>> features(n, std::vector<float>(d));
+    for (auto& f : features) {  // three strong directions and a little noise
+        const float a = noise(rng), b = noise(rng), c = noise(rng);
+        for (std::size_t j = 0; j < d; ++j)
+            f[j] = 3.0f * (a * std::sin(float(j)) + b * std::cos(2.0f * float(j)) + c * std::sin(0.3f * float(j))) +
+                   0.05f * noise(rng);
+    }
+    const gp::ShapeDatabase db = gp::build_shape_database(features, std::vector<std::string>(n, "x"),
+                                                          std::vector<std::string>(n, "a"), {.size = 32, .reduced = 16});
+    EXPECT_GE(db.variance_kept, 0.95);
+    EXPECT_LT(db.k, 10u);
+    // A model's projection is its stored coefficients.
+    const auto c = gp::project_feature(db, features[7]);
+    for (std::uint32_t j = 0; j < db.k; ++j) EXPECT_NEAR(c[j], db.coefficients[7][j], 1e-3f);
+    // The residual of every model, summed, is the variance the dropped components hold.
+    double residual = 0.0, total = 0.0;
+    for (const auto& f : features) {
+        const auto cf = gp::project_feature(db, f);
+        for (std::size_t i = 0; i < d; ++i) {
+            double back = db.mean[i];
+            for (std::uint32_t j = 0; j < db.k; ++j) back += double(cf[j]) * double(db.loadings[j * d + i]);
+            residual += (f[i] - back) * (f[i] - back);
+            total += (f[i] - db.mean[i]) * (f[i] - db.mean[i]);
+        }
+    }
+    EXPECT_NEAR(residual / total, 1.0 - db.variance_kept, 1e-4);
+    // The file keeps it all.
+    const auto path = std::filesystem::path(GIMG_TEST_OUTPUT_DIR) / "shape_db.json";
+    gp::write_shape_database(path, db);
+    const gp::ShapeDatabase back = gp::read_shape_database(path);
+    EXPECT_EQ(back.k, db.k);
+    EXPECT_EQ(back.loadings, db.loadings);
+    EXPECT_EQ(back.coefficients, db.coefficients);
+}
+
+TEST(Retrieval, MeasuresOfAHandRankedList) {
+    // Query of class "a" with 3 others of its class among 6 results: a b a c a b.
+    const gp::RetrievalScores s = gp::score_ranking({"a", "b", "a", "c", "a", "b"}, "a", 3);
+    EXPECT_EQ(s.nearest_neighbour, 1.0);
+    EXPECT_NEAR(s.first_tier, 2.0 / 3.0, 1e-12);   // 2 of the top 3
+    EXPECT_NEAR(s.second_tier, 1.0, 1e-12);        // all 3 in the top 6
+    EXPECT_NEAR(s.average_precision, (1.0 + 2.0 / 3.0 + 3.0 / 5.0) / 3.0, 1e-12);
+    const double dcg = 1.0 + 1.0 / std::log2(3.0) + 1.0 / std::log2(5.0);
+    const double ideal = 1.0 + 1.0 / std::log2(2.0) + 1.0 / std::log2(3.0);
+    EXPECT_NEAR(s.dcg, dcg / ideal, 1e-12);
+    const gp::RetrievalScores miss = gp::score_ranking({"b", "a"}, "a", 1);
+    EXPECT_EQ(miss.nearest_neighbour, 0.0);
+    EXPECT_EQ(miss.first_tier, 0.0);
+    EXPECT_NEAR(miss.average_precision, 0.5, 1e-12);
+}
+
+namespace {
+class RetrievalGpu : public gimg::test::GpuTest {};
+
+geo::Mesh turned(geo::Mesh m, const glm::dmat4& t) {
+    for (auto& p : m.positions) p = glm::dvec3(t * glm::dvec4(p, 1.0));
+    m.normals.clear();
+    return m;
+}
+}  // namespace
+
+TEST_F(RetrievalGpu, AModelAndATurnedScaledMovedCopyFindEachOtherFirst) {
+    std::vector<geo::Mesh> models{geo::make_torus(0.3, 0.1, 48, 24), geo::make_box({0.3, 0.8, 0.5}, 4),
+                                  geo::make_icosphere(0.5, 3), geo::make_torus(0.3, 0.03, 48, 24),
+                                  geo::make_box({0.2, 1.0, 0.2}, 4)};
+    // An elongated, lumpy shape whose PCA axes are well defined.
+    geo::Mesh lumpy = geo::make_icosphere(0.5, 4);
+    for (auto& p : lumpy.positions) p = glm::dvec3(p.x * 0.6, p.y * 1.5 + 0.2 * std::sin(6.0 * p.x), p.z * 0.8);
+    models.push_back(lumpy);
+    const std::size_t n = models.size();
+    const glm::dmat4 pose = glm::translate(glm::dmat4(1.0), {3.0, -1.0, 2.0}) *
+                            glm::rotate(glm::dmat4(1.0), 2.1, glm::normalize(glm::dvec3(1, 2, 3))) *
+                            glm::scale(glm::dmat4(1.0), glm::dvec3(2.5));
+    for (std::size_t i = 0; i < n; ++i) models.push_back(turned(models[i], pose));
+    const auto features = gp::cylinder_features(ctx(), models);
+    std::vector<std::string> labels;
+    for (std::size_t i = 0; i < 2 * n; ++i) labels.push_back(std::to_string(i % n));
+    const gp::ShapeDatabase db =
+        gp::build_shape_database(features, std::vector<std::string>(2 * n, "m"), labels, {});
+    for (std::size_t i = 0; i < 2 * n; ++i) {
+        // Itself (or its other pose, a tie) at distance 0 when not excluded; its other pose first when it is.
+        EXPECT_LT(gp::search_shapes(db, features[i], gp::PoseHandling::BestOfFour).front().distance, 1e-9);
+        EXPECT_EQ(gp::search_shapes(db, features[i], gp::PoseHandling::BestOfFour, i).front().model, (i + n) % (2 * n))
+            << "model " << i;
+    }
+}
