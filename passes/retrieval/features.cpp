@@ -2,12 +2,18 @@
 // reduction (the thesis, 5.2: a low pass, then decimation).
 #include "gimg/passes/retrieval.h"
 
+#include "gimg/engine/graph.h"
+#include "gimg/engine/upload.h"
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/surface_sampling.h"
 
 #include <glm/geometric.hpp>
 
+#include "retrieval/reduce_comp.h"
+
 #include <algorithm>
+#include <bit>
+#include <span>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -15,6 +21,12 @@
 namespace gimg::passes {
 
 namespace {
+
+const Spirv kReduce = GIMG_SPIRV(gimg_spv_retrieval_reduce_comp);
+
+struct ReducePush {
+    std::uint32_t size, reduced, count, taps;
+};
 
 // Keys's cubic convolution kernel (a = -0.5).
 double keys(double x) {
@@ -74,14 +86,60 @@ std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32
 
 std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vector<geo::Mesh>& meshes,
                                                   const RetrievalOptions& options) {
-    CylinderZBuffer zbuffer(ctx, options.size, options.size);
+    const std::uint32_t n = options.size, r = options.reduced;
+    if (r == 0 || n % r != 0)
+        throw geo::InputError("retrieval: a " + std::to_string(n) + " image does not reduce to " + std::to_string(r));
+    // The taps of reduce_cylinder_image, padded to one count per output; an index travels as float bits.
+    const auto u_taps = taps(n, r, true), v_taps = taps(n, r, false);
+    std::uint32_t width = 0;
+    for (const auto* t : {&u_taps, &v_taps})
+        for (const auto& list : *t) width = std::max(width, std::uint32_t(list.size()));
+    auto table = [&](const std::vector<std::vector<std::pair<std::uint32_t, double>>>& t) {
+        std::vector<float> out(2 * std::size_t(r) * width, 0.0f);
+        for (std::uint32_t o = 0; o < r; ++o)
+            for (std::size_t k = 0; k < t[o].size(); ++k) {
+                out[2 * (o * width + k)] = std::bit_cast<float>(t[o][k].first);
+                out[2 * (o * width + k) + 1] = float(t[o][k].second);
+            }
+        return out;
+    };
+    Buffer tu = upload_buffer(ctx, table(u_taps), "retrieval taps u"),
+           tv = upload_buffer(ctx, table(v_taps), "retrieval taps v");
+
+    CylinderZBuffer zbuffer(ctx, n, n);
     std::vector<CylinderZBuffer::Job> jobs;
     for (const geo::Mesh& mesh : meshes)
         jobs.push_back({zbuffer.add_mesh(make_cylinder_mesh(mesh, fit_cylinder_frame(mesh))), kIdentityTransform});
-    const std::vector<CylinderImage> images = zbuffer.project(jobs);
     std::vector<std::vector<float>> out;
-    out.reserve(images.size());
-    for (const CylinderImage& image : images) out.push_back(reduce_cylinder_image(image, options.reduced));
+    out.reserve(meshes.size());
+    constexpr std::size_t kBatch = 256;  // images a graph: well inside one atlas
+    for (std::size_t begin = 0; begin < jobs.size(); begin += kBatch) {
+        const auto count = std::uint32_t(std::min(kBatch, jobs.size() - begin));
+        Graph g(ctx);
+        const CylinderImagesHandle images =
+            add_cylinder(g, zbuffer, std::span(jobs).subspan(begin, count), "retrieval images");
+        auto features = g.create_buffer({VkDeviceSize(count) * r * r * 4, "retrieval features"});
+        auto taps_u = g.import_buffer(tu), taps_v = g.import_buffer(tv);
+        const ReducePush push{n, r, count, width};
+        g.add_compute_pass(
+            "retrieval: reduce",
+            [&](PassBuilder& b) {
+                b.read(images.distance, Access::ComputeRead);
+                b.read(taps_u, Access::ComputeRead);
+                b.read(taps_v, Access::ComputeRead);
+                features = b.write(features, Access::ComputeWrite);
+            },
+            [=, d = images.distance](Cmd& c) {
+                c.dispatch_threads(kReduce, {r, r, count}, {d, taps_u, taps_v, features}, push);
+            });
+        g.export_buffer(features, Access::TransferSrc);
+        Plan plan = g.compile();
+        plan.execute();
+        std::vector<float> all(std::size_t(count) * r * r);
+        ctx.download(plan.buffer(features), all.data(), all.size() * 4);
+        for (std::uint32_t k = 0; k < count; ++k)
+            out.emplace_back(all.begin() + std::ptrdiff_t(k) * r * r, all.begin() + std::ptrdiff_t(k + 1) * r * r);
+    }
     return out;
 }
 

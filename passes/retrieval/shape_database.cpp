@@ -91,7 +91,8 @@ std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<fl
 std::vector<ShapeMatch> search_shapes(const ShapeDatabase& db, const std::vector<float>& feature, PoseHandling pose,
                                       std::size_t exclude) {
     std::vector<std::vector<float>> queries;
-    for (const auto& variant : poses(feature, db.options.reduced, pose)) queries.push_back(project_feature(db, variant));
+    for (const auto& variant : poses(feature, db.options.reduced, pose))
+        queries.push_back(project_feature(db, variant));
     std::vector<ShapeMatch> out;
     for (std::size_t m = 0; m < db.size(); ++m) {
         if (m == exclude) continue;
@@ -106,7 +107,8 @@ std::vector<ShapeMatch> search_shapes(const ShapeDatabase& db, const std::vector
         }
         out.push_back({m, best});
     }
-    std::stable_sort(out.begin(), out.end(), [](const ShapeMatch& a, const ShapeMatch& b) { return a.distance < b.distance; });
+    std::stable_sort(out.begin(), out.end(),
+                     [](const ShapeMatch& a, const ShapeMatch& b) { return a.distance < b.distance; });
     return out;
 }
 

@@ -54,7 +54,8 @@ std::vector<Model> models_of(const std::string& source) {
             if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl") continue;
             const std::string path = e.path().lexically_normal().string();
             const auto known = labels.find(path);
-            models.push_back({path, known != labels.end() ? known->second : e.path().parent_path().filename().string()});
+            models.push_back(
+                {path, known != labels.end() ? known->second : e.path().parent_path().filename().string()});
         }
         std::sort(models.begin(), models.end(), [](const Model& a, const Model& b) { return a.path < b.path; });
     } else {
@@ -104,8 +105,7 @@ void run_index(const IndexOptions& o, const GlobalOptions& global) {
     std::vector<std::vector<float>> features;
     const double feature_ms = time_ms([&] { features = passes::cylinder_features(*ctx, meshes, o.retrieval); });
     passes::ShapeDatabase db;
-    const double pca_ms =
-        time_ms([&] { db = passes::build_shape_database(features, paths, labels, o.retrieval); });
+    const double pca_ms = time_ms([&] { db = passes::build_shape_database(features, paths, labels, o.retrieval); });
     passes::write_shape_database(o.out, db);
     if (!global.quiet) {
         std::printf("%s: %zu models indexed (%zu skipped), k = %u components holding %.1f %% of the variance\n",
@@ -113,11 +113,12 @@ void run_index(const IndexOptions& o, const GlobalOptions& global) {
         std::printf("load %.0f ms, images and reduction %.0f ms (%.0f models/s), PCA %.0f ms\n", load_ms, feature_ms,
                     1000.0 * double(db.size()) / std::max(feature_ms, 1e-9), pca_ms);
         for (const auto& f : failed)
-            std::printf("skipped %s: %s\n", f["path"].get<std::string>().c_str(), f["error"].get<std::string>().c_str());
+            std::printf("skipped %s: %s\n", f["path"].get<std::string>().c_str(),
+                        f["error"].get<std::string>().c_str());
     }
-    nlohmann::json j{{"models", db.size()}, {"skipped", failed},      {"k", db.k},
-                     {"variance_kept", db.variance_kept}, {"load_ms", load_ms}, {"feature_ms", feature_ms},
-                     {"pca_ms", pca_ms}};
+    nlohmann::json j{
+        {"models", db.size()}, {"skipped", failed},        {"k", db.k},       {"variance_kept", db.variance_kept},
+        {"load_ms", load_ms},  {"feature_ms", feature_ms}, {"pca_ms", pca_ms}};
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }
@@ -133,8 +134,7 @@ void run_search(const SearchOptions& o, const GlobalOptions& global) {
     geo::Mesh mesh;
     const double load_ms = time_ms([&] { mesh = geo::load_mesh(o.mesh); });
     std::vector<float> feature;
-    const double project_ms =
-        time_ms([&] { feature = passes::cylinder_features(*ctx, {mesh}, db.options).front(); });
+    const double project_ms = time_ms([&] { feature = passes::cylinder_features(*ctx, {mesh}, db.options).front(); });
     std::vector<passes::ShapeMatch> matches;
     const double match_ms = time_ms([&] { matches = passes::search_shapes(db, feature, pose_of(o.pose)); });
     matches.resize(std::min<std::size_t>(matches.size(), o.k));
@@ -142,13 +142,19 @@ void run_search(const SearchOptions& o, const GlobalOptions& global) {
     for (std::size_t r = 0; r < matches.size(); ++r) {
         const auto& m = matches[r];
         if (!global.quiet)
-            std::printf("%2zu  %-12s %.6g  %s\n", r + 1, db.labels[m.model].c_str(), m.distance, db.paths[m.model].c_str());
-        list.push_back({{"rank", r + 1}, {"path", db.paths[m.model]}, {"label", db.labels[m.model]}, {"distance", m.distance}});
+            std::printf("%2zu  %-12s %.6g  %s\n", r + 1, db.labels[m.model].c_str(), m.distance,
+                        db.paths[m.model].c_str());
+        list.push_back(
+            {{"rank", r + 1}, {"path", db.paths[m.model]}, {"label", db.labels[m.model]}, {"distance", m.distance}});
     }
     if (!global.quiet)
         std::printf("load %.1f ms, projection %.1f ms, matching %.2f ms\n", load_ms, project_ms, match_ms);
-    nlohmann::json j{{"query", o.mesh}, {"results", list}, {"pose", o.pose}, {"load_ms", load_ms},
-                     {"projection_ms", project_ms}, {"matching_ms", match_ms}};
+    nlohmann::json j{{"query", o.mesh},
+                     {"results", list},
+                     {"pose", o.pose},
+                     {"load_ms", load_ms},
+                     {"projection_ms", project_ms},
+                     {"matching_ms", match_ms}};
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }
@@ -215,8 +221,10 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     line.finish();
     if (queries == 0) throw geo::InputError(o.db + ": no class has two models; nothing to evaluate");
     auto row = [](const passes::RetrievalScores& s, double n) {
-        return nlohmann::json{{"nn", s.nearest_neighbour / n}, {"first_tier", s.first_tier / n},
-                              {"second_tier", s.second_tier / n}, {"dcg", s.dcg / n},
+        return nlohmann::json{{"nn", s.nearest_neighbour / n},
+                              {"first_tier", s.first_tier / n},
+                              {"second_tier", s.second_tier / n},
+                              {"dcg", s.dcg / n},
                               {"map", s.average_precision / n}};
     };
     nlohmann::json classes = nlohmann::json::object();

@@ -46,8 +46,8 @@ TEST(Retrieval, PcaKeepsTheVarianceItClaimsAndProjectsLikeTheDatabase) {
             f[j] = 3.0f * (a * std::sin(float(j)) + b * std::cos(2.0f * float(j)) + c * std::sin(0.3f * float(j))) +
                    0.05f * noise(rng);
     }
-    const gp::ShapeDatabase db = gp::build_shape_database(features, std::vector<std::string>(n, "x"),
-                                                          std::vector<std::string>(n, "a"), {.size = 32, .reduced = 16});
+    const gp::ShapeDatabase db = gp::build_shape_database(
+        features, std::vector<std::string>(n, "x"), std::vector<std::string>(n, "a"), {.size = 32, .reduced = 16});
     EXPECT_GE(db.variance_kept, 0.95);
     EXPECT_LT(db.k, 10u);
     // A model's projection is its stored coefficients.
@@ -78,8 +78,8 @@ TEST(Retrieval, MeasuresOfAHandRankedList) {
     // Query of class "a" with 3 others of its class among 6 results: a b a c a b.
     const gp::RetrievalScores s = gp::score_ranking({"a", "b", "a", "c", "a", "b"}, "a", 3);
     EXPECT_EQ(s.nearest_neighbour, 1.0);
-    EXPECT_NEAR(s.first_tier, 2.0 / 3.0, 1e-12);   // 2 of the top 3
-    EXPECT_NEAR(s.second_tier, 1.0, 1e-12);        // all 3 in the top 6
+    EXPECT_NEAR(s.first_tier, 2.0 / 3.0, 1e-12);  // 2 of the top 3
+    EXPECT_NEAR(s.second_tier, 1.0, 1e-12);       // all 3 in the top 6
     EXPECT_NEAR(s.average_precision, (1.0 + 2.0 / 3.0 + 3.0 / 5.0) / 3.0, 1e-12);
     const double dcg = 1.0 + 1.0 / std::log2(3.0) + 1.0 / std::log2(5.0);
     const double ideal = 1.0 + 1.0 / std::log2(2.0) + 1.0 / std::log2(3.0);
@@ -116,12 +116,32 @@ TEST_F(RetrievalGpu, AModelAndATurnedScaledMovedCopyFindEachOtherFirst) {
     const auto features = gp::cylinder_features(ctx(), models);
     std::vector<std::string> labels;
     for (std::size_t i = 0; i < 2 * n; ++i) labels.push_back(std::to_string(i % n));
-    const gp::ShapeDatabase db =
-        gp::build_shape_database(features, std::vector<std::string>(2 * n, "m"), labels, {});
+    const gp::ShapeDatabase db = gp::build_shape_database(features, std::vector<std::string>(2 * n, "m"), labels, {});
     for (std::size_t i = 0; i < 2 * n; ++i) {
         // Itself (or its other pose, a tie) at distance 0 when not excluded; its other pose first when it is.
         EXPECT_LT(gp::search_shapes(db, features[i], gp::PoseHandling::BestOfFour).front().distance, 1e-9);
         EXPECT_EQ(gp::search_shapes(db, features[i], gp::PoseHandling::BestOfFour, i).front().model, (i + n) % (2 * n))
             << "model " << i;
+    }
+}
+
+TEST_F(RetrievalGpu, TheGpuReductionEqualsItsCpuTwin) {
+    const std::vector<geo::Mesh> models{geo::make_torus(0.3, 0.1, 48, 24), geo::make_box({0.3, 0.8, 0.5}, 4),
+                                        geo::make_icosphere(0.5, 3)};
+    const auto gpu = gp::cylinder_features(ctx(), models);
+    gp::CylinderZBuffer zbuffer(ctx(), 144, 144);
+    ASSERT_EQ(gpu.size(), models.size());
+    for (std::size_t i = 0; i < models.size(); ++i) {
+        const gp::CylinderImage image =
+            zbuffer.project(zbuffer.add_mesh(gp::make_cylinder_mesh(models[i], gp::fit_cylinder_frame(models[i]))));
+        const auto cpu = gp::reduce_cylinder_image(image, 48);
+        ASSERT_EQ(gpu[i].size(), cpu.size());
+        double worst = 0.0, largest = 0.0;
+        for (std::size_t j = 0; j < cpu.size(); ++j) {
+            worst = std::max(worst, double(std::abs(gpu[i][j] - cpu[j])));
+            largest = std::max(largest, double(std::abs(cpu[j])));
+        }
+        EXPECT_LT(worst, 1e-5) << "model " << i;
+        EXPECT_GT(largest, 0.1);
     }
 }

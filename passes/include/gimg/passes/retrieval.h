@@ -28,8 +28,8 @@ struct RetrievalOptions {
 // count as d = 0. reduced x reduced values, row-major from the top row.
 std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32_t reduced);
 
-// The features of many meshes: each aligned by fit_cylinder_frame, projected by the GPU Z-buffer in
-// batches, reduced on the CPU.
+// The features of many meshes: each aligned by fit_cylinder_frame, projected by the GPU Z-buffer and
+// reduced by a compute pass in the same graph (reduce_cylinder_image is its CPU twin), in batches.
 std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vector<geo::Mesh>& meshes,
                                                   const RetrievalOptions& options = {});
 
@@ -40,12 +40,12 @@ enum class PoseHandling { AsAligned, BestOfFour };
 
 struct ShapeDatabase {
     RetrievalOptions options;
-    std::uint32_t k = 0;                            // principal components kept
-    double variance_kept = 0.0;                     // their share of the variance
-    std::vector<float> mean;                        // reduced^2
-    std::vector<float> loadings;                    // reduced^2 x k, column after column
-    std::vector<std::vector<float>> coefficients;   // k per model
-    std::vector<std::string> paths, labels;         // per model; labels may be empty strings
+    std::uint32_t k = 0;                           // principal components kept
+    double variance_kept = 0.0;                    // their share of the variance
+    std::vector<float> mean;                       // reduced^2
+    std::vector<float> loadings;                   // reduced^2 x k, column after column
+    std::vector<std::vector<float>> coefficients;  // k per model
+    std::vector<std::string> paths, labels;        // per model; labels may be empty strings
     std::size_t size() const { return coefficients.size(); }
 };
 
