@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <limits>
 
@@ -37,19 +38,49 @@ std::vector<std::vector<float>> poses(const std::vector<float>& f, std::uint32_t
     return out;
 }
 
+std::size_t descriptor_size(const RetrievalOptions& o) {
+    const std::size_t r = o.reduced;
+    return o.descriptor == RetrievalDescriptor::Image ? r * r : r * (r / 2 + 1);
+}
+
 }  // namespace
+
+std::vector<float> describe_feature(const RetrievalOptions& options, const std::vector<float>& image) {
+    const std::size_t r = options.reduced;
+    if (image.size() != r * r) throw geo::InputError("retrieval: the feature does not match the database's size");
+    if (options.descriptor == RetrievalDescriptor::Image) return image;
+    std::vector<double> cosine(r), sine(r);  // of 2 pi m / r
+    for (std::size_t m = 0; m < r; ++m) {
+        cosine[m] = std::cos(2.0 * 3.14159265358979323846 * double(m) / double(r));
+        sine[m] = std::sin(2.0 * 3.14159265358979323846 * double(m) / double(r));
+    }
+    std::vector<float> out;
+    out.reserve(descriptor_size(options));
+    for (std::size_t v = 0; v < r; ++v)
+        for (std::size_t k = 0; k <= r / 2; ++k) {
+            double re = 0.0, im = 0.0;
+            for (std::size_t u = 0; u < r; ++u) {
+                re += image[v * r + u] * cosine[k * u % r];
+                im -= image[v * r + u] * sine[k * u % r];
+            }
+            out.push_back(float(std::hypot(re, im)));
+        }
+    return out;
+}
 
 ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& features, std::vector<std::string> paths,
                                    std::vector<std::string> labels, const RetrievalOptions& options) {
-    const std::size_t n = features.size(), d = std::size_t(options.reduced) * options.reduced;
+    const std::size_t n = features.size(), d = descriptor_size(options);
     if (n < 2) throw geo::InputError("retrieval: a database needs at least 2 models, got " + std::to_string(n));
     if (paths.size() != n || labels.size() != n) throw geo::InputError("retrieval: paths and labels per model");
     if (!(options.variance > 0.0 && options.variance <= 1.0))
         throw geo::InputError("retrieval: the variance share must be in (0, 1]");
     Eigen::MatrixXd x(n, d);
     for (std::size_t i = 0; i < n; ++i) {
-        if (features[i].size() != d) throw geo::InputError("retrieval: features of different sizes");
-        for (std::size_t j = 0; j < d; ++j) x(Eigen::Index(i), Eigen::Index(j)) = features[i][j];
+        if (features[i].size() != std::size_t(options.reduced) * options.reduced)
+            throw geo::InputError("retrieval: features of different sizes");
+        const std::vector<float> f = describe_feature(options, features[i]);
+        for (std::size_t j = 0; j < d; ++j) x(Eigen::Index(i), Eigen::Index(j)) = f[j];
     }
     const Eigen::RowVectorXd mean = x.colwise().mean();
     x.rowwise() -= mean;
@@ -75,7 +106,8 @@ ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& featur
     return db;
 }
 
-std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<float>& feature) {
+std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<float>& image) {
+    const std::vector<float> feature = describe_feature(db.options, image);
     const std::size_t d = db.mean.size();
     if (feature.size() != d) throw geo::InputError("retrieval: the feature does not match the database's size");
     std::vector<float> c(db.k);
@@ -119,6 +151,7 @@ void write_shape_database(const std::filesystem::path& path, const ShapeDatabase
     j["size"] = db.options.size;
     j["reduced"] = db.options.reduced;
     j["variance"] = db.options.variance;
+    j["descriptor"] = db.options.descriptor == RetrievalDescriptor::Image ? "image" : "theta_spectrum";
     j["k"] = db.k;
     j["variance_kept"] = db.variance_kept;
     j["mean"] = db.mean;
@@ -140,6 +173,10 @@ ShapeDatabase read_shape_database(const std::filesystem::path& path) {
         db.options.size = j.at("size").get<std::uint32_t>();
         db.options.reduced = j.at("reduced").get<std::uint32_t>();
         db.options.variance = j.at("variance").get<double>();
+        const std::string descriptor = j.value("descriptor", std::string("image"));
+        if (descriptor != "image" && descriptor != "theta_spectrum")
+            throw geo::InputError(path.string() + ": unknown descriptor \"" + descriptor + "\"");
+        db.options.descriptor = descriptor == "image" ? RetrievalDescriptor::Image : RetrievalDescriptor::ThetaSpectrum;
         db.k = j.at("k").get<std::uint32_t>();
         db.variance_kept = j.at("variance_kept").get<double>();
         db.mean = j.at("mean").get<std::vector<float>>();
@@ -152,7 +189,7 @@ ShapeDatabase read_shape_database(const std::filesystem::path& path) {
     } catch (const nlohmann::json::exception& e) {
         throw geo::InputError(path.string() + " is not a gimg shape database: " + e.what());
     }
-    const std::size_t d = std::size_t(db.options.reduced) * db.options.reduced;
+    const std::size_t d = descriptor_size(db.options);
     bool ok = db.options.reduced > 0 && db.options.reduced % 2 == 0 && db.options.size % db.options.reduced == 0 &&
               db.mean.size() == d && db.loadings.size() == d * db.k && db.size() >= 2;
     for (const auto& c : db.coefficients) ok = ok && c.size() == db.k;

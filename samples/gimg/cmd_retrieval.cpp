@@ -13,7 +13,10 @@
 #include "gimg/geometry/io.h"
 #include "gimg/passes/retrieval.h"
 
+#include <glm/gtc/quaternion.hpp>
+
 #include <algorithm>
+#include <random>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -77,11 +80,13 @@ passes::PoseHandling pose_of(const std::string& text) {
 }
 
 struct IndexOptions {
-    std::string source, out, json;
+    std::string source, out, json, descriptor = "image";
     passes::RetrievalOptions retrieval;
 };
 
-void run_index(const IndexOptions& o, const GlobalOptions& global) {
+void run_index(IndexOptions o, const GlobalOptions& global) {
+    o.retrieval.descriptor =
+        o.descriptor == "spectrum" ? passes::RetrievalDescriptor::ThetaSpectrum : passes::RetrievalDescriptor::Image;
     if (o.retrieval.reduced % 2 != 0 || o.retrieval.size % o.retrieval.reduced != 0)
         throw geo::InputError("--size must be a multiple of --reduced, and --reduced even");
     const std::vector<Model> models = models_of(o.source);
@@ -174,6 +179,9 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     passes::RetrievalScores total;
     std::size_t queries = 0;
     double load_ms = 0.0, project_ms = 0.0, match_ms = 0.0;
+    std::mt19937_64 rng(17);
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    std::size_t found_itself = 0;
     ProgressLine line(global.quiet);
     // D2: every model's histogram first (the database holds cylindrical coefficients only).
     std::vector<std::vector<float>> d2;
@@ -204,6 +212,19 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
             std::vector<float> feature;
             project_ms += time_ms([&] { feature = passes::cylinder_features(*ctx, {mesh}, db.options).front(); });
             match_ms += time_ms([&] { matches = passes::search_shapes(db, feature, pose_of(o.pose), q); });
+            // The same model turned, scaled and moved at random must find itself first (or tie with it).
+            const glm::dvec4 quat = glm::normalize(glm::dvec4(gauss(rng), gauss(rng), gauss(rng), gauss(rng)));
+            const glm::dmat3 turn = glm::mat3_cast(glm::dquat(quat.w, quat.x, quat.y, quat.z));
+            const double scale = std::exp(std::uniform_real_distribution<double>(std::log(0.1), std::log(10.0))(rng));
+            const glm::dvec3 move(gauss(rng), gauss(rng), gauss(rng));
+            for (auto& p : mesh.positions) p = scale * (turn * p) + move;
+            const auto posed =
+                passes::search_shapes(db, passes::cylinder_features(*ctx, {mesh}, db.options).front(), pose_of(o.pose));
+            for (const auto& m : posed)
+                if (m.model == q) {
+                    found_itself += m.distance <= posed.front().distance;
+                    break;
+                }
         }
         std::vector<std::string> ranked;
         for (const auto& m : matches) ranked.push_back(db.labels[m.model]);
@@ -241,6 +262,8 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
         std::printf("%-14s %6.3f %6.3f %6.3f %6.3f %6.3f\n", "overall", overall["nn"].get<double>(),
                     overall["first_tier"].get<double>(), overall["second_tier"].get<double>(),
                     overall["dcg"].get<double>(), overall["map"].get<double>());
+        if (o.method == "cylinder")
+            std::printf("a turned, scaled, moved copy finds its original first: %zu of %zu\n", found_itself, queries);
         std::printf("per query: load %.1f ms, projection %.1f ms, matching %.3f ms\n", load_ms / double(queries),
                     project_ms / double(queries), match_ms / double(queries));
     }
@@ -248,6 +271,8 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
                      {"method", o.method},
                      {"pose", o.pose},
                      {"overall", overall},
+                     {"pose_invariance", o.method == "cylinder" ? nlohmann::json(double(found_itself) / double(queries))
+                                                                : nlohmann::json(nullptr)},
                      {"classes", classes},
                      {"load_ms_per_query", load_ms / double(queries)},
                      {"projection_ms_per_query", project_ms / double(queries)},
@@ -275,6 +300,11 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
     add_count_option(index, "--reduced", io->retrieval.reduced, 2, 512, "Reduced side (default 48)");
     add_number_option(index, "--variance", io->retrieval.variance, 0.01, 1.0,
                       "Share of the variance the kept components hold (default 0.95)");
+    index
+        ->add_option("--descriptor", io->descriptor,
+                     "image (the reduced image, the thesis; default) or spectrum (per row, the magnitudes of its "
+                     "DFT over theta: the same for every turn about the axis)")
+        ->check(CLI::IsMember({"image", "spectrum"}));
     index->add_option("--json", io->json, "Write the figures as JSON");
     index->callback([io, &global] {
         run_writing({}, {{"--out", io->out, {".json"}}, json_output(io->json)}, [&] { run_index(*io, global); });

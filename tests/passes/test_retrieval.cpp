@@ -145,3 +145,29 @@ TEST_F(RetrievalGpu, TheGpuReductionEqualsItsCpuTwin) {
         EXPECT_GT(largest, 0.1);
     }
 }
+
+TEST(Retrieval, TheThetaSpectrumIsTheSameForEveryTurnAndTheMirror) {
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> d(-1.0f, 1.0f);
+    const std::uint32_t r = 16;
+    std::vector<float> image(r * r);
+    for (float& v : image) v = d(rng);
+    const gp::RetrievalOptions spectrum{.size = 32, .reduced = r, .descriptor = gp::RetrievalDescriptor::ThetaSpectrum};
+    const auto a = gp::describe_feature(spectrum, image);
+    ASSERT_EQ(a.size(), std::size_t(r * (r / 2 + 1)));
+    for (std::uint32_t shift : {1u, 5u, 8u}) {
+        std::vector<float> turned(r * r), mirrored(r * r);
+        for (std::uint32_t v = 0; v < r; ++v)
+            for (std::uint32_t u = 0; u < r; ++u) {
+                turned[v * r + (u + shift) % r] = image[v * r + u];
+                mirrored[v * r + (r - 1 - u + shift) % r] = image[v * r + u];
+            }
+        const auto b = gp::describe_feature(spectrum, turned), c = gp::describe_feature(spectrum, mirrored);
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            ASSERT_NEAR(b[i], a[i], 1e-4f);
+            ASSERT_NEAR(c[i], a[i], 1e-4f);
+        }
+    }
+    // The image descriptor is the image.
+    EXPECT_EQ(gp::describe_feature({.size = 32, .reduced = r}, image), image);
+}

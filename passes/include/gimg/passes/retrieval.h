@@ -16,11 +16,22 @@
 
 namespace gimg::passes {
 
+// What the PCA sees of a reduced image.
+enum class RetrievalDescriptor {
+    Image,          // its reduced^2 values (the thesis)
+    ThetaSpectrum,  // per row, the magnitudes of its DFT over theta (reduced / 2 + 1 of them):
+                    // the same for every turn of the model about its axis, and for its mirror image
+};
+
 struct RetrievalOptions {
     std::uint32_t size = 144;    // the cylindrical image is size x size
     std::uint32_t reduced = 48;  // reduced to reduced x reduced (size must be a multiple of it)
     double variance = 0.95;      // the smallest k principal components holding this share
+    RetrievalDescriptor descriptor = RetrievalDescriptor::Image;
 };
+
+// The descriptor of a reduced image (its own values, or the per-row spectrum magnitudes).
+std::vector<float> describe_feature(const RetrievalOptions& options, const std::vector<float>& reduced_image);
 
 // The feature of one cylindrical image: low-pass and decimation in one step (the thesis's "cubic
 // reduction"), each output pixel the Keys cubic kernel stretched by the reduction factor over the
@@ -42,19 +53,19 @@ struct ShapeDatabase {
     RetrievalOptions options;
     std::uint32_t k = 0;                           // principal components kept
     double variance_kept = 0.0;                    // their share of the variance
-    std::vector<float> mean;                       // reduced^2
-    std::vector<float> loadings;                   // reduced^2 x k, column after column
+    std::vector<float> mean;                       // the descriptor's size
+    std::vector<float> loadings;                   // descriptor size x k, column after column
     std::vector<std::vector<float>> coefficients;  // k per model
     std::vector<std::string> paths, labels;        // per model; labels may be empty strings
     std::size_t size() const { return coefficients.size(); }
 };
 
-// PCA of the centred features (Eigen's SVD); throws geo::InputError for fewer than 2 models or
-// features of different sizes.
+// PCA of the centred descriptors of the features (reduced images; Eigen's SVD); throws
+// geo::InputError for fewer than 2 models or features of different sizes.
 ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& features, std::vector<std::string> paths,
                                    std::vector<std::string> labels, const RetrievalOptions& options);
 
-// The k coefficients of a feature.
+// The k coefficients of a feature (a reduced image).
 std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<float>& feature);
 
 struct ShapeMatch {
