@@ -11,6 +11,8 @@
 
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/io.h"
+#include "gimg/geometry/image.h"
+#include "gimg/passes/render.h"
 #include "gimg/passes/retrieval.h"
 
 #include <glm/gtc/quaternion.hpp>
@@ -129,7 +131,7 @@ void run_index(IndexOptions o, const GlobalOptions& global) {
 }
 
 struct SearchOptions {
-    std::string db, mesh, pose = "best-of-four", json;
+    std::string db, mesh, pose = "best-of-four", json, picture;
     std::uint32_t k = 10;
 };
 
@@ -154,6 +156,23 @@ void run_search(const SearchOptions& o, const GlobalOptions& global) {
     }
     if (!global.quiet)
         std::printf("load %.1f ms, projection %.1f ms, matching %.2f ms\n", load_ms, project_ms, match_ms);
+    if (!o.picture.empty()) {
+        // The query and its first results (at most 5) side by side, each 240 x 240, same view.
+        const std::size_t shown = std::min<std::size_t>(matches.size(), 5);
+        passes::RenderOptions view;
+        view.width = view.height = 240;
+        geo::RgbaImage strip(std::uint32_t(240 * (shown + 1)), 240);
+        for (std::size_t i = 0; i <= shown; ++i) {
+            const geo::Mesh m = i == 0 ? mesh : geo::load_mesh(db.paths[matches[i - 1].model]);
+            const geo::RgbaImage one = passes::render_mesh(*ctx, m, view);
+            for (std::uint32_t y = 0; y < 240; ++y)
+                for (std::uint32_t x = 0; x < 240; ++x) {
+                    std::copy_n(one.at(x, y), 4, strip.at(std::uint32_t(240 * i) + x, y));
+                    strip.at(std::uint32_t(240 * i) + x, y)[3] = 255;
+                }
+        }
+        geo::write_png(strip, o.picture);
+    }
     nlohmann::json j{{"query", o.mesh},
                      {"results", list},
                      {"pose", o.pose},
@@ -316,9 +335,11 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
     search->add_option("mesh", so->mesh, "The query mesh")->required();
     add_count_option(search, "--k", so->k, 1, 1000000, "How many results (default 10)");
     add_pose_option(search, so->pose);
+    search->add_option("--picture", so->picture, "Draw the query and its first 5 results side by side (PNG)");
     search->add_option("--json", so->json, "Write the results as JSON");
     search->callback([so, &global] {
-        run_writing({so->db, so->mesh}, {json_output(so->json)}, [&] { run_search(*so, global); });
+        run_writing({so->db, so->mesh}, {json_output(so->json), {"--picture", so->picture, {".png"}}},
+                    [&] { run_search(*so, global); });
     });
 
     auto eo = std::make_shared<EvalOptions>();
