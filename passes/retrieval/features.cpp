@@ -106,15 +106,38 @@ std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vecto
     Buffer tu = upload_buffer(ctx, table(u_taps), "retrieval taps u"),
            tv = upload_buffer(ctx, table(v_taps), "retrieval taps v");
 
+    if (options.cylinders != 1 && options.cylinders != 3) throw geo::InputError("retrieval: 1 or 3 cylinders");
     CylinderZBuffer zbuffer(ctx, n, n);
     std::vector<CylinderZBuffer::Job> jobs;
-    for (const geo::Mesh& mesh : meshes)
-        jobs.push_back({zbuffer.add_mesh(make_cylinder_mesh(mesh, fit_cylinder_frame(mesh))), kIdentityTransform});
+    std::vector<std::size_t> job_faces;
+    for (const geo::Mesh& mesh : meshes) {
+        job_faces.insert(job_faces.end(), options.cylinders, mesh.face_count());
+        const CylinderFrame frame = fit_cylinder_frame(mesh);
+        jobs.push_back({zbuffer.add_mesh(make_cylinder_mesh(mesh, frame)), kIdentityTransform});
+        if (options.cylinders == 1) continue;
+        // The model in its principal frame, each of the two other axes turned onto the cylinder's
+        // (a cyclic permutation: no mirror), then centred and scaled into it.
+        for (int turn = 1; turn <= 2; ++turn) {
+            geo::Mesh turned = mesh;
+            for (auto& p : turned.positions) {
+                const glm::dvec3 q = frame.rotation * p;
+                p = turn == 1 ? glm::dvec3(q.y, q.z, q.x) : glm::dvec3(q.z, q.x, q.y);
+            }
+            jobs.push_back(
+                {zbuffer.add_mesh(make_cylinder_mesh(turned, fit_cylinder_frame(turned, false))), kIdentityTransform});
+        }
+    }
     std::vector<std::vector<float>> out;
     out.reserve(meshes.size());
-    constexpr std::size_t kBatch = 256;  // images a graph: well inside one atlas
-    for (std::size_t begin = 0; begin < jobs.size(); begin += kBatch) {
-        const auto count = std::uint32_t(std::min(kBatch, jobs.size() - begin));
+    // Graphs of at most 256 images and 1M faces, well inside what one execution holds.
+    constexpr std::size_t kBatchImages = 256, kBatchFaces = 1u << 20;
+    for (std::size_t begin = 0, end = 0; begin < jobs.size(); begin = end) {
+        std::size_t faces = 0;
+        end = begin;
+        while (end < jobs.size() && end - begin < kBatchImages &&
+               (end == begin || faces + job_faces[end] <= kBatchFaces))
+            faces += job_faces[end++];
+        const auto count = std::uint32_t(end - begin);
         Graph g(ctx);
         const CylinderImagesHandle images =
             add_cylinder(g, zbuffer, std::span(jobs).subspan(begin, count), "retrieval images");
@@ -137,8 +160,11 @@ std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vecto
         plan.execute();
         std::vector<float> all(std::size_t(count) * r * r);
         ctx.download(plan.buffer(features), all.data(), all.size() * 4);
-        for (std::uint32_t k = 0; k < count; ++k)
-            out.emplace_back(all.begin() + std::ptrdiff_t(k) * r * r, all.begin() + std::ptrdiff_t(k + 1) * r * r);
+        for (std::uint32_t k = 0; k < count; ++k) {
+            if ((begin + k) % options.cylinders == 0) out.emplace_back();
+            out.back().insert(out.back().end(), all.begin() + std::ptrdiff_t(k) * r * r,
+                              all.begin() + std::ptrdiff_t(k + 1) * r * r);
+        }
     }
     return out;
 }

@@ -40,14 +40,15 @@ std::vector<std::vector<float>> poses(const std::vector<float>& f, std::uint32_t
 
 std::size_t descriptor_size(const RetrievalOptions& o) {
     const std::size_t r = o.reduced;
-    return o.descriptor == RetrievalDescriptor::Image ? r * r : r * (r / 2 + 1);
+    return o.cylinders * (o.descriptor == RetrievalDescriptor::Image ? r * r : r * (r / 2 + 1));
 }
 
 }  // namespace
 
 std::vector<float> describe_feature(const RetrievalOptions& options, const std::vector<float>& image) {
     const std::size_t r = options.reduced;
-    if (image.size() != r * r) throw geo::InputError("retrieval: the feature does not match the database's size");
+    if (image.size() != options.cylinders * r * r)
+        throw geo::InputError("retrieval: the feature does not match the database's size");
     if (options.descriptor == RetrievalDescriptor::Image) return image;
     std::vector<double> cosine(r), sine(r);  // of 2 pi m / r
     for (std::size_t m = 0; m < r; ++m) {
@@ -56,7 +57,7 @@ std::vector<float> describe_feature(const RetrievalOptions& options, const std::
     }
     std::vector<float> out;
     out.reserve(descriptor_size(options));
-    for (std::size_t v = 0; v < r; ++v)
+    for (std::size_t v = 0; v < options.cylinders * r; ++v)  // the cylinders' rows one after another
         for (std::size_t k = 0; k <= r / 2; ++k) {
             double re = 0.0, im = 0.0;
             for (std::size_t u = 0; u < r; ++u) {
@@ -77,7 +78,7 @@ ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& featur
         throw geo::InputError("retrieval: the variance share must be in (0, 1]");
     Eigen::MatrixXd x(n, d);
     for (std::size_t i = 0; i < n; ++i) {
-        if (features[i].size() != std::size_t(options.reduced) * options.reduced)
+        if (features[i].size() != std::size_t(options.cylinders) * options.reduced * options.reduced)
             throw geo::InputError("retrieval: features of different sizes");
         const std::vector<float> f = describe_feature(options, features[i]);
         for (std::size_t j = 0; j < d; ++j) x(Eigen::Index(i), Eigen::Index(j)) = f[j];
@@ -123,7 +124,8 @@ std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<fl
 std::vector<ShapeMatch> search_shapes(const ShapeDatabase& db, const std::vector<float>& feature, PoseHandling pose,
                                       std::size_t exclude) {
     std::vector<std::vector<float>> queries;
-    for (const auto& variant : poses(feature, db.options.reduced, pose))
+    const PoseHandling used = db.options.cylinders == 1 ? pose : PoseHandling::AsAligned;
+    for (const auto& variant : poses(feature, db.options.reduced, used))
         queries.push_back(project_feature(db, variant));
     std::vector<ShapeMatch> out;
     for (std::size_t m = 0; m < db.size(); ++m) {
@@ -152,6 +154,7 @@ void write_shape_database(const std::filesystem::path& path, const ShapeDatabase
     j["reduced"] = db.options.reduced;
     j["variance"] = db.options.variance;
     j["descriptor"] = db.options.descriptor == RetrievalDescriptor::Image ? "image" : "theta_spectrum";
+    j["cylinders"] = db.options.cylinders;
     j["k"] = db.k;
     j["variance_kept"] = db.variance_kept;
     j["mean"] = db.mean;
@@ -177,6 +180,9 @@ ShapeDatabase read_shape_database(const std::filesystem::path& path) {
         if (descriptor != "image" && descriptor != "theta_spectrum")
             throw geo::InputError(path.string() + ": unknown descriptor \"" + descriptor + "\"");
         db.options.descriptor = descriptor == "image" ? RetrievalDescriptor::Image : RetrievalDescriptor::ThetaSpectrum;
+        db.options.cylinders = j.value("cylinders", 1u);
+        if (db.options.cylinders != 1 && db.options.cylinders != 3)
+            throw geo::InputError(path.string() + ": cylinders must be 1 or 3");
         db.k = j.at("k").get<std::uint32_t>();
         db.variance_kept = j.at("variance_kept").get<double>();
         db.mean = j.at("mean").get<std::vector<float>>();

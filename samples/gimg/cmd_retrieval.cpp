@@ -89,6 +89,7 @@ struct IndexOptions {
 void run_index(IndexOptions o, const GlobalOptions& global) {
     o.retrieval.descriptor =
         o.descriptor == "spectrum" ? passes::RetrievalDescriptor::ThetaSpectrum : passes::RetrievalDescriptor::Image;
+    if (o.retrieval.cylinders == 2) throw geo::InputError("--cylinders takes 1 or 3");
     if (o.retrieval.reduced % 2 != 0 || o.retrieval.size % o.retrieval.reduced != 0)
         throw geo::InputError("--size must be a multiple of --reduced, and --reduced even");
     const std::vector<Model> models = models_of(o.source);
@@ -324,6 +325,8 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
                      "image (the reduced image, the thesis; default) or spectrum (per row, the magnitudes of its "
                      "DFT over theta: the same for every turn about the axis)")
         ->check(CLI::IsMember({"image", "spectrum"}));
+    add_count_option(index, "--cylinders", io->retrieval.cylinders, 1, 3,
+                     "1: the cylinder around the main axis (the thesis; default); 3: one around each principal axis");
     index->add_option("--json", io->json, "Write the figures as JSON");
     index->callback([io, &global] {
         run_writing({}, {{"--out", io->out, {".json"}}, json_output(io->json)}, [&] { run_index(*io, global); });

@@ -171,3 +171,19 @@ TEST(Retrieval, TheThetaSpectrumIsTheSameForEveryTurnAndTheMirror) {
     // The image descriptor is the image.
     EXPECT_EQ(gp::describe_feature({.size = 32, .reduced = r}, image), image);
 }
+
+TEST_F(RetrievalGpu, ThreeCylindersGiveThreeImagesAndStayPoseInvariantWithTheSpectrum) {
+    geo::Mesh lumpy = geo::make_icosphere(0.5, 4);
+    for (auto& p : lumpy.positions) p = glm::dvec3(p.x * 0.6, p.y * 1.5 + 0.2 * std::sin(6.0 * p.x), p.z * 0.8);
+    const std::vector<geo::Mesh> models{geo::make_torus(0.3, 0.1, 48, 24), geo::make_box({0.3, 0.8, 0.5}, 4), lumpy,
+                                        turned(lumpy, glm::rotate(glm::dmat4(1.0), 1.3, glm::dvec3(0.3, 1.0, -0.5)))};
+    gp::RetrievalOptions options;
+    options.cylinders = 3;
+    options.descriptor = gp::RetrievalDescriptor::ThetaSpectrum;
+    const auto features = gp::cylinder_features(ctx(), models, options);
+    ASSERT_EQ(features.size(), models.size());
+    for (const auto& f : features) ASSERT_EQ(f.size(), 3u * 48u * 48u);
+    const gp::ShapeDatabase db = gp::build_shape_database(features, std::vector<std::string>(4, "m"),
+                                                          {"torus", "box", "lumpy", "lumpy"}, options);
+    EXPECT_EQ(gp::search_shapes(db, features[3], gp::PoseHandling::AsAligned, 3).front().model, 2u);
+}

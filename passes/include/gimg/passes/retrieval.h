@@ -28,6 +28,9 @@ struct RetrievalOptions {
     std::uint32_t reduced = 48;  // reduced to reduced x reduced (size must be a multiple of it)
     double variance = 0.95;      // the smallest k principal components holding this share
     RetrievalDescriptor descriptor = RetrievalDescriptor::Image;
+    // 1: the cylinder around the main axis (the thesis). 3: one around each principal axis, as
+    // PANORAMA does; the feature is the three reduced images one after another.
+    std::uint32_t cylinders = 1;
 };
 
 // The descriptor of a reduced image (its own values, or the per-row spectrum magnitudes).
@@ -40,13 +43,14 @@ std::vector<float> describe_feature(const RetrievalOptions& options, const std::
 std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32_t reduced);
 
 // The features of many meshes: each aligned by fit_cylinder_frame, projected by the GPU Z-buffer and
-// reduced by a compute pass in the same graph (reduce_cylinder_image is its CPU twin), in batches.
+// reduced by a compute pass in the same graph (reduce_cylinder_image is its CPU twin), in batches;
+// with 3 cylinders, the model's principal axes each take the cylinder's axis in turn.
 std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vector<geo::Mesh>& meshes,
                                                   const RetrievalOptions& options = {});
 
 // PCA leaves each axis's sign open, so one model can come out turned over. BestOfFour compares a
 // query in the four poses the two free signs give (turned end over end, turned half way about
-// the axis, both) and keeps the nearest.
+// the axis, both) and keeps the nearest; with 3 cylinders it compares as aligned.
 enum class PoseHandling { AsAligned, BestOfFour };
 
 struct ShapeDatabase {
