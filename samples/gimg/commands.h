@@ -27,6 +27,8 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global);
 void add_bench_sphere_command(CLI::App& bench, const GlobalOptions& global);
 // gimg bench hierarchical [--mesh PATH]... [--size N]... (cmd_bench_hierarchy.cpp), under `bench`
 void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global);
+// gimg bench retrieval [--models N] (cmd_bench_retrieval.cpp), under `bench`
+void add_bench_retrieval_command(CLI::App& bench, const GlobalOptions& global);
 void add_reconstruct_command(CLI::App& app, const GlobalOptions& global);
 void add_sample_command(CLI::App& app, const GlobalOptions& global);
 void add_roundtrip_command(CLI::App& app, const GlobalOptions& global);
