@@ -72,8 +72,8 @@ void run_retrieval_bench(const RetrievalBenchOptions& o, const GlobalOptions& gl
             database_sizes.push_back(size);
     for (std::uint32_t size : database_sizes) {
         const std::vector<std::vector<float>> subset(features.begin(), features.begin() + size);
-        const passes::ShapeDatabase db = passes::build_shape_database(
-            subset, std::vector<std::string>(size), std::vector<std::string>(size), options);
+        const passes::ShapeDatabase db = passes::build_shape_database(subset, std::vector<std::string>(size),
+                                                                      std::vector<std::string>(size), options);
         std::vector<double> project, match;
         for (int run = 0; run < 5; ++run) {
             std::vector<float> f;
@@ -83,8 +83,9 @@ void run_retrieval_bench(const RetrievalBenchOptions& o, const GlobalOptions& gl
         std::sort(project.begin(), project.end());
         std::sort(match.begin(), match.end());
         if (!global.quiet)
-            std::printf("database of %5u (k = %u): query image and reduction %.2f ms, matching %.3f ms (medians of 5)\n",
-                        size, db.k, project[2], match[2]);
+            std::printf(
+                "database of %5u (k = %u): query image and reduction %.2f ms, matching %.3f ms (medians of 5)\n", size,
+                db.k, project[2], match[2]);
         sizes.push_back({{"models", size}, {"k", db.k}, {"projection_ms", project[2]}, {"matching_ms", match[2]}});
     }
     nlohmann::json j{{"models", o.models},

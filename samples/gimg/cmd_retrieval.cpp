@@ -184,8 +184,24 @@ void run_search(const SearchOptions& o, const GlobalOptions& global) {
     write_json(o.json, j);
 }
 
+// Whether `mesh` (model `q` of the database), turned at random, scaled by 0.1 to 10 and moved,
+// finds model q first (or tied with the first).
+bool finds_itself(Context& ctx, const passes::ShapeDatabase& db, geo::Mesh mesh, std::size_t q,
+                  passes::PoseHandling pose, std::mt19937_64& rng) {
+    std::normal_distribution<double> gauss(0.0, 1.0);
+    const glm::dvec4 quat = glm::normalize(glm::dvec4(gauss(rng), gauss(rng), gauss(rng), gauss(rng)));
+    const glm::dmat3 turn = glm::mat3_cast(glm::dquat(quat.w, quat.x, quat.y, quat.z));
+    const double scale = std::exp(std::uniform_real_distribution<double>(std::log(0.1), std::log(10.0))(rng));
+    const glm::dvec3 move(gauss(rng), gauss(rng), gauss(rng));
+    for (auto& p : mesh.positions) p = scale * (turn * p) + move;
+    const auto posed = passes::search_shapes(db, passes::cylinder_features(ctx, {mesh}, db.options).front(), pose);
+    for (const auto& m : posed)
+        if (m.model == q) return m.distance <= posed.front().distance;
+    return false;
+}
+
 struct EvalOptions {
-    std::string db, pose = "best-of-four", method = "cylinder", json;
+    std::string db, pose = "best-of-four", method = "cylinder", queries, json;
 };
 
 // Leave-one-out: every model of the database as a query against the others.
@@ -200,7 +216,6 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     std::size_t queries = 0;
     double load_ms = 0.0, project_ms = 0.0, match_ms = 0.0;
     std::mt19937_64 rng(17);
-    std::normal_distribution<double> gauss(0.0, 1.0);
     std::size_t found_itself = 0;
     ProgressLine line(global.quiet);
     // D2: every model's histogram first (the database holds cylindrical coefficients only).
@@ -210,17 +225,27 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
             line.show("D2 of model %zu of %zu", m + 1, db.size());
             d2.push_back(passes::d2_histogram(geo::load_mesh(db.paths[m])));
         }
-    for (std::size_t q = 0; q < db.size(); ++q) {
-        line.show("query %zu of %zu", q + 1, db.size());
-        const std::size_t relevant = class_size[db.labels[q]] - 1;
-        if (relevant == 0) continue;  // a class of one has nothing to find
+    // The queries: every model of the database against the others (leave-one-out), or the models of
+    // --queries against the whole database.
+    const bool held_apart = !o.queries.empty();
+    const std::vector<Model> asked = held_apart ? models_of(o.queries) : std::vector<Model>{};
+    const std::size_t total_queries = held_apart ? asked.size() : db.size();
+    for (std::size_t qi = 0; qi < total_queries; ++qi) {
+        line.show("query %zu of %zu", qi + 1, total_queries);
+        const std::size_t q = held_apart ? static_cast<std::size_t>(-1) : qi;  // the model left out
+        const std::string query_path = held_apart ? asked[qi].path : db.paths[qi];
+        const std::string query_label = held_apart ? asked[qi].label : db.labels[qi];
+        const std::size_t relevant = class_size[query_label] - (held_apart ? 0 : 1);
+        if (relevant == 0) continue;  // nothing to find
         std::vector<passes::ShapeMatch> matches;
         if (o.method == "d2") {
+            const std::vector<float> query_d2 = held_apart ? passes::d2_histogram(geo::load_mesh(query_path)) : d2[q];
             match_ms += time_ms([&] {
                 for (std::size_t m = 0; m < db.size(); ++m) {
                     if (m == q) continue;
                     double l1 = 0.0;
-                    for (std::size_t b = 0; b < d2[q].size(); ++b) l1 += std::abs(double(d2[q][b]) - double(d2[m][b]));
+                    for (std::size_t b = 0; b < query_d2.size(); ++b)
+                        l1 += std::abs(double(query_d2[b]) - double(d2[m][b]));
                     matches.push_back({m, l1});
                 }
                 std::stable_sort(matches.begin(), matches.end(),
@@ -228,39 +253,27 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
             });
         } else {
             geo::Mesh mesh;
-            load_ms += time_ms([&] { mesh = geo::load_mesh(db.paths[q]); });
+            load_ms += time_ms([&] { mesh = geo::load_mesh(query_path); });
             std::vector<float> feature;
             project_ms += time_ms([&] { feature = passes::cylinder_features(*ctx, {mesh}, db.options).front(); });
             match_ms += time_ms([&] { matches = passes::search_shapes(db, feature, pose_of(o.pose), q); });
-            // The same model turned, scaled and moved at random must find itself first (or tie with it).
-            const glm::dvec4 quat = glm::normalize(glm::dvec4(gauss(rng), gauss(rng), gauss(rng), gauss(rng)));
-            const glm::dmat3 turn = glm::mat3_cast(glm::dquat(quat.w, quat.x, quat.y, quat.z));
-            const double scale = std::exp(std::uniform_real_distribution<double>(std::log(0.1), std::log(10.0))(rng));
-            const glm::dvec3 move(gauss(rng), gauss(rng), gauss(rng));
-            for (auto& p : mesh.positions) p = scale * (turn * p) + move;
-            const auto posed =
-                passes::search_shapes(db, passes::cylinder_features(*ctx, {mesh}, db.options).front(), pose_of(o.pose));
-            for (const auto& m : posed)
-                if (m.model == q) {
-                    found_itself += m.distance <= posed.front().distance;
-                    break;
-                }
+            if (!held_apart) found_itself += finds_itself(*ctx, db, std::move(mesh), q, pose_of(o.pose), rng);
         }
         std::vector<std::string> ranked;
         for (const auto& m : matches) ranked.push_back(db.labels[m.model]);
-        const passes::RetrievalScores s = passes::score_ranking(ranked, db.labels[q], relevant);
-        for (auto* acc : {&total, &per_class[db.labels[q]]}) {
+        const passes::RetrievalScores s = passes::score_ranking(ranked, query_label, relevant);
+        for (auto* acc : {&total, &per_class[query_label]}) {
             acc->nearest_neighbour += s.nearest_neighbour;
             acc->first_tier += s.first_tier;
             acc->second_tier += s.second_tier;
             acc->dcg += s.dcg;
             acc->average_precision += s.average_precision;
         }
-        ++per_class_queries[db.labels[q]];
+        ++per_class_queries[query_label];
         ++queries;
     }
     line.finish();
-    if (queries == 0) throw geo::InputError(o.db + ": no class has two models; nothing to evaluate");
+    if (queries == 0) throw geo::InputError(o.db + ": no query has a model of its class to find; nothing to evaluate");
     auto row = [](const passes::RetrievalScores& s, double n) {
         return nlohmann::json{{"nn", s.nearest_neighbour / n},
                               {"first_tier", s.first_tier / n},
@@ -272,8 +285,10 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     for (const auto& [label, s] : per_class) classes[label] = row(s, double(per_class_queries[label]));
     const nlohmann::json overall = row(total, double(queries));
     if (!global.quiet) {
-        std::printf("%s: %zu queries, leave-one-out, %s\n", o.db.c_str(), queries,
-                    o.method == "d2" ? "D2 shape distributions" : ("cylindrical images, pose " + o.pose).c_str());
+        const std::string how =
+            o.method == "d2" ? std::string("D2 shape distributions") : "cylindrical images, pose " + o.pose;
+        std::printf("%s: %zu queries, %s, %s\n", o.db.c_str(), queries,
+                    held_apart ? ("held apart in " + o.queries).c_str() : "leave-one-out", how.c_str());
         std::printf("%-14s %6s %6s %6s %6s %6s\n", "class", "NN", "FT", "ST", "DCG", "mAP");
         for (const auto& [label, r] : classes.items())
             std::printf("%-14s %6.3f %6.3f %6.3f %6.3f %6.3f\n", label.c_str(), r["nn"].get<double>(),
@@ -282,7 +297,7 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
         std::printf("%-14s %6.3f %6.3f %6.3f %6.3f %6.3f\n", "overall", overall["nn"].get<double>(),
                     overall["first_tier"].get<double>(), overall["second_tier"].get<double>(),
                     overall["dcg"].get<double>(), overall["map"].get<double>());
-        if (o.method == "cylinder")
+        if (o.method == "cylinder" && !held_apart)
             std::printf("a turned, scaled, moved copy finds its original first: %zu of %zu\n", found_itself, queries);
         std::printf("per query: load %.1f ms, projection %.1f ms, matching %.3f ms\n", load_ms / double(queries),
                     project_ms / double(queries), match_ms / double(queries));
@@ -291,8 +306,10 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
                      {"method", o.method},
                      {"pose", o.pose},
                      {"overall", overall},
-                     {"pose_invariance", o.method == "cylinder" ? nlohmann::json(double(found_itself) / double(queries))
-                                                                : nlohmann::json(nullptr)},
+                     {"pose_invariance", o.method == "cylinder" && !held_apart
+                                             ? nlohmann::json(double(found_itself) / double(queries))
+                                             : nlohmann::json(nullptr)},
+                     {"held_apart", held_apart},
                      {"classes", classes},
                      {"load_ms_per_query", load_ms / double(queries)},
                      {"projection_ms_per_query", project_ms / double(queries)},
@@ -349,6 +366,9 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
     auto* eval = app.add_subcommand("eval", "Leave-one-out retrieval scores of a labelled database");
     eval->add_option("db", eo->db, "The database (gimg index)")->required();
     add_pose_option(eval, eo->pose);
+    eval->add_option("--queries", eo->queries,
+                     "Held-apart queries against the whole database (a folder with classes.tsv or sub-folders, or a "
+                     "list file with labels) instead of leave-one-out");
     eval->add_option("--method", eo->method,
                      "cylinder (the database's cylindrical images, default) or d2 (D2 shape distributions of the "
                      "same models, L1 distance: the floor)")
