@@ -219,11 +219,24 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     std::size_t found_itself = 0;
     ProgressLine line(global.quiet);
     // D2: every model's histogram first (the database holds cylindrical coefficients only).
-    std::vector<std::vector<float>> d2;
-    if (o.method == "d2")
+    // D2 and silhouettes: every model's descriptor first (the database holds cylindrical
+    // coefficients only).
+    std::vector<std::vector<float>> other;
+    auto other_descriptor = [&](const geo::Mesh& mesh) {
+        return o.method == "d2" ? passes::d2_histogram(mesh) : passes::silhouette_descriptor(*ctx, mesh);
+    };
+    auto other_distance = [&](const std::vector<float>& a, const std::vector<float>& b) {
+        if (o.method == "silhouettes") return passes::silhouette_distance(a, b);
+        double l1 = 0.0;
+        for (std::size_t k = 0; k < a.size(); ++k) l1 += std::abs(double(a[k]) - double(b[k]));
+        return l1;
+    };
+    if (o.method != "cylinder")
         for (std::size_t m = 0; m < db.size(); ++m) {
-            line.show("D2 of model %zu of %zu", m + 1, db.size());
-            d2.push_back(passes::d2_histogram(geo::load_mesh(db.paths[m])));
+            line.show("%s of model %zu of %zu", o.method.c_str(), m + 1, db.size());
+            geo::Mesh mesh;
+            load_ms += time_ms([&] { mesh = geo::load_mesh(db.paths[m]); });
+            project_ms += time_ms([&] { other.push_back(other_descriptor(mesh)); });
         }
     // The queries: every model of the database against the others (leave-one-out), or the models of
     // --queries against the whole database.
@@ -238,16 +251,13 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
         const std::size_t relevant = class_size[query_label] - (held_apart ? 0 : 1);
         if (relevant == 0) continue;  // nothing to find
         std::vector<passes::ShapeMatch> matches;
-        if (o.method == "d2") {
-            const std::vector<float> query_d2 = held_apart ? passes::d2_histogram(geo::load_mesh(query_path)) : d2[q];
+        if (o.method != "cylinder") {
+            std::vector<float> query_descriptor;
+            project_ms += time_ms(
+                [&] { query_descriptor = held_apart ? other_descriptor(geo::load_mesh(query_path)) : other[q]; });
             match_ms += time_ms([&] {
-                for (std::size_t m = 0; m < db.size(); ++m) {
-                    if (m == q) continue;
-                    double l1 = 0.0;
-                    for (std::size_t b = 0; b < query_d2.size(); ++b)
-                        l1 += std::abs(double(query_d2[b]) - double(d2[m][b]));
-                    matches.push_back({m, l1});
-                }
+                for (std::size_t m = 0; m < db.size(); ++m)
+                    if (m != q) matches.push_back({m, other_distance(query_descriptor, other[m])});
                 std::stable_sort(matches.begin(), matches.end(),
                                  [](const auto& a, const auto& b) { return a.distance < b.distance; });
             });
@@ -285,8 +295,9 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     for (const auto& [label, s] : per_class) classes[label] = row(s, double(per_class_queries[label]));
     const nlohmann::json overall = row(total, double(queries));
     if (!global.quiet) {
-        const std::string how =
-            o.method == "d2" ? std::string("D2 shape distributions") : "cylindrical images, pose " + o.pose;
+        const std::string how = o.method == "d2"            ? std::string("D2 shape distributions")
+                                : o.method == "silhouettes" ? std::string("silhouettes (Zernike, 7 views)")
+                                                            : "cylindrical images, pose " + o.pose;
         std::printf("%s: %zu queries, %s, %s\n", o.db.c_str(), queries,
                     held_apart ? ("held apart in " + o.queries).c_str() : "leave-one-out", how.c_str());
         std::printf("%-14s %6s %6s %6s %6s %6s\n", "class", "NN", "FT", "ST", "DCG", "mAP");
@@ -370,9 +381,10 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
                      "Held-apart queries against the whole database (a folder with classes.tsv or sub-folders, or a "
                      "list file with labels) instead of leave-one-out");
     eval->add_option("--method", eo->method,
-                     "cylinder (the database's cylindrical images, default) or d2 (D2 shape distributions of the "
-                     "same models, L1 distance: the floor)")
-        ->check(CLI::IsMember({"cylinder", "d2"}));
+                     "cylinder (the database's cylindrical images, default), silhouettes (7 views, Zernike "
+                     "magnitudes: the Light Field Descriptor's idea, the baseline) or d2 (D2 shape distributions: "
+                     "the floor), on the same models")
+        ->check(CLI::IsMember({"cylinder", "silhouettes", "d2"}));
     eval->add_option("--json", eo->json, "Write the scores as JSON");
     eval->callback([eo, &global] { run_writing({eo->db}, {json_output(eo->json)}, [&] { run_eval(*eo, global); }); });
 }

@@ -187,3 +187,36 @@ TEST_F(RetrievalGpu, ThreeCylindersGiveThreeImagesAndStayPoseInvariantWithTheSpe
                                                           {"torus", "box", "lumpy", "lumpy"}, options);
     EXPECT_EQ(gp::search_shapes(db, features[3], gp::PoseHandling::AsAligned, 3).front().model, 2u);
 }
+
+TEST(Retrieval, ZernikeMagnitudesIgnoreTurnsAndMirrorsAndTheDiagonalsMayPermute) {
+    const std::uint32_t s = 64;
+    std::vector<std::uint8_t> shape(s * s), turned(s * s), mirrored(s * s);
+    for (std::uint32_t y = 0; y < s; ++y)
+        for (std::uint32_t x = 0; x < s; ++x) {  // an off-centre ellipse with a notch
+            const double dx = (x - 30.0) / 20.0, dy = (y - 36.0) / 9.0;
+            shape[y * s + x] = dx * dx + dy * dy <= 1.0 && !(x > 40 && y < 36);
+        }
+    for (std::uint32_t y = 0; y < s; ++y)
+        for (std::uint32_t x = 0; x < s; ++x) {
+            turned[x * s + (s - 1 - y)] = shape[y * s + x];  // a quarter turn
+            mirrored[y * s + (s - 1 - x)] = shape[y * s + x];
+        }
+    const auto a = gp::zernike_magnitudes(shape, s, s), b = gp::zernike_magnitudes(turned, s, s),
+               c = gp::zernike_magnitudes(mirrored, s, s);
+    ASSERT_EQ(a.size(), 36u);
+    EXPECT_NEAR(a[0], 1.0f, 1e-6f);
+    for (std::size_t k = 0; k < a.size(); ++k) {
+        EXPECT_NEAR(b[k], a[k], 1e-4f) << k;
+        EXPECT_NEAR(c[k], a[k], 1e-4f) << k;
+    }
+    // A descriptor whose diagonal views are swapped as flipping two PCA signs swaps them is at 0.
+    std::vector<float> d(7 * 36), e(7 * 36);
+    std::mt19937 rng(1);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (float& v : d) v = u(rng);
+    const std::size_t swap[7] = {0, 1, 2, 4, 3, 6, 5};  // the (x, y) flip
+    for (std::size_t v = 0; v < 7; ++v)
+        for (std::size_t k = 0; k < 36; ++k) e[swap[v] * 36 + k] = d[v * 36 + k];
+    EXPECT_EQ(gp::silhouette_distance(d, e), 0.0);
+    EXPECT_GT(gp::silhouette_distance(d, std::vector<float>(7 * 36, 0.5f)), 1.0);
+}

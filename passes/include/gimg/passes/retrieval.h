@@ -89,6 +89,20 @@ ShapeDatabase read_shape_database(const std::filesystem::path& path);
 // mean distance) in `bins` bins, normalised to sum 1. Compare two with the L1 distance.
 std::vector<float> d2_histogram(const geo::Mesh& mesh, std::uint32_t bins = 64);
 
+// The silhouette baseline, in the spirit of the Light Field Descriptor (Chen et al. 2003): the model
+// in its principal frame drawn as a silhouette (128 x 128, the renderer) along 7 lines, the three
+// principal axes and the four diagonals (1, +-1, +-1); each silhouette described by the magnitudes
+// of its Zernike moments up to order 10 (36 values, divided by the zeroth: invariant to turning,
+// mirroring and scaling the silhouette).
+std::vector<float> silhouette_descriptor(Context& ctx, const geo::Mesh& mesh);
+// Zernike magnitudes of a binary image (width x height, 1 inside), about its centroid, scaled to
+// its farthest pixel: n <= 10, m = n, n - 2, ... >= 0, |Z_nm| / |Z_00|.
+std::vector<float> zernike_magnitudes(const std::vector<std::uint8_t>& inside, std::uint32_t width,
+                                      std::uint32_t height);
+// The distance between two silhouette descriptors: L1 over the axis views plus the smallest L1 over
+// the four ways PCA's free signs can permute the diagonal views.
+double silhouette_distance(const std::vector<float>& a, const std::vector<float>& b);
+
 // The Princeton Shape Benchmark's measures of one ranked list for a query of `label`: nearest
 // neighbour, first and second tier, normalised DCG and average precision; relevant = same label.
 struct RetrievalScores {
