@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 #include <fstream>
 #include <limits>
 
@@ -43,6 +44,12 @@ std::size_t descriptor_size(const RetrievalOptions& o) {
     return o.cylinders * (o.descriptor == RetrievalDescriptor::Image ? r * r : r * (r / 2 + 1));
 }
 
+const char* descriptor_name(RetrievalDescriptor d) {
+    return d == RetrievalDescriptor::Image           ? "image"
+           : d == RetrievalDescriptor::ThetaSpectrum ? "theta_spectrum"
+                                                     : "spectrum_2d";
+}
+
 }  // namespace
 
 std::vector<float> describe_feature(const RetrievalOptions& options, const std::vector<float>& image) {
@@ -55,17 +62,31 @@ std::vector<float> describe_feature(const RetrievalOptions& options, const std::
         cosine[m] = std::cos(2.0 * 3.14159265358979323846 * double(m) / double(r));
         sine[m] = std::sin(2.0 * 3.14159265358979323846 * double(m) / double(r));
     }
+    // Per row (the cylinders' rows one after another), the DFT over theta, k = 0 .. r / 2.
+    std::vector<std::complex<double>> rows(options.cylinders * r * (r / 2 + 1));
+    for (std::size_t v = 0; v < options.cylinders * r; ++v)
+        for (std::size_t k = 0; k <= r / 2; ++k) {
+            std::complex<double> z = 0.0;
+            for (std::size_t u = 0; u < r; ++u)
+                z += double(image[v * r + u]) * std::complex<double>(cosine[k * u % r], -sine[k * u % r]);
+            rows[v * (r / 2 + 1) + k] = z;
+        }
     std::vector<float> out;
     out.reserve(descriptor_size(options));
-    for (std::size_t v = 0; v < options.cylinders * r; ++v)  // the cylinders' rows one after another
-        for (std::size_t k = 0; k <= r / 2; ++k) {
-            double re = 0.0, im = 0.0;
-            for (std::size_t u = 0; u < r; ++u) {
-                re += image[v * r + u] * cosine[k * u % r];
-                im -= image[v * r + u] * sine[k * u % r];
+    if (options.descriptor == RetrievalDescriptor::ThetaSpectrum) {
+        for (const auto& z : rows) out.push_back(float(std::abs(z)));
+        return out;
+    }
+    // Spectrum2D: each cylinder's row spectra transformed again over height.
+    for (std::size_t c = 0; c < options.cylinders; ++c)
+        for (std::size_t l = 0; l < r; ++l)
+            for (std::size_t k = 0; k <= r / 2; ++k) {
+                std::complex<double> z = 0.0;
+                for (std::size_t v = 0; v < r; ++v)
+                    z +=
+                        rows[(c * r + v) * (r / 2 + 1) + k] * std::complex<double>(cosine[l * v % r], -sine[l * v % r]);
+                out.push_back(float(std::abs(z)));
             }
-            out.push_back(float(std::hypot(re, im)));
-        }
     return out;
 }
 
@@ -153,7 +174,7 @@ void write_shape_database(const std::filesystem::path& path, const ShapeDatabase
     j["size"] = db.options.size;
     j["reduced"] = db.options.reduced;
     j["variance"] = db.options.variance;
-    j["descriptor"] = db.options.descriptor == RetrievalDescriptor::Image ? "image" : "theta_spectrum";
+    j["descriptor"] = descriptor_name(db.options.descriptor);
     j["cylinders"] = db.options.cylinders;
     j["k"] = db.k;
     j["variance_kept"] = db.variance_kept;
@@ -177,9 +198,11 @@ ShapeDatabase read_shape_database(const std::filesystem::path& path) {
         db.options.reduced = j.at("reduced").get<std::uint32_t>();
         db.options.variance = j.at("variance").get<double>();
         const std::string descriptor = j.value("descriptor", std::string("image"));
-        if (descriptor != "image" && descriptor != "theta_spectrum")
+        if (descriptor != "image" && descriptor != "theta_spectrum" && descriptor != "spectrum_2d")
             throw geo::InputError(path.string() + ": unknown descriptor \"" + descriptor + "\"");
-        db.options.descriptor = descriptor == "image" ? RetrievalDescriptor::Image : RetrievalDescriptor::ThetaSpectrum;
+        db.options.descriptor = descriptor == "image"            ? RetrievalDescriptor::Image
+                                : descriptor == "theta_spectrum" ? RetrievalDescriptor::ThetaSpectrum
+                                                                 : RetrievalDescriptor::Spectrum2D;
         db.options.cylinders = j.value("cylinders", 1u);
         if (db.options.cylinders != 1 && db.options.cylinders != 3)
             throw geo::InputError(path.string() + ": cylinders must be 1 or 3");

@@ -54,9 +54,10 @@ std::vector<float> zernike_magnitudes(const std::vector<std::uint8_t>& inside, s
                 for (int m = n % 2; m <= n; m += 2, ++k) {
                     double r = 0.0;  // the radial polynomial R_nm(rho)
                     for (int s = 0; s <= (n - m) / 2; ++s)
-                        r += (s % 2 ? -1.0 : 1.0) * std::tgamma(n - s + 1) /
-                             (std::tgamma(s + 1) * std::tgamma((n + m) / 2 - s + 1) * std::tgamma((n - m) / 2 - s + 1)) *
-                             std::pow(rho, n - 2 * s);
+                        r +=
+                            (s % 2 ? -1.0 : 1.0) * std::tgamma(n - s + 1) /
+                            (std::tgamma(s + 1) * std::tgamma((n + m) / 2 - s + 1) * std::tgamma((n - m) / 2 - s + 1)) *
+                            std::pow(rho, n - 2 * s);
                     z[k] += r * std::polar(1.0, -m * theta);
                 }
         }
@@ -72,8 +73,8 @@ std::vector<float> silhouette_descriptor(Context& ctx, const geo::Mesh& mesh) {
     for (auto& p : framed.positions) p = frame.rotation * p;
     framed.normals.clear();
     // The principal axes are x (second), y (main), z (third) of the frame.
-    const std::array<glm::dvec3, kViews> lines{glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0), glm::dvec3(0, 0, 1),
-                                               glm::dvec3(1, 1, 1), glm::dvec3(1, 1, -1), glm::dvec3(1, -1, 1),
+    const std::array<glm::dvec3, kViews> lines{glm::dvec3(1, 0, 0),  glm::dvec3(0, 1, 0),  glm::dvec3(0, 0, 1),
+                                               glm::dvec3(1, 1, 1),  glm::dvec3(1, 1, -1), glm::dvec3(1, -1, 1),
                                                glm::dvec3(1, -1, -1)};
     RenderOptions options;
     options.width = options.height = kSide;
@@ -104,8 +105,7 @@ double silhouette_distance(const std::vector<float>& a, const std::vector<float>
     double axes = 0.0;
     for (std::size_t v = 0; v < 3; ++v) axes += view_l1(v, v);
     // Flipping the signs of two axes permutes the diagonal lines: (x, y), (x, z), (y, z) flips.
-    constexpr std::array<std::array<std::size_t, 4>, 4> perms{
-        {{3, 4, 5, 6}, {6, 5, 4, 3}, {5, 6, 3, 4}, {4, 3, 6, 5}}};
+    constexpr std::array<std::array<std::size_t, 4>, 4> perms{{{3, 4, 5, 6}, {6, 5, 4, 3}, {5, 6, 3, 4}, {4, 3, 6, 5}}};
     double best = std::numeric_limits<double>::infinity();
     for (const auto& p : perms) {
         double s = 0.0;

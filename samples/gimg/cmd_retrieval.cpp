@@ -87,8 +87,9 @@ struct IndexOptions {
 };
 
 void run_index(IndexOptions o, const GlobalOptions& global) {
-    o.retrieval.descriptor =
-        o.descriptor == "spectrum" ? passes::RetrievalDescriptor::ThetaSpectrum : passes::RetrievalDescriptor::Image;
+    o.retrieval.descriptor = o.descriptor == "spectrum"     ? passes::RetrievalDescriptor::ThetaSpectrum
+                             : o.descriptor == "spectrum2d" ? passes::RetrievalDescriptor::Spectrum2D
+                                                            : passes::RetrievalDescriptor::Image;
     if (o.retrieval.cylinders == 2) throw geo::InputError("--cylinders takes 1 or 3");
     if (o.retrieval.reduced % 2 != 0 || o.retrieval.size % o.retrieval.reduced != 0)
         throw geo::InputError("--size must be a multiple of --reduced, and --reduced even");
@@ -350,9 +351,10 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
                       "Share of the variance the kept components hold (default 0.95)");
     index
         ->add_option("--descriptor", io->descriptor,
-                     "image (the reduced image, the thesis; default) or spectrum (per row, the magnitudes of its "
-                     "DFT over theta: the same for every turn about the axis)")
-        ->check(CLI::IsMember({"image", "spectrum"}));
+                     "image (the reduced image, the thesis; default), spectrum (per row, the magnitudes of its "
+                     "DFT over theta: the same for every turn about the axis) or spectrum2d (the magnitudes of "
+                     "its 2D DFT: also the same turned end over end)")
+        ->check(CLI::IsMember({"image", "spectrum", "spectrum2d"}));
     add_count_option(index, "--cylinders", io->retrieval.cylinders, 1, 3,
                      "1: the cylinder around the main axis (the thesis; default); 3: one around each principal axis");
     index->add_option("--json", io->json, "Write the figures as JSON");

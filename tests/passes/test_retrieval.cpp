@@ -220,3 +220,24 @@ TEST(Retrieval, ZernikeMagnitudesIgnoreTurnsAndMirrorsAndTheDiagonalsMayPermute)
     EXPECT_EQ(gp::silhouette_distance(d, e), 0.0);
     EXPECT_GT(gp::silhouette_distance(d, std::vector<float>(7 * 36, 0.5f)), 1.0);
 }
+
+TEST(Retrieval, TheTwoDimensionalSpectrumIsTheSameTurnedEndOverEnd) {
+    std::mt19937 rng(4);
+    std::uniform_real_distribution<float> d(-1.0f, 1.0f);
+    const std::uint32_t r = 16;
+    std::vector<float> image(r * r), over(r * r), turned(r * r);
+    for (float& v : image) v = d(rng);
+    for (std::uint32_t v = 0; v < r; ++v)
+        for (std::uint32_t u = 0; u < r; ++u) {
+            over[(r - 1 - v) * r + (r - 1 - u)] = image[v * r + u];  // rows reversed, theta mirrored
+            turned[v * r + (u + 3) % r] = image[v * r + u];
+        }
+    const gp::RetrievalOptions options{.size = 32, .reduced = r, .descriptor = gp::RetrievalDescriptor::Spectrum2D};
+    const auto a = gp::describe_feature(options, image), b = gp::describe_feature(options, over),
+               c = gp::describe_feature(options, turned);
+    ASSERT_EQ(a.size(), std::size_t(r * (r / 2 + 1)));
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_NEAR(b[i], a[i], 1e-3f) << i;
+        ASSERT_NEAR(c[i], a[i], 1e-3f) << i;
+    }
+}

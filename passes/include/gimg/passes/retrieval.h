@@ -21,6 +21,8 @@ enum class RetrievalDescriptor {
     Image,          // its reduced^2 values (the thesis)
     ThetaSpectrum,  // per row, the magnitudes of its DFT over theta (reduced / 2 + 1 of them):
                     // the same for every turn of the model about its axis, and for its mirror image
+    Spectrum2D,     // the magnitudes of the image's 2D DFT (reduced / 2 + 1 frequencies in theta, all
+                    // reduced in height): as ThetaSpectrum, and also the same turned end over end
 };
 
 struct RetrievalOptions {
