@@ -44,6 +44,17 @@ std::vector<float> zernike_magnitudes(const std::vector<std::uint8_t>& inside, s
         for (std::uint32_t x = 0; x < width; ++x)
             if (inside[std::size_t(y) * width + x]) radius = std::max(radius, std::hypot(x - cx, y - cy));
     radius += 0.5;  // the farthest pixel's far edge
+    // The radial polynomials' coefficients, once: (-1)^s (n - s)! / (s! ((n + m) / 2 - s)! ((n - m) / 2 - s)!).
+    static const auto coefficient = [] {
+        std::array<std::array<std::array<double, kOrder / 2 + 1>, kOrder + 1>, kOrder + 1> c{};
+        for (int n = 0; n <= kOrder; ++n)
+            for (int m = n % 2; m <= n; m += 2)
+                for (int s = 0; s <= (n - m) / 2; ++s)
+                    c[n][m][s] =
+                        (s % 2 ? -1.0 : 1.0) * std::tgamma(n - s + 1) /
+                        (std::tgamma(s + 1) * std::tgamma((n + m) / 2 - s + 1) * std::tgamma((n - m) / 2 - s + 1));
+        return c;
+    }();
     std::vector<std::complex<double>> z(out.size());
     for (std::uint32_t y = 0; y < height; ++y)
         for (std::uint32_t x = 0; x < width; ++x) {
@@ -53,11 +64,7 @@ std::vector<float> zernike_magnitudes(const std::vector<std::uint8_t>& inside, s
             for (int n = 0; n <= kOrder; ++n)
                 for (int m = n % 2; m <= n; m += 2, ++k) {
                     double r = 0.0;  // the radial polynomial R_nm(rho)
-                    for (int s = 0; s <= (n - m) / 2; ++s)
-                        r +=
-                            (s % 2 ? -1.0 : 1.0) * std::tgamma(n - s + 1) /
-                            (std::tgamma(s + 1) * std::tgamma((n + m) / 2 - s + 1) * std::tgamma((n - m) / 2 - s + 1)) *
-                            std::pow(rho, n - 2 * s);
+                    for (int s = 0; s <= (n - m) / 2; ++s) r += coefficient[n][m][s] * std::pow(rho, n - 2 * s);
                     z[k] += r * std::polar(1.0, -m * theta);
                 }
         }
