@@ -1,7 +1,7 @@
 // The planar polish of the gpu sphere map: its conjugate gradients on the GPU follow the CPU twin,
 // converge to the direct solution of the same Dirichlet problem, and straighten the protrusions
 // the relaxation leaves crooked (mean angle distortion at or below the linear method's).
-#include "gpu_test.h"
+#include "harmonic_test.h"
 #include "test_data.h"
 
 #include "sphere/linear/dirichlet_solve.h"
@@ -28,14 +28,8 @@ using namespace gimg::passes::detail;
 
 namespace {
 
-class SpherePlanePolish : public gimg::test::GpuTest {
+class SpherePlanePolish : public gimg::test::HarmonicGpuTest {
 protected:
-    void SetUp() override {
-        GpuTest::SetUp();
-        if (!ctx().device_info().shader_float64) GTEST_SKIP() << "device has no shaderFloat64";
-        if (!ctx().device_info().storage_image_extended_formats)
-            GTEST_SKIP() << "device has no shaderStorageImageExtendedFormats (the multigrid's RG32F vectors)";
-    }
     // The relaxed map without the polish, and the level it lives on.
     std::vector<glm::dvec3> relaxed_map(const geo::Mesh& mesh) {
         passes::HarmonicSphereOptions o;

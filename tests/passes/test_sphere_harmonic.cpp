@@ -2,7 +2,7 @@
 // small distortion, every closed genus-0 shared mesh without a flipped triangle by either route
 // (direct, hierarchy), with Kanai's energy or lower (within 1%), and at or below Gu's where Gu
 // finishes; the direct route is as good as the hierarchy where it is kept.
-#include "gpu_test.h"
+#include "harmonic_test.h"
 #include "test_data.h"
 
 #include "gimg/engine/error.h"
@@ -22,15 +22,7 @@ using namespace gimg;
 
 namespace {
 
-class SphereGpu : public gimg::test::GpuTest {
-protected:
-    void SetUp() override {
-        GpuTest::SetUp();
-        if (!ctx().device_info().shader_float64) GTEST_SKIP() << "device has no shaderFloat64";
-        if (!ctx().device_info().storage_image_extended_formats)
-            GTEST_SKIP() << "device has no shaderStorageImageExtendedFormats (the multigrid's RG32F vectors)";
-    }
-};
+class SphereGpu : public gimg::test::HarmonicGpuTest {};
 
 geo::Mesh ellipsoid(int level) {
     geo::Mesh m = geo::make_icosphere(1.0, level);

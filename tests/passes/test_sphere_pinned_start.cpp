@@ -2,7 +2,7 @@
 // multigrid conjugate gradients, must be the map the linear method's sparse direct solver gives
 // (its CPU reference), projected the same way; the covering test counts how often a map wraps
 // the sphere.
-#include "gpu_test.h"
+#include "harmonic_test.h"
 #include "test_data.h"
 
 #include "sphere/harmonic/pinned_start.h"
@@ -24,15 +24,7 @@ using namespace gimg::passes::detail;
 
 namespace {
 
-class SphereHarmonicStart : public gimg::test::GpuTest {
-protected:
-    void SetUp() override {
-        GpuTest::SetUp();
-        if (!ctx().device_info().shader_float64) GTEST_SKIP() << "device has no shaderFloat64";
-        if (!ctx().device_info().storage_image_extended_formats)
-            GTEST_SKIP() << "device has no shaderStorageImageExtendedFormats (the multigrid's RG32F vectors)";
-    }
-};
+class SphereHarmonicStart : public gimg::test::HarmonicGpuTest {};
 
 // The CPU reference: sphere_linear's first two steps (Eigen's sparse LU of the same Dirichlet
 // problem, the mean moved to the origin, the balancing scale, the inverse projection).
