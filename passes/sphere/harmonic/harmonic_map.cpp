@@ -308,23 +308,15 @@ SphereResult map_to_sphere(Context& ctx, const geo::Mesh& mesh, const detail::Re
     wait_for_check();
     result.positions.assign(mesh.vertex_count(), glm::dvec3(0.0));
 
-    const auto pm_start = Clock::now();  // not t0: a rejected pinned-triangle start came first
-    const geo::ProgressiveMesh pm = geo::build_progressive_mesh(mesh, options.base_vertices);
-    const std::vector<std::size_t> counts =
-        geo::level_vertex_counts(pm.base_vertex_count, pm.vertex_count, options.growth);
+    // Not t0: a rejected pinned-triangle start came first.
+    detail::HierarchyStart hierarchy(mesh, options.base_vertices, options.growth, result.positions, result.stages,
+                                     warnings, Clock::now());
+    const geo::ProgressiveMesh& pm = hierarchy.pm;
+    const std::vector<std::size_t>& counts = hierarchy.counts;
+    geo::ProgressiveReplay& replay = hierarchy.replay;
     const std::vector<std::uint32_t> activation = geo::activation_order(pm);
     std::vector<std::uint32_t> vertex_of(activation.size());
     for (std::uint32_t v = 0; v < activation.size(); ++v) vertex_of[activation[v]] = v;
-    result.stages.push_back({"progressive mesh", pm.base_vertex_count, pm.splits.size(), seconds_since(pm_start), 0.0});
-
-    const auto base_start = Clock::now();
-    geo::ProgressiveReplay replay(pm, pm.coarsest_count());
-    const detail::BaseMapRun base = detail::map_base_mesh(mesh, pm, replay, result.positions);
-    result.stages.push_back(
-        {"base map", pm.base_vertex_count, base.vertex_steps, seconds_since(base_start), base.energy});
-    if (base.placement_failures || base.flips)
-        warnings.push_back("base map: " + std::to_string(base.placement_failures) +
-                           " split vertices could not be placed, " + std::to_string(base.flips) + " flipped triangles");
 
     for (std::size_t i = counts.size() == 1 ? 0 : 1; i < counts.size(); ++i) {
         const auto level_start = Clock::now();

@@ -5,6 +5,7 @@
 #include "sphere/hierarchy/split_refinement.h"
 
 #include <cmath>
+#include <string>
 #include <stdexcept>
 
 namespace gimg::passes::detail {
@@ -59,6 +60,26 @@ BaseMapRun map_base_mesh(const geo::Mesh& mesh, const geo::ProgressiveMesh& pm, 
     }
     run.flips = count_flips(triangles, y);
     return run;
+}
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+}  // namespace
+
+HierarchyStart::HierarchyStart(const geo::Mesh& mesh, std::size_t base_vertices, double growth,
+                               std::vector<glm::dvec3>& y, std::vector<SphereStage>& stages,
+                               std::vector<std::string>& warnings, std::chrono::steady_clock::time_point since)
+    : pm(geo::build_progressive_mesh(mesh, base_vertices)),
+      counts(geo::level_vertex_counts(pm.base_vertex_count, pm.vertex_count, growth)), replay(pm, pm.coarsest_count()) {
+    stages.push_back({"progressive mesh", pm.base_vertex_count, pm.splits.size(), seconds_since(since), 0.0});
+    const auto base_start = std::chrono::steady_clock::now();
+    base = map_base_mesh(mesh, pm, replay, y);
+    stages.push_back({"base map", pm.base_vertex_count, base.vertex_steps, seconds_since(base_start), base.energy});
+    if (base.placement_failures || base.flips)
+        warnings.push_back("base map: " + std::to_string(base.placement_failures) +
+                           " split vertices could not be placed, " + std::to_string(base.flips) + " flipped triangles");
 }
 
 }  // namespace gimg::passes::detail

@@ -19,7 +19,11 @@
 
 #include "gimg/geometry/mesh.h"
 
+#include "gimg/passes/sphere.h"
+
+#include <chrono>
 #include <string>
+#include <vector>
 
 namespace gimg::passes::detail {
 
@@ -36,5 +40,21 @@ struct BaseMapRun {
 // vertex of the full mesh) then holds the base mesh's map.
 BaseMapRun map_base_mesh(const geo::Mesh& mesh, const geo::ProgressiveMesh& pm, geo::ProgressiveReplay& replay,
                          std::vector<glm::dvec3>& y);
+
+// The start Kanai's method and the harmonic method's fallback share: the progressive mesh down to
+// `base_vertices`, the level sizes (`growth` per level), the replay standing at the base mesh and
+// the base mesh's map in y; the "progressive mesh" stage (timed from `since`) and the "base map"
+// stage are recorded, and a base map that failed somewhere is said in `warnings`.
+struct HierarchyStart {
+    HierarchyStart(const geo::Mesh& mesh, std::size_t base_vertices, double growth, std::vector<glm::dvec3>& y,
+                   std::vector<SphereStage>& stages, std::vector<std::string>& warnings,
+                   std::chrono::steady_clock::time_point since);
+    HierarchyStart(const HierarchyStart&) = delete;
+    HierarchyStart& operator=(const HierarchyStart&) = delete;
+    const geo::ProgressiveMesh pm;
+    const std::vector<std::size_t> counts;
+    geo::ProgressiveReplay replay;  // reads pm
+    BaseMapRun base;
+};
 
 }  // namespace gimg::passes::detail

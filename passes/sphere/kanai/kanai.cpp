@@ -86,21 +86,12 @@ SphereResult sphere_kanai(const geo::Mesh& mesh, const KanaiOptions& options) {
     result.positions.assign(mesh.vertex_count(), glm::dvec3(0.0));
     Run run{mesh, options, t0, result, {}};
 
-    const geo::ProgressiveMesh pm = geo::build_progressive_mesh(mesh, options.base_vertices);
-    const std::vector<std::size_t> counts =
-        geo::level_vertex_counts(pm.base_vertex_count, pm.vertex_count, options.growth);
-    result.stages.push_back({"progressive mesh", pm.base_vertex_count, pm.splits.size(), seconds_since(t0), 0.0});
-
-    // Base map (see base_map.h).
-    const auto base_start = Clock::now();
-    geo::ProgressiveReplay replay(pm, pm.coarsest_count());
-    const detail::BaseMapRun base = detail::map_base_mesh(mesh, pm, replay, result.positions);
-    result.stages.push_back(
-        {"base map", pm.base_vertex_count, base.vertex_steps, seconds_since(base_start), base.energy});
-    if (base.placement_failures || base.flips)
-        run.warnings.push_back("base map: " + std::to_string(base.placement_failures) +
-                               " split vertices could not be placed, " + std::to_string(base.flips) +
-                               " flipped triangles");
+    // The progressive mesh and the base map (see base_map.h).
+    detail::HierarchyStart start(mesh, options.base_vertices, options.growth, result.positions, result.stages,
+                                 run.warnings, t0);
+    const std::vector<std::size_t>& counts = start.counts;
+    geo::ProgressiveReplay& replay = start.replay;
+    const detail::BaseMapRun& base = start.base;
     if (options.progress) options.progress("base map", base.vertex_steps, base.energy, base.flips, seconds_since(t0));
 
     // Kanai's hierarchy: split to growth x the vertices, optimise globally; at the full mesh once more
