@@ -206,4 +206,12 @@ std::vector<RayHit> TriangleBvh::intersect_all(const Ray& ray) const {
     return hits;
 }
 
+std::uint32_t TriangleBvh::crossings(const Ray& ray) const {
+    const std::vector<RayHit> hits = intersect_all(ray);
+    std::uint32_t n = 0;
+    for (std::size_t k = 0; k < hits.size(); ++k)
+        if (k == 0 || hits[k].t - hits[k - 1].t > 1e-12) ++n;
+    return n;
+}
+
 }  // namespace gimg::geo

@@ -14,7 +14,9 @@
 
 namespace gimg::passes {
 
-HierarchyGrid decode_cylinder_hierarchy(const CylinderHierarchy& h, std::uint32_t level) {
+namespace detail {
+
+void check_decodable(const CylinderHierarchy& h, std::uint32_t level) {
     check_hierarchy_sizes(h.base, h.size);
     const std::size_t pixels = std::size_t(h.size) * h.size;
     if (h.t.size() != pixels || h.valid.size() != pixels)
@@ -22,6 +24,12 @@ HierarchyGrid decode_cylinder_hierarchy(const CylinderHierarchy& h, std::uint32_
                               std::to_string(h.size) + " size");
     if (level < 1 || level > h.levels())
         throw geo::InputError("hierarchy level " + std::to_string(level) + " of 1.." + std::to_string(h.levels()));
+}
+
+}  // namespace detail
+
+HierarchyGrid decode_cylinder_hierarchy(const CylinderHierarchy& h, std::uint32_t level) {
+    detail::check_decodable(h, level);
     const std::uint32_t b = h.base, n = h.size;
     std::vector<float> t1(std::size_t(b) * b);
     std::vector<std::uint8_t> v1(t1.size());

@@ -7,6 +7,7 @@
 #include "gimg/engine/graph.h"
 
 #include "cylinder_hierarchy/decode_level_comp.h"
+#include "launch_rays.h"
 
 #include <algorithm>
 
@@ -25,9 +26,7 @@ struct DecodePush {
 HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarchy& h, std::uint32_t level) {
     if (!ctx.device_info().shader_float64)
         throw Error(ErrorKind::Unsupported, "decoding a hierarchy on the GPU needs shaderFloat64 (use the CPU)");
-    // The CPU decoder's checks (sizes, arrays, level) with an empty decode.
-    (void)decode_cylinder_hierarchy(h, 1);
-    if (level < 1 || level > h.levels()) (void)decode_cylinder_hierarchy(h, level);
+    detail::check_decodable(h, level);
     const std::uint32_t n = h.size, b = h.base;
     std::vector<std::uint32_t> valid(h.valid.begin(), h.valid.end());
     std::vector<double> dirs;

@@ -36,7 +36,6 @@ namespace detail {
 
 CylinderHierarchy encode_hierarchy(const CylinderImage& first, double first_ms, const CylinderHierarchyOptions& options,
                                    const CastLevel& cast) {
-    check_hierarchy_sizes(options.base, options.size);
     if (!(options.reach >= 0.0) || !std::isfinite(options.reach))
         throw geo::InputError("hierarchy reach must be a finite number >= 0 (0: without limit)");
     const std::uint32_t b = options.base, n = options.size;
@@ -114,14 +113,10 @@ CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const Cylinde
     return detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
         std::vector<std::optional<double>> t(launches.size());
         geo::parallel_for_chunks(launches.size(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
-            std::vector<double> crossings;
             for (std::size_t i = begin; i < end; ++i) {
                 const detail::Launch& l = launches[i];
                 if (!l.valid) continue;
-                crossings.clear();
-                for (const geo::RayHit& h : bvh.intersect_all(detail::parity_segment(l.origin)))
-                    crossings.push_back(h.t);
-                const bool inside = detail::inside_by_parity(detail::count_crossings(crossings));
+                const bool inside = detail::inside_by_parity(bvh.crossings(detail::parity_segment(l.origin)));
                 if (const auto hit = bvh.intersect_nearest(detail::launch_ray(l, inside, options.reach)))
                     t[i] = inside ? hit->t : -hit->t;
             }

@@ -35,6 +35,9 @@ HierarchyGrid interleave(const HierarchyGrid& grid, const LevelLaunches& launche
 // Level 1 from its band: t = 1 - d along the inward radial ray of pixel (u, v) of a B x B image.
 HierarchyGrid level_one_grid(std::uint32_t base, const std::vector<float>& t, const std::vector<std::uint8_t>& valid);
 
+// Throws geo::InputError unless `level` of `h` can be decoded (sizes, arrays, 1 <= level <= levels).
+void check_decodable(const CylinderHierarchy& h, std::uint32_t level);
+
 // Band origins of level L >= 2 in the N x N image (the level's side S = B 2^(L - 2)).
 struct Bands {
     std::uint32_t side;  // S

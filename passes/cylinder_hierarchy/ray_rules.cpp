@@ -24,11 +24,4 @@ geo::Ray launch_ray(const Launch& l, bool inside, double reach) {
     return ray;
 }
 
-std::uint32_t count_crossings(const std::vector<double>& t) {
-    std::uint32_t n = 0;
-    for (std::size_t k = 0; k < t.size(); ++k)
-        if (k == 0 || t[k] - t[k - 1] > 1e-12) ++n;
-    return n;
-}
-
 }  // namespace gimg::passes::detail

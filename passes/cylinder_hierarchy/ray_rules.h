@@ -2,8 +2,8 @@
 // How a hierarchy ray is cast (the thesis, 3.3.2, with the spec's fixes), shared by the CPU and
 // the GPU encoder:
 //  - inside or outside: crossings of the model on the radial segment from the cylinder wall to the
-//    launch point (at its angle and height), hits within 1e-12 in t counted once, so that a
-//    segment through an edge or a corner counts one crossing; odd is inside;
+//    launch point (at its angle and height), as TriangleBvh::crossings counts them (a segment
+//    through an edge or a corner counts one crossing); odd is inside;
 //  - inside fires along the outward normal, outside against it;
 //  - the nearest hit with t >= -kBehind (a launch point on a flat patch lies on the surface: its
 //    own surface, at t = 0, is the answer, not the far side of the model), at most reach times
@@ -26,7 +26,5 @@ geo::Ray parity_segment(const glm::dvec3& origin);
 inline bool inside_by_parity(std::uint32_t crossings) { return crossings % 2 == 1; }
 // The ray from a launch point, inside firing along the outward normal.
 geo::Ray launch_ray(const Launch& l, bool inside, double reach);
-// Crossings among hits sorted by t: runs within 1e-12 count once.
-std::uint32_t count_crossings(const std::vector<double>& sorted_t);
 
 }  // namespace gimg::passes::detail

@@ -125,15 +125,9 @@ std::vector<GpuRayHit> GpuRayCaster::nearest(std::span<const geo::Ray> rays) {
 
 std::vector<std::uint32_t> GpuRayCaster::crossings(std::span<const geo::Ray> rays) {
     std::vector<std::uint32_t> counts = run(rays, 1, nullptr);
-    // Rays with more hits than the pass keeps: counted here, by the same rule.
-    for (std::size_t i = 0; i < counts.size(); ++i) {
-        if (counts[i] != 0xffffffffu) continue;
-        const std::vector<geo::RayHit> hits = state_->bvh.intersect_all(rays[i]);
-        std::uint32_t n = 0;
-        for (std::size_t k = 0; k < hits.size(); ++k)
-            if (k == 0 || hits[k].t - hits[k - 1].t > 1e-12) ++n;
-        counts[i] = n;
-    }
+    // Rays with more hits than the pass keeps: counted on the host, by the same rule.
+    for (std::size_t i = 0; i < counts.size(); ++i)
+        if (counts[i] == 0xffffffffu) counts[i] = state_->bvh.crossings(rays[i]);
     return counts;
 }
 

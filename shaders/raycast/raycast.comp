@@ -5,8 +5,7 @@
 // and every hit equals the CPU's. Two modes:
 //  0 nearest: the hit with the smallest t in [t_min, t_max], ties to the lowest face index;
 //  1 crossings: the number of hits in [t_min, t_max], hits within 1e-12 in t counted once (a ray
-//    through an edge or a corner of a closed mesh crosses it once), as TriangleBvh::intersect_all's
-//    callers count them. More than kMaxHits hits: 0xffffffff (the host counts that ray itself).
+//    through an edge or a corner of a closed mesh crosses it once), as TriangleBvh::crossings. More than kMaxHits hits: 0xffffffff (the host counts that ray itself).
 //
 // The nodes and corners are texel arrays (common/texel_array.glsl: lavapipe gathers from images but
 // loads from storage buffers lane by lane): node n is texels 2n (lo, first) and 2n + 1 (hi, count);

@@ -309,3 +309,17 @@ TEST(Bvh, CopiesOfATriangleAnswerAsTheLowestFaceAndIntersectAllReportsEach) {
     EXPECT_EQ(nearest->face, sorted[0].face);
     for (std::size_t k = 0; k < all.size(); ++k) EXPECT_EQ(all[k].face, sorted[k].face);
 }
+
+TEST(Bvh, CrossingsCountAnEdgeOrACornerOnce) {
+    const Mesh m = gimg::geo::make_icosphere(1.0, 0);
+    const TriangleBvh bvh(m);
+    for (const glm::dvec3& p : m.positions) {  // through a corner (five faces meet) and out again
+        Ray ray{3.0 * p, -p};
+        EXPECT_EQ(bvh.crossings(ray), 2u);
+        ray.t_max = 2.5;  // stops inside
+        EXPECT_EQ(bvh.crossings(ray), 1u);
+    }
+    const glm::uvec3 t = m.triangles[0];
+    const glm::dvec3 edge = 0.5 * (m.positions[t.x] + m.positions[t.y]);  // through an edge
+    EXPECT_EQ(bvh.crossings({3.0 * edge, -edge}), 2u);
+}

@@ -93,6 +93,10 @@ public:
     // Every hit in [ray.t_min, ray.t_max], sorted by (t, face). A ray through a shared edge or
     // corner reports each face it touches (callers counting crossings must merge those).
     std::vector<RayHit> intersect_all(const Ray& ray) const;
+    // How often the ray crosses the surface in [ray.t_min, ray.t_max]: intersect_all's hits with
+    // those less than 1e-12 apart in t counted once, so a ray through a shared edge or corner of a
+    // closed mesh crosses it once (parity tells inside from outside).
+    std::uint32_t crossings(const Ray& ray) const;
 
     struct Triangle {
         glm::dvec3 a, b, c;
