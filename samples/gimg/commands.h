@@ -27,6 +27,8 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global);
 void add_bench_sphere_command(CLI::App& bench, const GlobalOptions& global);
 // gimg bench hierarchical [--mesh PATH]... [--size N]... (cmd_bench_hierarchy.cpp), under `bench`
 void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global);
+// gimg bench gim [--mesh PATH]... [--size N]... (cmd_bench_gim.cpp), under `bench`
+void add_bench_gim_command(CLI::App& bench, const GlobalOptions& global);
 // gimg bench retrieval [--models N] (cmd_bench_retrieval.cpp), under `bench`
 void add_bench_retrieval_command(CLI::App& bench, const GlobalOptions& global);
 void add_reconstruct_command(CLI::App& app, const GlobalOptions& global);
@@ -39,6 +41,8 @@ void write_sphere_pictures(Context& ctx, const geo::Mesh& mesh, const std::vecto
                            const std::filesystem::path& dir);
 // gimg index / search / eval (cmd_retrieval.cpp)
 void add_retrieval_commands(CLI::App& app, const GlobalOptions& global);
+// gimg gim MESH --out DIR [--size N] [--variant V] (cmd_gim.cpp)
+void add_gim_command(CLI::App& app, const GlobalOptions& global);
 // gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
 void add_info_command(CLI::App& app, const GlobalOptions& global);
 

@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
     add_cylinder_command(app, global);
     add_reconstruct_command(app, global);
     add_roundtrip_command(app, global);
+    add_gim_command(app, global);
     add_sphere_command(app, global);
     add_sample_command(app, global);
     add_retrieval_commands(app, global);

@@ -1,0 +1,121 @@
+#pragma once
+// Parameterization geometry images (the cylindrical-projection thesis, chapter 6; docs/gim.md): a
+// disk-like mesh is mapped onto the unit square by a weighted Tutte system with its boundary fixed,
+// the weights are reweighted iteratively to even out the sampling density (and to concentrate it at
+// curvature), and the map is sampled on an N x N grid whose border lies on the boundary.
+//
+// Variants (the reweighting each iteration applies to w_ij before the rows are normalised):
+//   tutte      w_ij = 1, no iteration
+//   floater    Floater's shape-preserving weights (1997), no iteration; every variant starts here
+//   stretch    Yoshizawa, Belyaev & Seidel (SMI 2004): w_ij /= sigma(v_j), the vertex L2 stretch
+//   density    w_ij *= sqrt((A_i + A_j) / (2 A_i)), A the 2D one-ring areas (eq. 6.8), corners x4
+//              and boundary x2 (6.9)
+//   uniform3d  the same with A_i / A_i,3D (6.10)
+//   curvature  the same with A_i / A_i,3D / C_i, C the bilaterally smoothed (k1^2 + k2^2)^(1/N) (6.15)
+
+#include "gimg/engine/context.h"
+#include "gimg/engine/graph.h"
+#include "gimg/geometry/adjacency.h"
+#include "gimg/geometry/mesh.h"
+#include "gimg/passes/reconstruct.h"
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gimg::passes {
+
+// The boundary loop of a disk mesh placed on the unit square: corners at (0,0), (1,0), (1,1),
+// (0,1) in that order, the interior on the left (counter-clockwise), the vertices between two
+// corners spaced by chord length.
+struct SquareBoundary {
+    std::vector<std::uint32_t> loop;         // boundary vertices in order, starting at corners[0]
+    std::array<std::uint32_t, 4> corners{};  // vertex indices
+    std::vector<glm::dvec2> uv;              // one per loop entry
+};
+
+// Throws geo::InputError with the reason unless the mesh is one component, manifold, oriented and
+// has exactly one boundary loop of at least 4 vertices (and no vertex outside its faces).
+void check_disk_mesh(const geo::Mesh& mesh);
+// Corners: the given boundary vertices (in boundary order), or those at arc-length fractions 0,
+// 1/4, 1/2, 3/4 from the boundary vertex with the smallest index. Throws geo::InputError when a
+// given corner is not on the boundary or the four are not distinct and in order.
+SquareBoundary square_boundary(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
+                               const std::optional<std::array<std::uint32_t, 4>>& corners = std::nullopt);
+
+// Floater's shape-preserving weights (1997): per interior vertex, the mean over its neighbours of
+// the barycentric coordinates of the vertex in the triangle of its geodesic polar map hit by the
+// ray opposite that neighbour. slot_weights[k] belongs to adjacency.vertex_vertices[k]; rows of
+// interior vertices are positive and sum to 1; boundary rows are 0.
+std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency);
+
+enum class ParameterizeVariant { Tutte, Floater, Stretch, Density, Uniform3d, Curvature };
+const char* variant_name(ParameterizeVariant variant);  // "tutte", "floater", ...
+std::optional<ParameterizeVariant> parse_variant(const std::string& name);
+
+struct ParameterizeOptions {
+    ParameterizeVariant variant = ParameterizeVariant::Curvature;
+    std::optional<std::array<std::uint32_t, 4>> corners;  // boundary vertices for the square's corners
+    std::size_t max_iterations = 50;
+    // Stop when E_sigma (the mean of |sigma_ij - 1|^2 over the directed edges of interior rows)
+    // falls by less than this fraction in one iteration; for `stretch`, when the L2 stretch does.
+    double stop_fall = 0.01;
+    double curvature_root = 4.0;  // N in C = (k1^2 + k2^2)^(1/N) (6.13)
+    // The corner x4 and boundary x2 factors on uniform3d's and curvature's ratios as well, as the
+    // thesis prints it. Off by default: the 3D one-ring is cut by the boundary as the 2D one is,
+    // so the ratio needs no correction (and a planar square then maps to itself).
+    bool boundary_factors_on_ratio = false;
+    double solve_tolerance = 1e-8;  // relative residual of every solve
+    // Keep every iterate's map (Parameterization::iterates), for choosing one by another measure.
+    bool keep_iterates = false;
+};
+
+struct IterationReport {
+    std::size_t iteration = 0;  // 0: the Floater (or Tutte) start
+    double sigma_error = 0.0;   // E_sigma of the factors applied to reach this iterate (0 at 0)
+    double area_spread = 0.0;   // standard deviation of log(A_i / mean A), interior vertices
+    double l2_stretch = 0.0;    // Sander's L2 stretch of the map, 2D area scaled to the 3D area
+    std::size_t flipped = 0;    // parameter triangles of negative area
+    std::size_t solver_iterations = 0;
+    double seconds = 0.0;  // reweighting and solve of this iteration
+};
+
+struct Parameterization {
+    std::vector<glm::dvec2> uv;  // per vertex, in [0, 1]^2: the last iterate (stretch: the best by L2 stretch)
+    SquareBoundary boundary;
+    std::vector<IterationReport> iterations;
+    std::vector<std::vector<glm::dvec2>> iterates;  // with keep_iterates: every iterate's uv, 0 first
+    double seconds = 0.0;                           // the whole run, set-up included
+};
+
+// The map on the GPU (the solver module's BiCGSTAB, each solve warm-started from the last) or, with
+// ctx == nullptr, with the CPU twin of the same solver. Throws geo::InputError for a mesh that is
+// not a disk (check_disk_mesh) and when a solve does not converge.
+Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const ParameterizeOptions& options = {},
+                                     const std::function<void(const IterationReport&)>& on_iteration = {});
+
+// Per vertex, the feature measure of the curvature variant: C_i = (k1^2 + k2^2)^(1/root) on the
+// mesh scaled to a unit bounding-box diagonal, smoothed twice by the bilateral filter of (6.14) with
+// the sign corrected (sigma_L = 0.1, sigma_D = 2).
+std::vector<double> curvature_feature(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency, double root = 4.0);
+
+// Parameter triangles of negative signed area (folds).
+std::size_t count_flipped(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv);
+
+// The geometry image of a square map: an N x N grid, pixel (a, b) (b the row from the top) at the
+// parameter point (a / (N - 1), 1 - b / (N - 1)), so the border lies on the boundary. The
+// rasteriser leaves centres exactly on an edge to one side, so both paths sample the map grown
+// about the square's centre by 1/64 pixel: border samples lie that far inside the boundary.
+geo::Mesh square_grid_mesh(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size);
+PositionImage geometry_image_gpu(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv,
+                                 std::uint32_t size);
+PositionImage geometry_image_cpu(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size);
+// The GPU path recorded into a caller's graph: `parameters` hold 2 float32 a vertex as
+// square_grid_mesh places them (uv already on the image grid).
+ImageHandle add_geometry_image(Graph& graph, BufferHandle positions, BufferHandle parameters, BufferHandle triangles,
+                               std::uint32_t face_count, std::uint32_t size);
+
+}  // namespace gimg::passes

@@ -1,0 +1,116 @@
+// Which meshes the square map takes, and where their boundary goes on the square.
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/topology.h"
+#include "gimg/passes/parameterize.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <string>
+
+namespace gimg::passes {
+
+void check_disk_mesh(const geo::Mesh& mesh) {
+    if (mesh.face_count() == 0) throw geo::InputError("the mesh has no faces to parameterize");
+    const geo::MeshInfo info = geo::analyze_topology(mesh);
+    auto refuse = [](const std::string& why) {
+        throw geo::InputError(
+            "a square parameterization needs a disk (one component, manifold, oriented, one "
+            "boundary loop); " +
+            why);
+    };
+    if (info.nonfinite_vertices) refuse(std::to_string(info.nonfinite_vertices) + " vertices are not finite");
+    if (info.components != 1) refuse("this mesh has " + std::to_string(info.components) + " components");
+    if (info.isolated_vertices)
+        refuse(std::to_string(info.isolated_vertices) + " vertices are in no face (remove them first)");
+    if (!info.manifold)
+        refuse("this mesh has " + std::to_string(info.non_manifold_edges) + " non-manifold edges and " +
+               std::to_string(info.non_manifold_vertices) + " non-manifold vertices");
+    if (info.degenerate_faces) refuse(std::to_string(info.degenerate_faces) + " faces have no area");
+    if (!info.oriented) refuse(std::to_string(info.inconsistent_edges) + " edges join faces of opposite orientation");
+    if (info.boundary_loops == 0) refuse("this mesh is closed (cut it open to a disk first)");
+    if (info.boundary_loops != 1)
+        refuse("this mesh has " + std::to_string(info.boundary_loops) + " boundary loops (fill the holes first)");
+    if (info.boundary_edges < 4) refuse("its boundary has fewer than 4 vertices, one for each corner of the square");
+}
+
+namespace {
+
+// The boundary loop in the faces' direction (interior on the left), from its smallest vertex index.
+std::vector<std::uint32_t> boundary_loop(const geo::Mesh& mesh, const geo::MeshAdjacency& adj) {
+    std::vector<std::uint32_t> next(mesh.vertex_count(), geo::kInvalidIndex);
+    std::uint32_t start = geo::kInvalidIndex;
+    for (std::size_t e = 0; e < adj.edge_count(); ++e) {
+        if (adj.edge_face_count(e) != 1) continue;
+        const glm::uvec3& t = mesh.triangles[adj.faces_of_edge(e)[0]];
+        for (int k = 0; k < 3; ++k) {
+            const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+            if (adj.find_edge(a, b) == e) {
+                next[a] = b;
+                start = std::min(start, a);
+            }
+        }
+    }
+    std::vector<std::uint32_t> loop;
+    for (std::uint32_t v = start; loop.empty() || v != start; v = next[v]) {
+        if (v == geo::kInvalidIndex || loop.size() > mesh.vertex_count())
+            throw geo::InputError("the boundary edges do not form one loop");
+        loop.push_back(v);
+    }
+    return loop;
+}
+
+}  // namespace
+
+SquareBoundary square_boundary(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
+                               const std::optional<std::array<std::uint32_t, 4>>& corners) {
+    SquareBoundary out;
+    std::vector<std::uint32_t> loop = boundary_loop(mesh, adjacency);
+    const std::size_t n = loop.size();
+    // Cumulative arc length along the loop.
+    std::vector<double> arc(n + 1, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+        arc[i + 1] = arc[i] + glm::distance(mesh.positions[loop[i]], mesh.positions[loop[(i + 1) % n]]);
+    std::array<std::size_t, 4> at{};  // loop positions of the corners
+    if (corners) {
+        for (int c = 0; c < 4; ++c) {
+            const auto it = std::find(loop.begin(), loop.end(), (*corners)[c]);
+            if (it == loop.end())
+                throw geo::InputError("--corners: vertex " + std::to_string((*corners)[c]) + " is not on the boundary");
+            at[c] = std::size_t(it - loop.begin());
+        }
+        // Rotate so the first corner starts the loop; the others must then follow in order.
+        const std::size_t shift = at[0];
+        for (auto& a : at) a = (a + n - shift) % n;
+        if (!(at[0] < at[1] && at[1] < at[2] && at[2] < at[3]))
+            throw geo::InputError(
+                "--corners: the four vertices must be distinct and in the boundary's order (interior on the left)");
+        std::rotate(loop.begin(), loop.begin() + std::ptrdiff_t(shift), loop.end());
+        for (std::size_t i = 0; i < n; ++i)
+            arc[i + 1] = arc[i] + glm::distance(mesh.positions[loop[i]], mesh.positions[loop[(i + 1) % n]]);
+    } else {
+        // Quarter arc lengths: the loop vertex nearest each fraction, kept distinct and in order.
+        for (int c = 1; c < 4; ++c) {
+            const double target = arc[n] * c / 4.0;
+            std::size_t best = at[c - 1] + 1;
+            for (std::size_t i = best; i + (4 - c) <= n; ++i)
+                if (std::abs(arc[i] - target) < std::abs(arc[best] - target)) best = i;
+            at[c] = best;
+        }
+    }
+    static const glm::dvec2 kSquare[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    out.uv.resize(n);
+    for (int c = 0; c < 4; ++c) {
+        const std::size_t from = at[c], to = c < 3 ? at[c + 1] : n;
+        const double length = arc[to] - arc[from];
+        for (std::size_t i = from; i < to; ++i) {
+            const double t = length > 0.0 ? (arc[i] - arc[from]) / length : double(i - from) / double(to - from);
+            out.uv[i] = kSquare[c] + t * (kSquare[(c + 1) % 4] - kSquare[c]);
+        }
+        out.corners[c] = loop[at[c]];
+    }
+    out.loop = std::move(loop);
+    return out;
+}
+
+}  // namespace gimg::passes

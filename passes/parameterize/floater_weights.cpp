@@ -1,0 +1,88 @@
+// Floater's shape-preserving weights (M. S. Floater, "Parametrization and smooth approximation of
+// surface triangulations", CAGD 14, 1997): the barycentric coordinates that the vertex has in its
+// one-ring flattened by the geodesic polar map, averaged over the ring's triangles that contain it.
+#include "gimg/geometry/error.h"
+#include "gimg/passes/parameterize.h"
+
+#include <glm/geometric.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace gimg::passes {
+
+namespace {
+
+// The neighbours of interior vertex v in counter-clockwise order (each face (v, a, b) gives a -> b).
+std::vector<std::uint32_t> ordered_ring(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, std::uint32_t v) {
+    const auto faces = adj.faces_of_vertex(v);
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> steps;
+    for (std::uint32_t f : faces) {
+        const glm::uvec3& t = mesh.triangles[f];
+        const int k = t[0] == v ? 0 : t[1] == v ? 1 : 2;
+        steps.emplace_back(t[(k + 1) % 3], t[(k + 2) % 3]);
+    }
+    std::vector<std::uint32_t> ring{steps[0].first};
+    while (ring.size() < steps.size()) {
+        const auto it = std::find_if(steps.begin(), steps.end(), [&](const auto& s) { return s.first == ring.back(); });
+        if (it == steps.end()) throw geo::InputError("vertex " + std::to_string(v) + ": its faces do not form a fan");
+        ring.push_back(it->second);
+    }
+    return ring;
+}
+
+double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y * b.x; }
+
+}  // namespace
+
+std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adj) {
+    std::vector<double> slot(adj.vertex_vertices.size(), 0.0);
+    const std::vector<std::uint8_t> interior = adj.interior_vertices();
+    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+        if (!interior[v]) continue;
+        const std::vector<std::uint32_t> ring = ordered_ring(mesh, adj, v);
+        const std::size_t d = ring.size();
+        // Geodesic polar map: lengths kept, angles scaled to sum to 2 pi.
+        std::vector<double> angle(d + 1, 0.0);
+        for (std::size_t k = 0; k < d; ++k) {
+            const glm::dvec3 a = glm::normalize(mesh.positions[ring[k]] - mesh.positions[v]);
+            const glm::dvec3 b = glm::normalize(mesh.positions[ring[(k + 1) % d]] - mesh.positions[v]);
+            angle[k + 1] = angle[k] + std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+        }
+        std::vector<glm::dvec2> q(d);
+        for (std::size_t k = 0; k < d; ++k) {
+            const double phi = angle[k] * 2.0 * std::numbers::pi / angle[d];
+            q[k] = glm::distance(mesh.positions[ring[k]], mesh.positions[v]) * glm::dvec2(std::cos(phi), std::sin(phi));
+        }
+        // For each neighbour l, the ring edge (r, r + 1) that the ray from q_l through the origin
+        // crosses: the origin lies in triangle (q_l, q_r, q_r+1).
+        std::vector<double> lambda(d, 0.0);
+        for (std::size_t l = 0; l < d; ++l) {
+            for (std::size_t r = 0; r < d; ++r) {
+                const std::size_t s = (r + 1) % d;
+                if (r == l || s == l) continue;
+                const double area = cross2(q[r] - q[l], q[s] - q[l]);
+                if (area <= 0.0) continue;
+                const double wl = cross2(q[r], q[s]) / area;  // origin's coordinate of q_l
+                const double wr = cross2(q[s], q[l]) / area;  // of q_r
+                const double ws = cross2(q[l], q[r]) / area;  // of q_s
+                // A ray through a ring vertex touches two triangles: take the first.
+                if (wl < -1e-12 || wr < -1e-12 || ws < -1e-12) continue;
+                lambda[l] += std::max(wl, 0.0), lambda[r] += std::max(wr, 0.0), lambda[s] += std::max(ws, 0.0);
+                break;
+            }
+        }
+        double sum = 0.0;
+        for (double x : lambda) sum += x;
+        if (!(sum > 0.0)) throw geo::InputError("vertex " + std::to_string(v) + ": its one-ring flattens to nothing");
+        const auto nb = adj.neighbors(v);
+        for (std::size_t k = 0; k < d; ++k) {
+            const auto it = std::lower_bound(nb.begin(), nb.end(), ring[k]);
+            slot[adj.vertex_vertex_offsets[v] + std::size_t(it - nb.begin())] = lambda[k] / sum;
+        }
+    }
+    return slot;
+}
+
+}  // namespace gimg::passes

@@ -1,0 +1,181 @@
+// The square map and its iterations: build the weighted Tutte system with the boundary fixed, solve
+// it (GPU or the CPU twin), reweigh, solve again from the last map, until E_sigma stops falling.
+#include "gimg/geometry/error.h"
+#include "gimg/passes/parameterize.h"
+#include "gimg/passes/solvers.h"
+#include "parameterize/reweighting.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+namespace gimg::passes {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+constexpr const char* kVariantNames[] = {"tutte", "floater", "stretch", "density", "uniform3d", "curvature"};
+
+// Rows of interior vertices: u_i - sum_j w_ij u_j = 0 (weights normalised); boundary rows fixed.
+LinearSystem tutte_system(const geo::MeshAdjacency& adj, const std::vector<double>& weights,
+                          const std::vector<std::uint8_t>& interior, const std::vector<glm::dvec2>& fixed_uv,
+                          const std::vector<glm::dvec2>& start) {
+    LinearSystem s;
+    const std::size_t n = adj.vertex_count();
+    s.a.size = n;
+    s.rhs_count = 2;
+    s.a.offsets.reserve(n + 1);
+    for (std::size_t i = 0; i < n; ++i) {
+        s.a.columns.push_back(std::uint32_t(i));
+        s.a.values.push_back(1.0);
+        if (interior[i]) {
+            const auto nb = adj.neighbors(i);
+            for (std::size_t k = 0; k < nb.size(); ++k) {
+                s.a.columns.push_back(nb[k]);
+                s.a.values.push_back(-weights[adj.vertex_vertex_offsets[i] + k]);
+            }
+        }
+        s.a.offsets.push_back(std::uint32_t(s.a.columns.size()));
+    }
+    s.b.assign(2 * n, 0.0);
+    s.fixed.resize(n);
+    s.fixed_values.assign(2 * n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        s.fixed[i] = interior[i] ? 0 : 1;
+        s.fixed_values[2 * i] = fixed_uv[i].x, s.fixed_values[2 * i + 1] = fixed_uv[i].y;
+    }
+    if (!start.empty()) {
+        s.start.resize(2 * n);
+        for (std::size_t i = 0; i < n; ++i) s.start[2 * i] = start[i].x, s.start[2 * i + 1] = start[i].y;
+    }
+    return s;
+}
+
+}  // namespace
+
+const char* variant_name(ParameterizeVariant variant) { return kVariantNames[int(variant)]; }
+
+std::optional<ParameterizeVariant> parse_variant(const std::string& name) {
+    for (int i = 0; i < 6; ++i)
+        if (name == kVariantNames[i]) return ParameterizeVariant(i);
+    return std::nullopt;
+}
+
+std::size_t count_flipped(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv) {
+    std::size_t n = 0;
+    for (double a : detail::uv_face_areas(mesh, uv)) n += a < 0.0;
+    return n;
+}
+
+Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const ParameterizeOptions& options,
+                                     const std::function<void(const IterationReport&)>& on_iteration) {
+    const auto t0 = Clock::now();
+    check_disk_mesh(mesh);
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    Parameterization out;
+    out.boundary = square_boundary(mesh, adj, options.corners);
+    const std::size_t n = mesh.vertex_count();
+
+    detail::ReweightingInput in;
+    in.variant = options.variant;
+    in.adjacency = &adj;
+    in.boundary_factors_on_ratio = options.boundary_factors_on_ratio;
+    in.interior.assign(n, 1);
+    in.corner.assign(n, 0);
+    std::vector<glm::dvec2> fixed_uv(n, glm::dvec2(0.0));
+    for (std::size_t k = 0; k < out.boundary.loop.size(); ++k) {
+        in.interior[out.boundary.loop[k]] = 0;
+        fixed_uv[out.boundary.loop[k]] = out.boundary.uv[k];
+    }
+    for (std::uint32_t c : out.boundary.corners) in.corner[c] = 1;
+    in.face_area_3d = detail::face_areas_3d(mesh);
+    in.ring_area_3d = detail::ring_areas(adj, in.face_area_3d);
+    if (options.variant == ParameterizeVariant::Curvature)
+        in.feature = curvature_feature(mesh, adj, options.curvature_root);
+
+    std::vector<double> weights;
+    if (options.variant == ParameterizeVariant::Tutte) {
+        weights.assign(adj.vertex_vertices.size(), 0.0);
+        for (std::size_t i = 0; i < n; ++i) {
+            const auto nb = adj.neighbors(i);
+            if (in.interior[i])
+                for (std::size_t k = 0; k < nb.size(); ++k)
+                    weights[adj.vertex_vertex_offsets[i] + k] = 1.0 / double(nb.size());
+        }
+    } else {
+        weights = floater_weights(mesh, adj);
+    }
+
+    SolveOptions solve_options{.tolerance = options.solve_tolerance, .max_iterations = 20000};
+    auto solve = [&](const std::vector<glm::dvec2>& start, IterationReport& report) {
+        const LinearSystem system = tutte_system(adj, weights, in.interior, fixed_uv, start);
+        const SolveResult r =
+            ctx ? solve_general(*ctx, system, solve_options) : solve_general_cpu(system, solve_options);
+        if (!r.converged)
+            throw geo::InputError("the parameterization's linear system did not converge (relative residual " +
+                                  std::to_string(r.residual) + " after " + std::to_string(r.iterations) +
+                                  " iterations)");
+        report.solver_iterations = r.iterations;
+        std::vector<glm::dvec2> uv(n);
+        for (std::size_t i = 0; i < n; ++i) uv[i] = {r.x[2 * i], r.x[2 * i + 1]};
+        return uv;
+    };
+    // Measures of an iterate; returns its L2 stretch's per-face squares for the stretch variant.
+    auto measure = [&](const std::vector<glm::dvec2>& uv, IterationReport& report) {
+        const std::vector<double> uv_faces = detail::uv_face_areas(mesh, uv);
+        report.area_spread =
+            detail::area_spread(detail::equalised_areas(in, detail::ring_areas(adj, uv_faces)), in.interior);
+        std::vector<double> stretch = detail::face_stretch_squared(mesh, uv, in.face_area_3d);
+        report.l2_stretch = detail::l2_stretch(stretch, in.face_area_3d);
+        report.flipped = 0;
+        for (double a : uv_faces) report.flipped += a < 0.0;
+        return stretch;
+    };
+    auto finish = [&](const std::vector<glm::dvec2>& uv, IterationReport report, Clock::time_point started) {
+        report.seconds = seconds_since(started);
+        out.iterations.push_back(report);
+        if (options.keep_iterates) out.iterates.push_back(uv);
+        if (on_iteration) on_iteration(report);
+    };
+
+    auto started = Clock::now();
+    IterationReport first;
+    std::vector<glm::dvec2> uv = solve({}, first);
+    std::vector<double> stretch = measure(uv, first);
+    finish(uv, first, started);
+    out.uv = uv;
+    if (options.variant == ParameterizeVariant::Tutte || options.variant == ParameterizeVariant::Floater) {
+        out.seconds = seconds_since(t0);
+        return out;
+    }
+    double best_stretch = first.l2_stretch;
+    for (std::size_t t = 1; t <= options.max_iterations; ++t) {
+        started = Clock::now();
+        IterationReport report;
+        report.iteration = t;
+        report.sigma_error =
+            options.variant == ParameterizeVariant::Stretch
+                ? detail::reweigh_by_stretch(in, stretch, weights)
+                : detail::reweigh_by_density(in, detail::ring_areas(adj, detail::uv_face_areas(mesh, uv)), weights);
+        uv = solve(uv, report);
+        stretch = measure(uv, report);
+        finish(uv, report, started);
+        if (options.variant == ParameterizeVariant::Stretch) {
+            // Yoshizawa et al. stop when the L2 stretch stops falling and keep the best map.
+            if (report.l2_stretch < best_stretch) {
+                best_stretch = report.l2_stretch;
+                out.uv = uv;
+            }
+            if (!(report.l2_stretch < out.iterations[t - 1].l2_stretch * (1.0 - options.stop_fall))) break;
+        } else {
+            out.uv = uv;
+            if (t >= 2 && !(report.sigma_error < out.iterations[t - 1].sigma_error * (1.0 - options.stop_fall))) break;
+        }
+    }
+    out.seconds = seconds_since(t0);
+    return out;
+}
+
+}  // namespace gimg::passes

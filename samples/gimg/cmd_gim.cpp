@@ -1,0 +1,166 @@
+// gimg gim MESH --out DIR [--size N] [--variant V] [--corners A,B,C,D] [--iterations N] [--cpu] [--json FILE]
+// A disk mesh -> square map (iteratively reweighted) -> N x N geometry image -> mesh, measured.
+#include "command_files.h"
+#include "commands.h"
+#include "gim_report.h"
+#include "gpu_context.h"
+#include "json_output.h"
+#include "progress_line.h"
+#include "timing.h"
+
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/io.h"
+#include "gimg/passes/parameterize.h"
+#include "gimg/passes/reconstruct.h"
+#include "gimg/passes/render.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace gimg::cli {
+
+namespace {
+
+struct GimOptions {
+    std::string mesh, out, json, variant = "curvature";
+    std::vector<std::uint32_t> corners;
+    std::uint32_t size = 0;
+    std::uint64_t iterations = 50, samples = 0;
+    double root = 4.0, stop = 0.01;
+    bool cpu = false, factors_on_ratio = false;
+};
+
+nlohmann::json iteration_json(const passes::IterationReport& r) {
+    return {{"iteration", r.iteration},   {"sigma_error", r.sigma_error}, {"area_spread", r.area_spread},
+            {"l2_stretch", r.l2_stretch}, {"flipped", r.flipped},         {"solver_iterations", r.solver_iterations},
+            {"seconds", r.seconds}};
+}
+
+void run_gim(const GimOptions& o, const GlobalOptions& global) {
+    const geo::Mesh mesh = geo::load_mesh(o.mesh);
+    passes::check_disk_mesh(mesh);
+    const std::uint32_t size =
+        o.size ? o.size : std::max(2u, std::uint32_t(std::lround(std::sqrt(double(mesh.vertex_count())))));
+    passes::ParameterizeOptions po;
+    po.variant = *passes::parse_variant(o.variant);
+    po.max_iterations = o.iterations;
+    po.curvature_root = o.root;
+    po.stop_fall = o.stop;
+    po.boundary_factors_on_ratio = o.factors_on_ratio;
+    if (!o.corners.empty()) {
+        if (o.corners.size() != 4) throw geo::InputError("--corners takes four boundary vertex indices");
+        po.corners = std::array<std::uint32_t, 4>{o.corners[0], o.corners[1], o.corners[2], o.corners[3]};
+    }
+    std::unique_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
+    auto report = [&](const passes::IterationReport& r) {
+        if (global.quiet) return;
+        std::printf(
+            "  iteration %2zu: E_sigma %.3e, area spread %.4f, L2 stretch %.4f, %zu flipped, %zu solver "
+            "iterations, %.3f s\n",
+            r.iteration, r.sigma_error, r.area_spread, r.l2_stretch, r.flipped, r.solver_iterations, r.seconds);
+    };
+    if (!global.quiet)
+        std::printf("%s: %zu vertices, %zu faces; %s map on the %s\n", o.mesh.c_str(), mesh.vertex_count(),
+                    mesh.face_count(), o.variant.c_str(), o.cpu ? "CPU" : "GPU");
+    const passes::Parameterization map = passes::parameterize_square(o.cpu ? nullptr : ctx.get(), mesh, po, report);
+
+    passes::PositionImage image;
+    geo::Mesh back;
+    const double sample_ms = time_ms([&] {
+        image = o.cpu ? passes::geometry_image_cpu(mesh, map.uv, size)
+                      : passes::geometry_image_gpu(*ctx, mesh, map.uv, size);
+    });
+    const double reconstruct_ms =
+        time_ms([&] { back = o.cpu ? passes::reconstruct_cpu(image, {}) : passes::reconstruct_gpu(*ctx, image, {}); });
+    if (back.face_count() == 0) throw geo::InputError(o.mesh + ": the geometry image rebuilds no face");
+    const std::filesystem::path dir(o.out);
+    passes::write_position_exr(image, dir / "gim.exr");
+    geo::save_mesh(back, dir / "reconstruction.ply");
+    geo::write_png(parameter_picture(*ctx, mesh, map.uv, 768), dir / "param.png");
+    passes::RenderOptions view;
+    view.width = view.height = 640;
+    geo::RgbaImage picture = passes::render_side_by_side(*ctx, mesh, back, view);
+    check_picture_shows_something(picture, o.mesh);
+    for (std::size_t i = 3; i < picture.pixels.size(); i += 4) picture.pixels[i] = 255;
+    geo::write_png(picture, dir / "compare.png");
+
+    geo::SurfaceDistanceOptions so;
+    if (o.samples) so.sampling.sample_count = o.samples;
+    ProgressLine line(global.quiet);
+    if (line.on()) so.progress = [&line](double done) { line.percent("surface distance", done); };
+    const GimError e = gim_error(mesh, back, so);
+    line.finish();
+    std::size_t covered = 0;
+    for (auto c : image.covered) covered += c;
+    const passes::IterationReport& last = map.iterations.back();
+    if (!global.quiet) {
+        std::printf(
+            "map: %zu iterations, %.2f s, %zu flipped triangles; %ux%u image (%zu of %zu pixels covered, "
+            "%.1f ms) -> %zu faces (%.1f ms)\n",
+            map.iterations.size() - 1, map.seconds, last.flipped, size, size, covered, std::size_t(size) * size,
+            sample_ms, back.face_count(), reconstruct_ms);
+        std::printf(
+            "relative to the bounding-box diagonal: RMS %.3e (original->reconstruction %.3e, back %.3e), "
+            "Hausdorff %.3e, PSNR %.2f dB\n",
+            e.rms, e.distance.a_to_b.rms / e.distance.bbox_diagonal, e.distance.b_to_a.rms / e.distance.bbox_diagonal,
+            e.hausdorff, e.psnr);
+        std::printf("wrote %s/{gim.exr, reconstruction.ply, param.png, compare.png}\n", o.out.c_str());
+    }
+    nlohmann::json iterations = nlohmann::json::array();
+    for (const auto& r : map.iterations) iterations.push_back(iteration_json(r));
+    nlohmann::json j{{"mesh", o.mesh},
+                     {"vertices", mesh.vertex_count()},
+                     {"faces", mesh.face_count()},
+                     {"variant", o.variant},
+                     {"method", o.cpu ? "cpu" : "gpu"},
+                     {"size", size},
+                     {"corners", map.boundary.corners},
+                     {"iterations", iterations},
+                     {"map_seconds", map.seconds},
+                     {"flipped", last.flipped},
+                     {"covered_pixels", covered},
+                     {"sample_ms", sample_ms},
+                     {"reconstruct_ms", reconstruct_ms},
+                     {"reconstruction_faces", back.face_count()},
+                     {"error", gim_error_json(e)}};
+    add_machine_figures(j, ctx.get());
+    write_json(o.json, j);
+}
+
+}  // namespace
+
+void add_gim_command(CLI::App& app, const GlobalOptions& global) {
+    auto o = std::make_shared<GimOptions>();
+    auto* cmd = app.add_subcommand("gim", "Disk mesh -> square parameterization -> geometry image -> mesh, measured");
+    cmd->add_option("mesh", o->mesh, "Input mesh: one component, manifold, one boundary loop")->required();
+    cmd->add_option("--out", o->out, "Output folder (gim.exr, reconstruction.ply, param.png, compare.png)")->required();
+    add_count_option(cmd, "--size", o->size, 2, 16384, "Image size N (N x N; default round(sqrt(vertices)))");
+    cmd->add_option("--variant", o->variant,
+                    "tutte, floater, stretch (Yoshizawa et al. 2004), density, uniform3d or curvature (default)")
+        ->check(CLI::IsMember({"tutte", "floater", "stretch", "density", "uniform3d", "curvature"}));
+    cmd->add_option("--corners", o->corners,
+                    "Four boundary vertex indices, in boundary order, for the square's corners (default: at quarter "
+                    "arc lengths)")
+        ->delimiter(',')
+        ->expected(4);
+    add_count_option(cmd, "--iterations", o->iterations, 1, 1000, "Most reweighting iterations (default 50)");
+    add_number_option(cmd, "--stop", o->stop, 0.0, 1.0,
+                      "Stop when E_sigma (stretch: the L2 stretch) falls by less than this fraction (default 0.01)");
+    add_number_option(cmd, "--root", o->root, 1.0, 16.0, "N in the curvature measure (k1^2 + k2^2)^(1/N) (default 4)");
+    cmd->add_flag("--factors-on-ratio", o->factors_on_ratio,
+                  "Apply the corner x4 and boundary x2 factors to uniform3d's and curvature's ratios too (as printed)");
+    cmd->add_flag("--cpu", o->cpu, "Solve and sample with the CPU twins instead of the GPU");
+    add_count_option(cmd, "--samples", o->samples, 1, 100'000'000,
+                     "Surface samples per mesh for the distance (default max(1M, 10 per face))");
+    cmd->add_option("--json", o->json, "Write the figures as JSON");
+    cmd->callback([o, &global] {
+        auto outputs = folder_outputs("--out", o->out, {"gim.exr", "reconstruction.ply", "param.png", "compare.png"});
+        outputs.push_back(json_output(o->json));
+        run_writing({o->mesh}, outputs, [&] {
+            make_output_folder("--out", o->out);
+            run_gim(*o, global);
+        });
+    });
+}
+
+}  // namespace gimg::cli
