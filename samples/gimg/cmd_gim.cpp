@@ -22,11 +22,11 @@ namespace gimg::cli {
 namespace {
 
 struct GimOptions {
-    std::string mesh, out, json, variant = "curvature";
+    std::string mesh, out, json, view, variant = "curvature";
     std::vector<std::uint32_t> corners;
-    std::uint32_t size = 0;
+    std::uint32_t size = 0, picture = 640;
     std::uint64_t iterations = 50, samples = 0;
-    double root = 4.0, stop = 0.01;
+    double root = 6.0, stop = 0.01;
     bool cpu = false, factors_on_ratio = false;
 };
 
@@ -76,9 +76,10 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     const std::filesystem::path dir(o.out);
     passes::write_position_exr(image, dir / "gim.exr");
     geo::save_mesh(back, dir / "reconstruction.ply");
-    geo::write_png(parameter_picture(*ctx, mesh, map.uv, 768), dir / "param.png");
+    geo::write_png(parameter_picture(*ctx, mesh, map.uv, o.picture), dir / "param.png");
     passes::RenderOptions view;
-    view.width = view.height = 640;
+    view.width = view.height = o.picture;
+    view.view = parse_view(o.view);
     geo::RgbaImage picture = passes::render_side_by_side(*ctx, mesh, back, view);
     check_picture_shows_something(picture, o.mesh);
     for (std::size_t i = 3; i < picture.pixels.size(); i += 4) picture.pixels[i] = 255;
@@ -146,9 +147,12 @@ void add_gim_command(CLI::App& app, const GlobalOptions& global) {
     add_count_option(cmd, "--iterations", o->iterations, 1, 1000, "Most reweighting iterations (default 50)");
     add_number_option(cmd, "--stop", o->stop, 0.0, 1.0,
                       "Stop when E_sigma (stretch: the L2 stretch) falls by less than this fraction (default 0.01)");
-    add_number_option(cmd, "--root", o->root, 1.0, 16.0, "N in the curvature measure (k1^2 + k2^2)^(1/N) (default 4)");
+    add_number_option(cmd, "--root", o->root, 1.0, 16.0, "N in the curvature measure (k1^2 + k2^2)^(1/N) (default 6; the thesis: 3 to 4)");
     cmd->add_flag("--factors-on-ratio", o->factors_on_ratio,
                   "Apply the corner x4 and boundary x2 factors to uniform3d's and curvature's ratios too (as printed)");
+    add_count_option(cmd, "--picture", o->picture, 64, 4096,
+                     "Side of param.png, and of each half of compare.png, in pixels (default 640)");
+    cmd->add_option("--view", o->view, "compare.png's camera azimuth and elevation in degrees, AZ,EL (default 35,20)");
     cmd->add_flag("--cpu", o->cpu, "Solve and sample with the CPU twins instead of the GPU");
     add_count_option(cmd, "--samples", o->samples, 1, 100'000'000,
                      "Surface samples per mesh for the distance (default max(1M, 10 per face))");
@@ -157,6 +161,7 @@ void add_gim_command(CLI::App& app, const GlobalOptions& global) {
         auto outputs = folder_outputs("--out", o->out, {"gim.exr", "reconstruction.ply", "param.png", "compare.png"});
         outputs.push_back(json_output(o->json));
         run_writing({o->mesh}, outputs, [&] {
+            parse_view(o->view);  // refused before any work
             make_output_folder("--out", o->out);
             run_gim(*o, global);
         });

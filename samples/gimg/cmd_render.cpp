@@ -52,17 +52,6 @@ std::vector<float> read_scalars(const std::string& path, std::size_t expected) {
     return values;
 }
 
-passes::View parse_view(const std::string& text) {
-    passes::View v;
-    if (text.empty()) return v;
-    std::istringstream in(text);
-    char comma = 0;
-    if (!(in >> v.azimuth_deg >> comma >> v.elevation_deg) || comma != ',' || !in.eof() ||
-        std::abs(v.elevation_deg) > 90.0 || !std::isfinite(v.azimuth_deg))
-        throw geo::InputError("--view takes AZ,EL in degrees (elevation in [-90, 90]), got '" + text + "'");
-    return v;
-}
-
 void run_render(const RenderCliOptions& o, const GlobalOptions& global) {
     const auto start = std::chrono::steady_clock::now();
     passes::RenderOptions r;

@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
+#include <sstream>
 #include <system_error>
 
 namespace gimg::cli {
@@ -133,6 +135,17 @@ CLI::Option* add_count_option(CLI::App* cmd, const std::string& name, std::uint6
 CLI::Option* add_count_option(CLI::App* cmd, const std::string& name, std::uint32_t& value, std::uint32_t lo,
                               std::uint32_t hi, const std::string& help) {
     return add_ranged(cmd, name, value, lo, hi, help);
+}
+
+passes::View parse_view(const std::string& text) {
+    passes::View v;
+    if (text.empty()) return v;
+    std::istringstream in(text);
+    char comma = 0;
+    if (!(in >> v.azimuth_deg >> comma >> v.elevation_deg) || comma != ',' || !in.eof() ||
+        std::abs(v.elevation_deg) > 90.0 || !std::isfinite(v.azimuth_deg))
+        throw geo::InputError("--view takes AZ,EL in degrees (elevation in [-90, 90]), got '" + text + "'");
+    return v;
 }
 
 }  // namespace gimg::cli

@@ -5,6 +5,7 @@
 
 #include "gimg/geometry/atomic_file.h"
 #include "gimg/geometry/image.h"
+#include "gimg/passes/render.h"
 
 #include <CLI/CLI.hpp>
 
@@ -59,5 +60,8 @@ CLI::Option* add_count_option(CLI::App* cmd, const std::string& name, std::uint3
 // A decimal number in [lo, hi] (no hex, inf or nan).
 CLI::Option* add_number_option(CLI::App* cmd, const std::string& name, double& value, double lo, double hi,
                                const std::string& help);
+
+// --view AZ,EL: camera azimuth and elevation in degrees; empty gives the renderer's default.
+passes::View parse_view(const std::string& text);
 
 }  // namespace gimg::cli

@@ -57,7 +57,7 @@ geo::RgbaImage parameter_picture(Context& ctx, const geo::Mesh& mesh, const std:
     o.wireframe = mesh.face_count() <= 20000;
     o.color = passes::MeshColor::Diverging;
     o.smooth = false;
-    o.scalar_range = std::pair{-2.0f, 2.0f};
+    o.scalar_range = std::pair{-3.0f, 3.0f};  // a factor of 8 either way, the same for every map
     o.scalars.resize(uv.size());
     for (std::size_t i = 0; i < uv.size(); ++i)
         o.scalars[i] = area_3d[i] > 0.0 && area_2d[i] > 0.0

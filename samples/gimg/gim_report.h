@@ -26,7 +26,7 @@ GimError gim_error(const geo::Mesh& original, const geo::Mesh& reconstruction,
 nlohmann::json gim_error_json(const GimError& e);
 
 // The parameter domain drawn as a mesh with its edges, each vertex coloured by its sampling density
-// log2((A_2D / A_3D) / mean): red where the image samples the surface densely, blue where sparsely.
+// log2((A_2D / A_3D) / mean), from -3 (blue: sampled sparsely) to +3 (red: densely).
 geo::RgbaImage parameter_picture(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv,
                                  std::uint32_t size);
 
