@@ -36,7 +36,7 @@ double cross2(const glm::dvec2& a, const glm::dvec2& b) { return a.x * b.y - a.y
 
 }  // namespace
 
-std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adj) {
+std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, std::size_t* fallbacks) {
     std::vector<double> slot(adj.vertex_vertices.size(), 0.0);
     const std::vector<std::uint8_t> interior = adj.interior_vertices();
     for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
@@ -58,6 +58,7 @@ std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjace
         // For each neighbour l, the ring edge (r, r + 1) that the ray from q_l through the origin
         // crosses: the origin lies in triangle (q_l, q_r, q_r+1).
         std::vector<double> lambda(d, 0.0);
+        std::size_t found = 0;
         for (std::size_t l = 0; l < d; ++l) {
             for (std::size_t r = 0; r < d; ++r) {
                 const std::size_t s = (r + 1) % d;
@@ -70,11 +71,20 @@ std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjace
                 // A ray through a ring vertex touches two triangles: take the first.
                 if (wl < -1e-12 || wr < -1e-12 || ws < -1e-12) continue;
                 lambda[l] += std::max(wl, 0.0), lambda[r] += std::max(wr, 0.0), lambda[s] += std::max(ws, 0.0);
+                ++found;
                 break;
             }
         }
         double sum = 0.0;
         for (double x : lambda) sum += x;
+        // A scaled angle of pi or more leaves some neighbour without a triangle holding the vertex
+        // (the flattened star is not star-shaped): chord-length weights for this vertex instead.
+        if (found < d) {
+            if (fallbacks) ++*fallbacks;
+            sum = 0.0;
+            for (std::size_t k = 0; k < d; ++k)
+                sum += lambda[k] = 1.0 / glm::distance(mesh.positions[ring[k]], mesh.positions[v]);
+        }
         if (!(sum > 0.0)) throw geo::InputError("vertex " + std::to_string(v) + ": its one-ring flattens to nothing");
         const auto nb = adj.neighbors(v);
         for (std::size_t k = 0; k < d; ++k) {

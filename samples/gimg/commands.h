@@ -43,6 +43,8 @@ void write_sphere_pictures(Context& ctx, const geo::Mesh& mesh, const std::vecto
 void add_retrieval_commands(CLI::App& app, const GlobalOptions& global);
 // gimg gim MESH --out DIR [--size N] [--variant V] (cmd_gim.cpp)
 void add_gim_command(CLI::App& app, const GlobalOptions& global);
+// gimg quadmap / deform MESH --corners A,B,C,D --out DIR (cmd_quadmap.cpp)
+void add_quadmap_commands(CLI::App& app, const GlobalOptions& global);
 // gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
 void add_info_command(CLI::App& app, const GlobalOptions& global);
 

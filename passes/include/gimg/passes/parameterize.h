@@ -49,8 +49,11 @@ SquareBoundary square_boundary(const geo::Mesh& mesh, const geo::MeshAdjacency& 
 // Floater's shape-preserving weights (1997): per interior vertex, the mean over its neighbours of
 // the barycentric coordinates of the vertex in the triangle of its geodesic polar map hit by the
 // ray opposite that neighbour. slot_weights[k] belongs to adjacency.vertex_vertices[k]; rows of
-// interior vertices are positive and sum to 1; boundary rows are 0.
-std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency);
+// interior vertices are positive and sum to 1; boundary rows are 0. A vertex whose flattened star
+// has a scaled angle of pi or more (no containing triangle for some neighbour) gets chord-length
+// weights instead, counted in `fallbacks`.
+std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
+                                    std::size_t* fallbacks = nullptr);
 
 enum class ParameterizeVariant { Tutte, Floater, Stretch, Density, Uniform3d, Curvature };
 const char* variant_name(ParameterizeVariant variant);  // "tutte", "floater", ...

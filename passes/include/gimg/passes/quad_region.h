@@ -1,0 +1,108 @@
+#pragma once
+// Four-sided regions of any mesh mapped onto the unit square, and deformations through that map
+// (Kuriyama & Kaneko, "Deformation via discrete parametrization of a quadrilateral region";
+// docs/quadmap.md). Four corner vertices W1..W4 span the region: each side is the mesh cut by the
+// plane through W_i and W_i+1 spanned by (W_i - W_i+1) and (N_i + N_i+1), with points inserted
+// where it crosses edges. The region is mapped with Floater's (or chord-length) weights, the
+// corners going to (0,0), (1,0), (1,1), (0,1), solved by the paper's relaxation from a flat or an
+// accelerated start (Dijkstra distances and a bilinear normalisation), by the solver module's
+// BiCGSTAB on the GPU, or by Eigen's SparseLU; and deformed by a lattice of offsets (clamped cubic
+// B-splines, the outer layers fixed) or by a pasted height along the normals.
+
+#include "gimg/engine/context.h"
+#include "gimg/geometry/adjacency.h"
+#include "gimg/geometry/mesh.h"
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace gimg::passes {
+
+inline constexpr std::uint32_t kInsertedNode = 0xffffffffu;
+
+// The region as its own mesh: the faces of the original on the left of W1 -> W2 -> W3 -> W4, those
+// crossed by a side split along it. Vertices are original vertices or points inserted on edges.
+struct QuadRegion {
+    geo::Mesh mesh;                        // the region; counter-clockwise like the original
+    std::vector<std::uint32_t> original;   // per region vertex: its original vertex, or kInsertedNode
+    std::array<std::uint32_t, 4> corners;  // W1..W4 as region vertex indices
+    std::vector<std::uint8_t> side;        // per region vertex: 0 inside, 1..4 on side W_i -> W_i+1
+    std::size_t inserted = 0;              // points inserted on edges
+    std::size_t merged = 0;                // crossings close to a vertex that took the vertex instead
+    geo::Mesh outside;                     // the rest of the mesh, split the same way (for pictures)
+};
+
+// Throws geo::InputError with the reason when the corners are not four distinct vertices, a side
+// cannot be traced (it leaves the mesh), the sides cross or do not enclose a disk on their left.
+QuadRegion cut_quad_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 4>& corners);
+
+enum class QuadWeights { Floater, Chord };
+enum class QuadStart { Flat, Dijkstra };
+enum class QuadSolver { Iterate, Krylov, Direct };
+
+struct QuadMapOptions {
+    QuadWeights weights = QuadWeights::Floater;
+    QuadStart start = QuadStart::Dijkstra;
+    QuadSolver solver = QuadSolver::Krylov;
+    double relaxation = 0.05;  // k of eq. (2) and (4)
+    double tau = 1e-4;         // eq. (2) stops when every correction is below tau
+    std::size_t max_sweeps = 100000;
+    double krylov_tolerance = 1e-10;
+};
+
+struct QuadMap {
+    std::vector<glm::dvec2> uv;     // per region vertex
+    std::vector<glm::dvec2> start;  // the initial guess the solver started from
+    std::size_t iterations_u = 0;   // sweeps of eq. (2) for u (Iterate), solver iterations (Krylov)
+    std::size_t iterations_v = 0;
+    std::size_t start_sweeps = 0;      // sweeps of eq. (4) in the accelerated start
+    std::size_t weight_fallbacks = 0;  // vertices whose flattened star had no containing triangle
+    std::size_t flipped = 0;           // region triangles of negative area in (u, v)
+    double weights_ms = 0.0, start_ms = 0.0, solve_ms = 0.0;
+};
+
+// The map of a region; with ctx == nullptr the Krylov solve runs on the CPU twin.
+QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& options = {});
+
+// Chord-length weights: lambda_j proportional to 1 / |P_j - P_i| (same layout as floater_weights).
+std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency);
+
+// The accelerated start (sec. 3): Dijkstra distances s, t from the u = 0 and v = 0 sides, eq. (3)
+// inverted in closed form, then at most 3 sweeps of eq. (4). Returns the sweeps used.
+std::size_t dijkstra_start(const QuadRegion& region, const std::vector<glm::dvec2>& boundary_uv, double relaxation,
+                           double tau, std::vector<glm::dvec2>& uv);
+// Eq. (3): (s, t) from (u, v), and its inverse (the stable root; the fold-free case is
+// s1 / s0 + t1 / t0 > 1, otherwise the root nearest (s / s0, t / t0) in the square, and `folded`).
+glm::dvec2 bilinear_forward(glm::dvec2 uv, double s0, double t0, double s1, double t1);
+glm::dvec2 bilinear_inverse(glm::dvec2 st, double s0, double t0, double s1, double t1, bool* folded = nullptr);
+
+// Offsets: F(u, v) = sum_pq O_pq B_p(u) B_q(v), clamped cubic B-splines on [0, 1] with
+// columns x rows control points (at least 4 each way). Those in the outer L + 1 rows and columns
+// of each side, L = fixed_layers, are zero: L = 2 makes F, its first and its second derivatives
+// vanish at the region's boundary (C2); -1 fixes none.
+struct OffsetLattice {
+    std::uint32_t columns = 8, rows = 8;
+    std::vector<glm::dvec3> offsets;  // columns * rows, row-major (q * columns + p)
+    int fixed_layers = 2;
+    glm::dvec3 evaluate(glm::dvec2 uv) const;  // with the fixed layers zeroed
+};
+
+// A height field along the normals: G(u, v) from a height map (bilinear, [0, 1]^2 over the image)
+// or the built-in bump h (4u(1 - u))^3 (4v(1 - v))^3.
+struct PastedFeature {
+    std::uint32_t width = 0, height = 0;
+    std::vector<float> heights;  // width * height, row 0 at v = 1; empty: the built-in bump
+    double scale = 0.1;          // h, in units of the mesh's bounding-box diagonal
+    double evaluate(glm::dvec2 uv) const;
+};
+
+// The deformed original mesh: P'_i = P_i + F(u_i, v_i) for the region's original vertices, every
+// other vertex unchanged. The GPU path is a compute pass; the CPU twin gives the same positions.
+geo::Mesh deform_by_lattice(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
+                            const OffsetLattice& lattice);
+geo::Mesh paste_feature(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
+                        const PastedFeature& feature);
+
+}  // namespace gimg::passes

@@ -1,0 +1,131 @@
+// The region's map: boundary values by chord length, Floater's or chord-length weights, a flat or
+// accelerated start, and one of three solvers (the paper's relaxation, BiCGSTAB, SparseLU).
+#include "gimg/geometry/error.h"
+#include "gimg/passes/parameterize.h"
+#include "gimg/passes/quad_region.h"
+#include "gimg/passes/solvers.h"
+#include "parameterize/tutte_system.h"
+
+#include <Eigen/SparseLU>
+#include <glm/geometric.hpp>
+
+#include <chrono>
+#include <cmath>
+
+namespace gimg::passes {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+// Eq. (2), in place (Gauss-Seidel) in vertex order, one field at a time: u_i <- k u_i + (1 - k)
+// sum_j lambda_j u_j until every correction |sum_j lambda_j u_j - u_i| is below tau.
+std::size_t relax(const geo::MeshAdjacency& adj, const std::vector<double>& w,
+                  const std::vector<std::uint8_t>& interior, double k, double tau, std::size_t max_sweeps,
+                  std::vector<glm::dvec2>& uv, int field) {
+    for (std::size_t sweep = 1; sweep <= max_sweeps; ++sweep) {
+        double worst = 0.0;
+        for (std::size_t i = 0; i < uv.size(); ++i) {
+            if (!interior[i]) continue;
+            const auto nb = adj.neighbors(i);
+            double mean = 0.0;
+            for (std::size_t j = 0; j < nb.size(); ++j) mean += w[adj.vertex_vertex_offsets[i] + j] * uv[nb[j]][field];
+            worst = std::max(worst, std::abs(mean - uv[i][field]));
+            uv[i][field] = k * uv[i][field] + (1.0 - k) * mean;
+        }
+        if (worst < tau) return sweep;
+    }
+    throw geo::InputError("the relaxation did not settle within " + std::to_string(max_sweeps) + " sweeps");
+}
+
+std::vector<glm::dvec2> solve_direct(const LinearSystem& s) {
+    const auto n = Eigen::Index(s.a.size);
+    std::vector<Eigen::Triplet<double>> entries;
+    Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(n, 2);
+    for (std::size_t i = 0; i < s.a.size; ++i) {
+        if (s.fixed[i]) {
+            entries.emplace_back(int(i), int(i), 1.0);
+            rhs(Eigen::Index(i), 0) = s.fixed_values[2 * i], rhs(Eigen::Index(i), 1) = s.fixed_values[2 * i + 1];
+            continue;
+        }
+        for (std::uint32_t k = s.a.offsets[i]; k < s.a.offsets[i + 1]; ++k)
+            entries.emplace_back(int(i), int(s.a.columns[k]), s.a.values[k]);
+    }
+    Eigen::SparseMatrix<double> a(n, n);
+    a.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu(a);
+    if (lu.info() != Eigen::Success) throw geo::InputError("the region's system is singular");
+    const Eigen::MatrixXd x = lu.solve(rhs);
+    std::vector<glm::dvec2> uv(s.a.size);
+    for (std::size_t i = 0; i < uv.size(); ++i) uv[i] = {x(Eigen::Index(i), 0), x(Eigen::Index(i), 1)};
+    return uv;
+}
+
+}  // namespace
+
+std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adj) {
+    std::vector<double> w(adj.vertex_vertices.size(), 0.0);
+    const std::vector<std::uint8_t> interior = adj.interior_vertices();
+    for (std::size_t i = 0; i < mesh.vertex_count(); ++i) {
+        if (!interior[i]) continue;
+        const auto nb = adj.neighbors(i);
+        double sum = 0.0;
+        for (std::size_t j = 0; j < nb.size(); ++j)
+            sum += w[adj.vertex_vertex_offsets[i] + j] = 1.0 / glm::distance(mesh.positions[i], mesh.positions[nb[j]]);
+        for (std::size_t j = 0; j < nb.size(); ++j) w[adj.vertex_vertex_offsets[i] + j] /= sum;
+    }
+    return w;
+}
+
+QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& o) {
+    if (!(o.relaxation >= 0.0 && o.relaxation < 1.0)) throw geo::InputError("the relaxation k must be in [0, 1)");
+    if (!(o.tau > 0.0)) throw geo::InputError("tau must be positive");
+    const geo::Mesh& mesh = region.mesh;
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    const SquareBoundary boundary = square_boundary(mesh, adj, region.corners);
+    const std::size_t n = mesh.vertex_count();
+    std::vector<std::uint8_t> interior(n, 1);
+    std::vector<glm::dvec2> fixed(n, glm::dvec2(0.5));
+    for (std::size_t k = 0; k < boundary.loop.size(); ++k) {
+        interior[boundary.loop[k]] = 0;
+        fixed[boundary.loop[k]] = boundary.uv[k];
+    }
+    QuadMap out;
+    auto t = Clock::now();
+    const std::vector<double> w = o.weights == QuadWeights::Floater ? floater_weights(mesh, adj, &out.weight_fallbacks)
+                                                                    : chord_weights(mesh, adj);
+    out.weights_ms = ms_since(t);
+
+    t = Clock::now();
+    out.start = fixed;  // flat: 0.5 on every free vertex
+    if (o.start == QuadStart::Dijkstra)
+        out.start_sweeps = dijkstra_start(region, fixed, o.relaxation, o.tau, out.start);
+    out.start_ms = ms_since(t);
+
+    t = Clock::now();
+    out.uv = out.start;
+    switch (o.solver) {
+        case QuadSolver::Iterate:
+            out.iterations_u = relax(adj, w, interior, o.relaxation, o.tau, o.max_sweeps, out.uv, 0);
+            out.iterations_v = relax(adj, w, interior, o.relaxation, o.tau, o.max_sweeps, out.uv, 1);
+            break;
+        case QuadSolver::Krylov: {
+            const LinearSystem s = detail::tutte_system(adj, w, interior, fixed, out.start);
+            const SolveOptions so{.tolerance = o.krylov_tolerance, .max_iterations = 20000};
+            const SolveResult r = ctx ? solve_general(*ctx, s, so) : solve_general_cpu(s, so);
+            if (!r.converged) throw geo::InputError("the region's system did not converge");
+            for (std::size_t i = 0; i < n; ++i) out.uv[i] = {r.x[2 * i], r.x[2 * i + 1]};
+            out.iterations_u = out.iterations_v = r.iterations;
+            break;
+        }
+        case QuadSolver::Direct:
+            out.uv = solve_direct(detail::tutte_system(adj, w, interior, fixed, {}));
+            break;
+    }
+    out.solve_ms = ms_since(t);
+    out.flipped = count_flipped(mesh, out.uv);
+    return out;
+}
+
+}  // namespace gimg::passes

@@ -1,0 +1,291 @@
+// Four-sided regions (Kuriyama & Kaneko): the spec's checks (sec. 1.13) — weights, an irregular
+// planar square that maps to itself, fold-free maps on curved meshes, the relaxation's fixed point
+// against the direct solve, the accelerated start (exact on a structured rectangle, eq. (3)'s round
+// trip, far fewer sweeps), sides on their planes, and the deformations' boundary behaviour.
+#include "gpu_test.h"
+#include "test_data.h"
+
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/io.h"
+#include "gimg/geometry/normals.h"
+#include "gimg/geometry/shapes.h"
+#include "gimg/passes/parameterize.h"
+#include "gimg/passes/quad_region.h"
+
+#include <glm/geometric.hpp>
+
+#include <cmath>
+#include <random>
+
+using namespace gimg;
+namespace gp = gimg::passes;
+
+namespace {
+
+class QuadRegion : public gimg::test::GpuTest {};
+
+// A planar sheet over [-0.5, 1.5]^2 (20 x 20 squares), interior vertices jittered except those at
+// the unit square's corners.
+geo::Mesh jittered_sheet() {
+    geo::Mesh m = geo::make_grid(20, 20, 2.0, 2.0);
+    m.texcoords.clear();
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> jitter(-0.03, 0.03);
+    for (auto& p : m.positions) {
+        p -= glm::dvec3(0.5, 0.5, 0.0);
+        const bool edge = std::abs(p.x) > 1.49 || std::abs(p.y) > 1.49;
+        const bool corner =
+            (std::abs(p.x) < 1e-9 || std::abs(p.x - 1) < 1e-9) && (std::abs(p.y) < 1e-9 || std::abs(p.y - 1) < 1e-9);
+        if (!edge && !corner) p += glm::dvec3(jitter(rng), jitter(rng), 0.0);
+    }
+    return m;
+}
+
+std::uint32_t nearest(const geo::Mesh& m, glm::dvec3 p) {
+    std::uint32_t best = 0;
+    for (std::uint32_t v = 0; v < m.vertex_count(); ++v)
+        if (glm::distance(m.positions[v], p) < glm::distance(m.positions[best], p)) best = v;
+    return best;
+}
+
+std::array<std::uint32_t, 4> unit_corners(const geo::Mesh& m) {
+    return {nearest(m, {0, 0, 0}), nearest(m, {1, 0, 0}), nearest(m, {1, 1, 0}), nearest(m, {0, 1, 0})};
+}
+
+double max_error_xy(const gp::QuadRegion& r, const std::vector<glm::dvec2>& uv) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < uv.size(); ++i)
+        worst = std::max(worst, glm::length(uv[i] - glm::dvec2(r.mesh.positions[i].x, r.mesh.positions[i].y)));
+    return worst;
+}
+
+// Corners found on bunny by `gimg quadmap --corners auto` (a patch of its back).
+constexpr std::array<std::uint32_t, 4> kBunnyCorners{203, 8848, 17085, 3857};
+
+}  // namespace
+
+TEST_F(QuadRegion, AnIrregularPlanarSquareMapsToItself) {
+    // The unit square meshed irregularly, corners at its corners: the region is the whole mesh.
+    geo::Mesh square = geo::make_grid(12, 12);
+    square.texcoords.clear();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> jitter(-0.03, 0.03);
+    for (auto& p : square.positions)
+        if (p.x > 0.0 && p.x < 1.0 && p.y > 0.0 && p.y < 1.0) p += glm::dvec3(jitter(rng), jitter(rng), 0.0);
+    const gp::QuadRegion r = gp::cut_quad_region(square, {0, 12, 168, 156});
+    ASSERT_EQ(r.mesh.vertex_count(), square.vertex_count());
+    // Floater's weights reproduce the plane: u = x, v = y by every solver.
+    EXPECT_LE(max_error_xy(r, gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Direct}).uv), 1e-10);
+    EXPECT_LE(max_error_xy(r, gp::map_quad_region(&ctx(), r, {.krylov_tolerance = 1e-12}).uv), 1e-9);
+    const gp::QuadMap relaxed =
+        gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Iterate, .tau = 1e-13, .max_sweeps = 200000});
+    EXPECT_LE(max_error_xy(r, relaxed.uv), 1e-9);
+    // Chord-length weights do not.
+    EXPECT_GT(
+        max_error_xy(
+            r,
+            gp::map_quad_region(nullptr, r, {.weights = gp::QuadWeights::Chord, .solver = gp::QuadSolver::Direct}).uv),
+        1e-4);
+}
+
+TEST(QuadRegionCut, StraightSidesThroughAnIrregularSheet) {
+    // The unit square inside a larger jittered sheet: each side's plane is vertical through two
+    // corners, so inserted points lie on the square's sides and merged vertices within 5 % of an
+    // edge (0.1 long here) of them.
+    const geo::Mesh sheet = jittered_sheet();
+    const gp::QuadRegion r = gp::cut_quad_region(sheet, unit_corners(sheet));
+    EXPECT_GT(r.inserted, 20u);
+    for (std::size_t i = 0; i < r.mesh.vertex_count(); ++i) {
+        if (!r.side[i]) continue;
+        const glm::dvec3 p = r.mesh.positions[i];
+        const double off = std::min({std::abs(p.x), std::abs(p.x - 1), std::abs(p.y), std::abs(p.y - 1)});
+        EXPECT_LT(off, r.original[i] == gp::kInsertedNode ? 1e-12 : 0.1 * 0.05 + 0.03) << i;
+    }
+    const gp::QuadMap m = gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Direct});
+    EXPECT_EQ(m.flipped, 0u);
+    EXPECT_LT(max_error_xy(r, m.uv), 0.02);  // the merged vertices bend the sides a little
+}
+
+TEST(QuadWeights, ChordLengthWeightsMissLinearPrecisionAndFloatersAreNotUniform) {
+    const geo::Mesh sheet = jittered_sheet();
+    const geo::MeshAdjacency adj = geo::build_adjacency(sheet);
+    const std::vector<double> floater = gp::floater_weights(sheet, adj), chord = gp::chord_weights(sheet, adj);
+    const std::vector<std::uint8_t> interior = adj.interior_vertices();
+    double chord_worst = 0.0, spread = 0.0;
+    for (std::size_t i = 0; i < sheet.vertex_count(); ++i) {
+        if (!interior[i]) continue;
+        const auto nb = adj.neighbors(i);
+        glm::dvec3 mean(0.0);
+        for (std::size_t k = 0; k < nb.size(); ++k) {
+            mean += chord[adj.vertex_vertex_offsets[i] + k] * sheet.positions[nb[k]];
+            spread = std::max(spread, std::abs(floater[adj.vertex_vertex_offsets[i] + k] - 1.0 / double(nb.size())));
+        }
+        chord_worst = std::max(chord_worst, glm::length(mean - sheet.positions[i]));
+    }
+    EXPECT_GT(chord_worst, 1e-3);  // of a spacing of 0.1
+    EXPECT_GT(spread, 0.02);       // not 1 / n (the printed index swap would give that)
+}
+
+TEST_F(QuadRegion, EveryMapIsFoldFreeInsideTheSquareOnACurvedMesh) {
+    GIMG_REQUIRE_SHARED_MESH(path, "bunny.off");
+    const geo::Mesh bunny = geo::load_mesh(path);
+    const gp::QuadRegion r = gp::cut_quad_region(bunny, kBunnyCorners);
+    EXPECT_GT(r.mesh.vertex_count(), 1000u);
+    for (auto weights : {gp::QuadWeights::Floater, gp::QuadWeights::Chord})
+        for (auto solver : {gp::QuadSolver::Iterate, gp::QuadSolver::Krylov, gp::QuadSolver::Direct}) {
+            const gp::QuadMap m = gp::map_quad_region(&ctx(), r, {.weights = weights, .solver = solver});
+            EXPECT_EQ(m.flipped, 0u);
+            for (const auto& p : m.uv) ASSERT_TRUE(p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1);
+        }
+}
+
+TEST_F(QuadRegion, TheRelaxationsFixedPointIsTheDirectSolution) {
+    GIMG_REQUIRE_SHARED_MESH(path, "bunny.off");
+    const gp::QuadRegion r = gp::cut_quad_region(geo::load_mesh(path), kBunnyCorners);
+    const gp::QuadMap direct = gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Direct});
+    auto gap = [&](const gp::QuadMap& m) {
+        double worst = 0.0;
+        for (std::size_t i = 0; i < m.uv.size(); ++i) worst = std::max(worst, glm::length(m.uv[i] - direct.uv[i]));
+        return worst;
+    };
+    EXPECT_LE(gap(gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Iterate, .tau = 1e-10})), 1e-6);
+    EXPECT_LE(gap(gp::map_quad_region(&ctx(), r, {.krylov_tolerance = 1e-12})), 1e-8);
+    // The paper's tau = 1e-4 tests the correction, not the error: the gap it leaves is larger.
+    const double loose =
+        gap(gp::map_quad_region(nullptr, r, {.start = gp::QuadStart::Flat, .solver = gp::QuadSolver::Iterate}));
+    EXPECT_GT(loose, 1e-4);
+    EXPECT_LT(loose, 0.1);
+}
+
+TEST(QuadStart, TheBilinearNormalisationRoundTrips) {
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<double> unit(0.0, 1.0), scale(0.5, 2.0);
+    int tried = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const double s0 = scale(rng), t0 = scale(rng);
+        const double s1 = k % 4 == 0 ? s0 : scale(rng), t1 = scale(rng);
+        if (!(s1 / s0 + t1 / t0 > 1.0)) continue;
+        const glm::dvec2 uv{unit(rng), unit(rng)};
+        bool folded = true;
+        const glm::dvec2 back = gp::bilinear_inverse(gp::bilinear_forward(uv, s0, t0, s1, t1), s0, t0, s1, t1, &folded);
+        ASSERT_LE(glm::length(back - uv), 1e-12) << s0 << " " << t0 << " " << s1 << " " << t1;
+        EXPECT_FALSE(folded);
+        ++tried;
+    }
+    EXPECT_GT(tried, 10000);
+    // A tapering region (s1 / s0 + t1 / t0 <= 1) folds: flagged, and the answer maps back to (s, t).
+    bool folded = false;
+    const glm::dvec2 st = gp::bilinear_forward({0.3, 0.6}, 1.0, 1.0, 0.3, 0.3);
+    const glm::dvec2 back = gp::bilinear_inverse(st, 1.0, 1.0, 0.3, 0.3, &folded);
+    EXPECT_TRUE(folded);
+    EXPECT_LE(glm::length(gp::bilinear_forward(back, 1.0, 1.0, 0.3, 0.3) - st), 1e-12);
+}
+
+TEST(QuadStart, OnAStructuredRectangleTheStartIsTheAnswer) {
+    geo::Mesh grid = geo::make_grid(8, 5, 2.0, 1.25);
+    grid.texcoords.clear();
+    const std::array<std::uint32_t, 4> corners{0, 8, 53, 45};
+    const gp::QuadRegion r = gp::cut_quad_region(grid, corners);
+    ASSERT_EQ(r.mesh.vertex_count(), grid.vertex_count());
+    const gp::QuadMap m = gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Iterate});
+    for (std::size_t i = 0; i < m.start.size(); ++i) {
+        EXPECT_NEAR(m.start[i].x, r.mesh.positions[i].x / 2.0, 1e-12);
+        EXPECT_NEAR(m.start[i].y, r.mesh.positions[i].y / 1.25, 1e-12);
+    }
+    EXPECT_EQ(m.iterations_u, 1u);
+    EXPECT_EQ(m.iterations_v, 1u);
+}
+
+TEST(QuadStart, TheAcceleratedStartNeedsFarFewerSweeps) {
+    GIMG_REQUIRE_SHARED_MESH(path, "bunny.off");
+    const gp::QuadRegion r = gp::cut_quad_region(geo::load_mesh(path), kBunnyCorners);
+    const gp::QuadMap flat =
+        gp::map_quad_region(nullptr, r, {.start = gp::QuadStart::Flat, .solver = gp::QuadSolver::Iterate});
+    const gp::QuadMap fast = gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Iterate});
+    EXPECT_GE(flat.iterations_u + flat.iterations_v, 3 * (fast.iterations_u + fast.iterations_v));
+}
+
+TEST(QuadRegionCut, SidesLieOnTheirPlanesAndCloseOneLoop) {
+    GIMG_REQUIRE_SHARED_MESH(path, "bunny.off");
+    const geo::Mesh bunny = geo::load_mesh(path);
+    const gp::QuadRegion r = gp::cut_quad_region(bunny, kBunnyCorners);
+    const std::vector<glm::dvec3> fn = geo::face_normals(bunny);
+    const geo::MeshAdjacency adj = geo::build_adjacency(bunny);
+    std::array<glm::dvec3, 4> n{};
+    for (int i = 0; i < 4; ++i) {
+        for (std::uint32_t f : adj.faces_of_vertex(kBunnyCorners[i])) n[i] += fn[f];
+        n[i] = glm::normalize(n[i]);
+    }
+    const double diagonal = bunny.bounds().diagonal();
+    std::size_t checked = 0;
+    for (std::size_t v = 0; v < r.mesh.vertex_count(); ++v) {
+        if (r.original[v] != gp::kInsertedNode) continue;
+        const int i = r.side[v] - 1;
+        ASSERT_GE(i, 0);
+        const glm::dvec3 w = bunny.positions[kBunnyCorners[i]], w1 = bunny.positions[kBunnyCorners[(i + 1) % 4]];
+        const glm::dvec3 plane = glm::normalize(glm::cross(w - w1, n[i] + n[(i + 1) % 4]));
+        EXPECT_LT(std::abs(glm::dot(plane, r.mesh.positions[v] - w)), 1e-9 * diagonal);
+        ++checked;
+    }
+    EXPECT_EQ(checked, r.inserted);
+    for (const auto& t : r.mesh.triangles)
+        for (int k = 0; k < 3; ++k)
+            EXPECT_GT(glm::distance(r.mesh.positions[t[k]], r.mesh.positions[t[(k + 1) % 3]]), 0.0);
+    EXPECT_NO_THROW(gp::check_disk_mesh(r.mesh));  // one boundary loop: the four sides
+}
+
+TEST(QuadRegionCut, RefusesCornersThatSpanNoRegion) {
+    const geo::Mesh sheet = jittered_sheet();
+    auto c = unit_corners(sheet);
+    EXPECT_THROW(gp::cut_quad_region(sheet, {c[0], c[1], c[1], c[3]}), geo::InputError);
+    EXPECT_THROW(gp::cut_quad_region(sheet, {c[0], c[1], c[2], 100000}), geo::InputError);
+    // Clockwise: the faces on the left are the rest of the sheet, which reaches its boundary.
+    EXPECT_THROW(gp::cut_quad_region(sheet, {c[0], c[3], c[2], c[1]}), geo::InputError);
+}
+
+TEST(QuadDeform, TheLatticeVanishesToSecondOrderAtTheBoundaryWithTwoFixedLayers) {
+    gp::OffsetLattice lattice{.columns = 9, .rows = 9};
+    lattice.offsets.assign(81, glm::dvec3(0.0, 0.0, 1.0));
+    // Partition of unity, every control point counted.
+    lattice.fixed_layers = -1;
+    for (double u : {0.0, 0.17, 0.5, 0.93, 1.0}) EXPECT_NEAR(lattice.evaluate({u, 0.4}).z, 1.0, 1e-12);
+    // F'' at the boundary by finite differences: zero with L = 2, not with L = 1.
+    auto second = [&](int layers, double h) {
+        lattice.fixed_layers = layers;
+        return (lattice.evaluate({2 * h, 0.5}).z - 2 * lattice.evaluate({h, 0.5}).z + lattice.evaluate({0.0, 0.5}).z) /
+               (h * h);
+    };
+    // With L = 2 the difference quotient shrinks with h (F ~ h^3); with L = 1 it tends to F''(0) != 0.
+    EXPECT_LT(std::abs(second(2, 1e-4)), 0.1 * std::abs(second(2, 1e-2)));
+    EXPECT_LT(std::abs(second(2, 1e-4)), 0.05);
+    EXPECT_GT(std::abs(second(1, 1e-4)), 10.0);
+    EXPECT_NEAR(second(1, 1e-4), second(1, 1e-3), 0.01 * std::abs(second(1, 1e-4)) + 0.5);
+    lattice.fixed_layers = 2;
+    for (double t : {0.0, 0.3, 1.0}) {
+        EXPECT_EQ(lattice.evaluate({0.0, t}), glm::dvec3(0.0));
+        EXPECT_EQ(lattice.evaluate({1.0, t}), glm::dvec3(0.0));
+        EXPECT_EQ(lattice.evaluate({t, 1.0}), glm::dvec3(0.0));
+    }
+}
+
+TEST(QuadDeform, ZeroChangesNothingAndPastingMovesAlongTheNormal) {
+    const geo::Mesh sheet = jittered_sheet();
+    const gp::QuadRegion r = gp::cut_quad_region(sheet, unit_corners(sheet));
+    const gp::QuadMap m = gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Direct});
+    gp::OffsetLattice zero;
+    zero.offsets.assign(64, glm::dvec3(0.0));
+    EXPECT_EQ(gp::deform_by_lattice(sheet, r, m.uv, zero).positions, sheet.positions);
+    EXPECT_EQ(gp::paste_feature(sheet, r, m.uv, {.scale = 0.0}).positions, sheet.positions);
+    const gp::PastedFeature bump{.scale = 0.1};
+    const geo::Mesh pasted = gp::paste_feature(sheet, r, m.uv, bump);
+    const double diagonal = sheet.bounds().diagonal();
+    for (std::size_t i = 0; i < m.uv.size(); ++i) {
+        if (r.original[i] == gp::kInsertedNode) continue;
+        const glm::dvec3 d = pasted.positions[r.original[i]] - sheet.positions[r.original[i]];
+        EXPECT_NEAR(d.z, bump.evaluate(m.uv[i]) * diagonal, 1e-12);  // the sheet's normal is +z
+        EXPECT_EQ(d.x, 0.0);
+        if (r.side[i]) {
+            EXPECT_EQ(d.z, 0.0);  // the boundary stays
+        }
+    }
+}
