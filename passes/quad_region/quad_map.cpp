@@ -78,7 +78,8 @@ std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacenc
     return w;
 }
 
-QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& o) {
+QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& o,
+                        const std::vector<glm::dvec2>& warm) {
     if (!(o.relaxation >= 0.0 && o.relaxation < 1.0)) throw geo::InputError("the relaxation k must be in [0, 1)");
     if (!(o.tau > 0.0)) throw geo::InputError("tau must be positive");
     const geo::Mesh& mesh = region.mesh;
@@ -101,6 +102,9 @@ QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOpt
     out.start = fixed;  // flat: 0.5 on every free vertex
     if (o.start == QuadStart::Dijkstra)
         out.start_sweeps = dijkstra_start(region, fixed, o.relaxation, o.tau, out.start);
+    if (warm.size() == n)
+        for (std::size_t i = 0; i < n; ++i)
+            if (interior[i] && !std::isnan(warm[i].x)) out.start[i] = warm[i];
     out.start_ms = ms_since(t);
 
     t = Clock::now();

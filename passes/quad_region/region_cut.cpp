@@ -10,7 +10,11 @@
 
 #include <algorithm>
 #include <map>
+#include <limits>
+#include <queue>
 #include <set>
+#include <unordered_map>
+#include <unordered_set>
 #include <string>
 
 namespace gimg::passes {
@@ -26,26 +30,43 @@ struct Segment {
 
 class RegionCutter {
 public:
-    RegionCutter(const geo::Mesh& mesh, const std::array<std::uint32_t, 4>& corners)
-        : mesh_(mesh), adj_(geo::build_adjacency(mesh)), corners_(corners), positions_(mesh.positions) {}
+    RegionCutter(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, const std::vector<glm::dvec3>& face_normals,
+                 double diagonal, const std::array<std::uint32_t, 4>& corners)
+        : mesh_(mesh), adj_(adj), face_n_(face_normals), diagonal_(diagonal), corners_(corners) {}
 
     QuadRegion cut() {
-        const std::vector<glm::dvec3> face_n = geo::face_normals(mesh_);
         std::array<glm::dvec3, 4> normal{};
         for (int i = 0; i < 4; ++i) {
-            for (std::uint32_t f : adj_.faces_of_vertex(corners_[i])) normal[i] += face_n[f];
+            for (std::uint32_t f : adj_.faces_of_vertex(corners_[i])) normal[i] += face_n_[f];
             if (glm::length(normal[i]) == 0.0)
                 throw geo::InputError("corner " + std::to_string(corners_[i]) + " has no face with a normal");
             normal[i] = glm::normalize(normal[i]);
         }
         std::array<std::vector<std::uint32_t>, 4> paths;
-        for (int i = 0; i < 4; ++i) paths[i] = trace(i, normal[i], normal[(i + 1) % 4]);
+        for (int i = 0; i < 4; ++i) {
+            const std::size_t segments = segments_.size(), points = point_edge_.size();
+            try {
+                paths[i] = trace(i, normal[i], normal[(i + 1) % 4]);
+            } catch (const geo::InputError&) {
+                // The section left the mesh or turned back: the shortest edge path instead (sec. 4.1's
+                // fallback), with the points the failed trace inserted taken back.
+                segments_.resize(segments);
+                for (auto it = inserted_.begin(); it != inserted_.end();)
+                    it = it->second >= mesh_.vertex_count() + points ? inserted_.erase(it) : std::next(it);
+                point_edge_.resize(points);
+                point_pos_.resize(points);
+                paths[i] = edge_path(i);
+                ++fallbacks_;
+            }
+        }
         check_simple(paths);
         return gather(paths);
     }
 
 private:
-    glm::dvec3 pos(std::uint32_t id) const { return positions_[id]; }
+    glm::dvec3 pos(std::uint32_t id) const {
+        return id < mesh_.vertex_count() ? mesh_.positions[id] : point_pos_[id - mesh_.vertex_count()];
+    }
 
     // The point where the plane crosses edge (a, b) at parameter t from a, or the nearer vertex.
     std::uint32_t crossing(std::uint32_t a, std::uint32_t b, double t) {
@@ -54,9 +75,9 @@ private:
         const std::uint32_t e = adj_.find_edge(a, b);
         const bool forward = adj_.edges[2 * e] == a;
         const double te = forward ? t : 1.0 - t;  // from the edge's first vertex
-        auto [it, fresh] = inserted_.try_emplace({e, te}, std::uint32_t(positions_.size()));
+        auto [it, fresh] = inserted_.try_emplace({e, te}, std::uint32_t(mesh_.vertex_count() + point_pos_.size()));
         if (fresh) {
-            positions_.push_back(mesh_.positions[adj_.edges[2 * e]] * (1.0 - te) +
+            point_pos_.push_back(mesh_.positions[adj_.edges[2 * e]] * (1.0 - te) +
                                  mesh_.positions[adj_.edges[2 * e + 1]] * te);
             point_edge_.push_back(e);
         }
@@ -65,6 +86,34 @@ private:
 
     bool is_vertex(std::uint32_t id) const { return id < mesh_.vertex_count(); }
 
+    // The shortest path along edges from corner i to corner i + 1 (Dijkstra, edge lengths).
+    std::vector<std::uint32_t> edge_path(int i) {
+        const std::uint32_t from = corners_[i], target = corners_[(i + 1) % 4];
+        std::vector<double> dist(mesh_.vertex_count(), std::numeric_limits<double>::infinity());
+        std::vector<std::uint32_t> parent(mesh_.vertex_count(), kNone);
+        using Item = std::pair<double, std::uint32_t>;
+        std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+        dist[from] = 0.0;
+        queue.emplace(0.0, from);
+        while (!queue.empty()) {
+            const auto [d, v] = queue.top();
+            queue.pop();
+            if (v == target) break;
+            if (d > dist[v]) continue;
+            for (std::uint32_t w : adj_.neighbors(v)) {
+                const double nd = d + glm::distance(mesh_.positions[v], mesh_.positions[w]);
+                if (nd < dist[w]) dist[w] = nd, parent[w] = v, queue.emplace(nd, w);
+            }
+        }
+        if (parent[target] == kNone)
+            throw geo::InputError("side " + std::to_string(i + 1) + ": no path joins its corners");
+        std::vector<std::uint32_t> path{target};
+        while (path.back() != from) path.push_back(parent[path.back()]);
+        std::reverse(path.begin(), path.end());
+        for (std::size_t k = 0; k + 1 < path.size(); ++k) segments_.push_back({kNone, path[k], path[k + 1]});
+        return path;
+    }
+
     std::vector<std::uint32_t> trace(int i, const glm::dvec3& ni, const glm::dvec3& nj) {
         const std::uint32_t from = corners_[i], target = corners_[(i + 1) % 4];
         const glm::dvec3 w = mesh_.positions[from], toward = mesh_.positions[target] - w;
@@ -72,7 +121,7 @@ private:
         if (glm::length(n) == 0.0)
             throw geo::InputError("side " + std::to_string(i + 1) + ": the corners' normals lie along the side");
         n = glm::normalize(n);
-        const double on_plane = 1e-12 * mesh_.bounds().diagonal();
+        const double on_plane = 1e-12 * diagonal_;
         auto d = [&](std::uint32_t v) { return glm::dot(n, mesh_.positions[v] - w); };
         std::vector<std::uint32_t> path{from};
         std::set<std::uint32_t> visited;
@@ -156,111 +205,130 @@ private:
             }
     }
 
-    // Splits every face a side crosses along it, then floods the faces on the sides' left.
+    static std::uint64_t key(std::uint32_t a, std::uint32_t b) { return (std::uint64_t(a) << 32) | b; }
+
+    // Splits every face a side crosses along it, then floods the faces on the sides' left: original
+    // faces through the mesh's adjacency, split faces through their pieces' edges, so the work grows
+    // with the region, not the mesh.
     QuadRegion gather(const std::array<std::vector<std::uint32_t>, 4>& paths) {
-        std::map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> chords;
-        std::set<std::pair<std::uint32_t, std::uint32_t>> barrier;
-        for (const Segment& s : segments_) {
-            chords[s.face].emplace_back(s.from, s.to);
-            barrier.insert(std::minmax(s.from, s.to));
+        std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> chords;
+        std::unordered_set<std::uint64_t> barrier;
+        for (const Segment& sg : segments_) {
+            if (sg.face != kNone) chords[sg.face].emplace_back(sg.from, sg.to);
+            barrier.insert(key(std::min(sg.from, sg.to), std::max(sg.from, sg.to)));
         }
-        // Points on each edge, for the faces that hold them.
-        std::map<std::uint32_t, std::vector<std::uint32_t>> on_edge;
+        std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> on_edge;
         for (std::uint32_t p = 0; p < point_edge_.size(); ++p)
             on_edge[point_edge_[p]].push_back(std::uint32_t(mesh_.vertex_count()) + p);
-        std::vector<glm::uvec3> triangles;
-        for (std::uint32_t f = 0; f < mesh_.face_count(); ++f) {
+        // Faces to split: those a side crosses and those with a point on an edge.
+        std::vector<std::uint32_t> touched;
+        for (const auto& [f, c] : chords) touched.push_back(f);
+        for (const auto& [e, pts] : on_edge)
+            for (std::uint32_t f : adj_.faces_of_edge(e)) touched.push_back(f);
+        std::sort(touched.begin(), touched.end());
+        touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+        std::vector<glm::uvec3> pieces;
+        for (std::uint32_t f : touched) {
             const glm::uvec3& t = mesh_.triangles[f];
-            const bool touched = chords.count(f) || std::any_of(&adj_.face_edges[3 * f], &adj_.face_edges[3 * f] + 3,
-                                                                [&](std::uint32_t e) { return on_edge.count(e); });
-            if (!touched) {
-                triangles.push_back(t);
-                continue;
-            }
             std::vector<std::uint32_t> polygon;
             for (int k = 0; k < 3; ++k) {
                 polygon.push_back(t[k]);
-                const std::uint32_t e = adj_.face_edges[3 * f + k];
-                if (!on_edge.count(e)) continue;
-                std::vector<std::uint32_t> pts = on_edge[e];
+                const auto it = on_edge.find(adj_.face_edges[3 * f + k]);
+                if (it == on_edge.end()) continue;
+                std::vector<std::uint32_t> pts = it->second;
                 const glm::dvec3 from = pos(t[k]);
                 std::sort(pts.begin(), pts.end(), [&](std::uint32_t x, std::uint32_t y) {
                     return glm::distance(pos(x), from) < glm::distance(pos(y), from);
                 });
                 polygon.insert(polygon.end(), pts.begin(), pts.end());
             }
-            split(polygon, chords.count(f) ? chords[f] : std::vector<std::pair<std::uint32_t, std::uint32_t>>{},
-                  triangles);
+            const auto c = chords.find(f);
+            split(polygon, c != chords.end() ? c->second : std::vector<std::pair<std::uint32_t, std::uint32_t>>{},
+                  pieces);
         }
-        // Flood over triangles joined by edges that are not on a side.
-        std::map<std::pair<std::uint32_t, std::uint32_t>, std::vector<std::uint32_t>> by_edge;
-        std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> directed;
-        for (std::uint32_t k = 0; k < triangles.size(); ++k)
-            for (int c = 0; c < 3; ++c) {
-                const std::uint32_t a = triangles[k][c], b = triangles[k][(c + 1) % 3];
-                by_edge[std::minmax(a, b)].push_back(k);
-                directed[{a, b}] = k;
+        const std::size_t nf = mesh_.face_count();
+        std::vector<std::uint8_t> is_touched(nf, 0);
+        for (std::uint32_t f : touched) is_touched[f] = 1;
+        std::unordered_map<std::uint64_t, std::uint32_t> piece_by_edge;  // directed edge -> node
+        for (std::uint32_t k = 0; k < pieces.size(); ++k)
+            for (int c = 0; c < 3; ++c)
+                piece_by_edge[key(pieces[k][c], pieces[k][(c + 1) % 3])] = std::uint32_t(nf) + k;
+        auto triangle = [&](std::uint32_t node) { return node < nf ? mesh_.triangles[node] : pieces[node - nf]; };
+        // The node (untouched face or piece) holding the directed edge a -> b, or kNone.
+        auto holding = [&](std::uint32_t a, std::uint32_t b) {
+            const auto it = piece_by_edge.find(key(a, b));
+            if (it != piece_by_edge.end()) return it->second;
+            if (!is_vertex(a) || !is_vertex(b)) return kNone;
+            const std::uint32_t e = adj_.find_edge(a, b);
+            if (e == geo::kInvalidIndex) return kNone;
+            for (std::uint32_t g : adj_.faces_of_edge(e)) {
+                if (is_touched[g]) continue;
+                const glm::uvec3& t = mesh_.triangles[g];
+                for (int c = 0; c < 3; ++c)
+                    if (t[c] == a && t[(c + 1) % 3] == b) return g;
             }
+            return kNone;
+        };
         const Segment& first = segments_.front();
-        const auto seed = directed.find({first.from, first.to});
-        if (seed == directed.end()) throw geo::InputError("side 1 has no face on its left");
-        std::vector<std::uint8_t> in(triangles.size(), 0);
-        std::vector<std::uint32_t> stack{seed->second};
-        in[seed->second] = 1;
+        const std::uint32_t seed = holding(first.from, first.to);
+        if (seed == kNone) throw geo::InputError("side 1 has no face on its left");
+        std::vector<std::uint8_t> in(nf + pieces.size(), 0);
+        std::vector<std::uint32_t> region_nodes{seed}, stack{seed};
+        in[seed] = 1;
         while (!stack.empty()) {
-            const std::uint32_t k = stack.back();
+            const glm::uvec3 t = triangle(stack.back());
             stack.pop_back();
             for (int c = 0; c < 3; ++c) {
-                const auto key = std::minmax(triangles[k][c], triangles[k][(c + 1) % 3]);
-                if (barrier.count(key)) continue;
-                for (std::uint32_t o : by_edge[key])
-                    if (!in[o]) in[o] = 1, stack.push_back(o);
+                const std::uint32_t a = t[c], b = t[(c + 1) % 3];
+                if (barrier.count(key(std::min(a, b), std::max(a, b)))) continue;
+                const std::uint32_t o = holding(b, a);
+                if (o != kNone && !in[o]) in[o] = 1, stack.push_back(o), region_nodes.push_back(o);
             }
         }
-        for (const Segment& s : segments_) {
-            const auto right = directed.find({s.to, s.from});
-            if (right != directed.end() && in[right->second])
+        for (const Segment& sg : segments_) {
+            const std::uint32_t right = holding(sg.to, sg.from);
+            if (right != kNone && in[right])
                 throw geo::InputError(
                     "the sides do not separate a region: W1 -> W2 -> W3 -> W4 must enclose the "
                     "faces on its left (corners counter-clockwise seen from outside)");
         }
-        // The region as its own mesh.
         QuadRegion r;
-        std::vector<std::uint32_t> index(positions_.size(), kNone);
-        for (std::uint32_t k = 0; k < triangles.size(); ++k) {
-            if (!in[k]) continue;
-            glm::uvec3 t;
+        std::unordered_map<std::uint32_t, std::uint32_t> index;
+        for (std::uint32_t node : region_nodes) {
+            const glm::uvec3 t = triangle(node);
+            glm::uvec3 out;
             for (int c = 0; c < 3; ++c) {
-                std::uint32_t& id = index[triangles[k][c]];
-                if (id == kNone) {
-                    id = std::uint32_t(r.mesh.positions.size());
-                    r.mesh.positions.push_back(positions_[triangles[k][c]]);
-                    r.original.push_back(is_vertex(triangles[k][c]) ? triangles[k][c] : kInsertedNode);
+                const auto [it, fresh] = index.try_emplace(t[c], std::uint32_t(r.mesh.positions.size()));
+                if (fresh) {
+                    r.mesh.positions.push_back(pos(t[c]));
+                    r.original.push_back(is_vertex(t[c]) ? t[c] : kInsertedNode);
                 }
-                t[c] = id;
+                out[c] = it->second;
             }
-            r.mesh.triangles.push_back(t);
+            r.mesh.triangles.push_back(out);
         }
-        std::vector<std::uint32_t> outer(positions_.size(), kNone);
-        for (std::uint32_t k = 0; k < triangles.size(); ++k) {
-            if (in[k]) continue;
-            glm::uvec3 t;
+        // The rest of the mesh, for pictures: untouched faces and pieces outside.
+        std::vector<std::uint32_t> outer(mesh_.vertex_count() + point_pos_.size(), kNone);
+        for (std::uint32_t node = 0; node < in.size(); ++node) {
+            if (in[node] || (node < nf && is_touched[node])) continue;
+            const glm::uvec3 t = triangle(node);
+            glm::uvec3 out;
             for (int c = 0; c < 3; ++c) {
-                std::uint32_t& id = outer[triangles[k][c]];
+                std::uint32_t& id = outer[t[c]];
                 if (id == kNone)
-                    id = std::uint32_t(r.outside.positions.size()),
-                    r.outside.positions.push_back(positions_[triangles[k][c]]);
-                t[c] = id;
+                    id = std::uint32_t(r.outside.positions.size()), r.outside.positions.push_back(pos(t[c]));
+                out[c] = id;
             }
-            r.outside.triangles.push_back(t);
+            r.outside.triangles.push_back(out);
         }
         r.side.assign(r.mesh.positions.size(), 0);
         for (int i = 0; i < 4; ++i)
-            for (std::size_t k = 0; k + 1 < paths[i].size(); ++k) r.side[index[paths[i][k]]] = std::uint8_t(i + 1);
-        for (int i = 0; i < 4; ++i) r.corners[i] = index[corners_[i]];
+            for (std::size_t k = 0; k + 1 < paths[i].size(); ++k) r.side[index.at(paths[i][k])] = std::uint8_t(i + 1);
+        for (int i = 0; i < 4; ++i) r.corners[i] = index.at(corners_[i]);
         r.merged = merged_;
-        for (std::uint32_t id = std::uint32_t(mesh_.vertex_count()); id < positions_.size(); ++id)
-            r.inserted += index[id] != kNone;
+        r.fallback_sides = fallbacks_;
+        for (std::uint32_t p = 0; p < point_pos_.size(); ++p)
+            r.inserted += index.count(std::uint32_t(mesh_.vertex_count()) + p);
         try {
             check_disk_mesh(r.mesh);
         } catch (const geo::InputError& e) {
@@ -327,26 +395,36 @@ private:
     }
 
     const geo::Mesh& mesh_;
-    geo::MeshAdjacency adj_;
+    const geo::MeshAdjacency& adj_;
+    const std::vector<glm::dvec3>& face_n_;
+    double diagonal_;
     std::array<std::uint32_t, 4> corners_;
-    std::vector<glm::dvec3> positions_;      // the mesh's vertices, then the inserted points
+    std::vector<glm::dvec3> point_pos_;      // inserted points (ids from V on)
     std::vector<std::uint32_t> point_edge_;  // per inserted point, its edge
     std::map<std::pair<std::uint32_t, double>, std::uint32_t> inserted_;
     std::vector<Segment> segments_;
-    std::size_t merged_ = 0;
+    std::size_t merged_ = 0, fallbacks_ = 0;
 };
 
 }  // namespace
 
-QuadRegion cut_quad_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 4>& corners) {
+QuadRegionCutter::QuadRegionCutter(const geo::Mesh& mesh)
+    : mesh_(&mesh), adjacency_(geo::build_adjacency(mesh)), face_normals_(geo::face_normals(mesh)),
+      diagonal_(mesh.bounds().diagonal()) {}
+
+QuadRegion QuadRegionCutter::cut(const std::array<std::uint32_t, 4>& corners) const {
     for (int i = 0; i < 4; ++i) {
-        if (corners[i] >= mesh.vertex_count())
+        if (corners[i] >= mesh_->vertex_count())
             throw geo::InputError("corner " + std::to_string(corners[i]) + " is not a vertex of the mesh (it has " +
-                                  std::to_string(mesh.vertex_count()) + ")");
+                                  std::to_string(mesh_->vertex_count()) + ")");
         for (int j = 0; j < i; ++j)
             if (corners[i] == corners[j]) throw geo::InputError("the four corners must be distinct vertices");
     }
-    return RegionCutter(mesh, corners).cut();
+    return RegionCutter(*mesh_, adjacency_, face_normals_, diagonal_, corners).cut();
+}
+
+QuadRegion cut_quad_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 4>& corners) {
+    return QuadRegionCutter(mesh).cut(corners);
 }
 
 }  // namespace gimg::passes

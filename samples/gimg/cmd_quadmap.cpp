@@ -5,6 +5,7 @@
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
+#include "quad_corners.h"
 #include "size_option.h"
 
 #include "gimg/geometry/adjacency.h"
@@ -22,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -29,40 +31,16 @@ namespace gimg::cli {
 
 namespace {
 
-// --corners auto: a square of side a fifth of the diagonal around the flattest interior vertex
-// (least k1^2 + k2^2 averaged over its ring), corners counter-clockwise seen along the normal.
-std::array<std::uint32_t, 4> automatic_corners(const geo::Mesh& mesh) {
-    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
-    const geo::VertexCurvature k = geo::compute_curvature(mesh, adj);
-    const std::vector<glm::dvec3> normals = geo::vertex_normals(mesh);
-    const double half = 0.1 * mesh.bounds().diagonal();
-    std::uint32_t centre = geo::kInvalidIndex;
-    double best = 1e300;
-    for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
-        if (!k.interior[v]) continue;
-        double sum = k.principal_square_sum[v];
-        for (std::uint32_t w : adj.neighbors(v)) sum += k.principal_square_sum[w];
-        if (sum < best) best = sum, centre = v;
-    }
-    if (centre == geo::kInvalidIndex) throw geo::InputError("--corners auto: the mesh has no interior vertex");
-    const glm::dvec3 n = normals[centre], c = mesh.positions[centre];
-    const glm::dvec3 e1 =
-        glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
-    const glm::dvec3 e2 = glm::cross(n, e1);
-    std::array<std::uint32_t, 4> corners{};
-    const double signs[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
-    for (int i = 0; i < 4; ++i) {
-        const glm::dvec3 target = c + half * (signs[i][0] * e1 + signs[i][1] * e2);
-        double nearest = 1e300;
-        for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
-            if (glm::dot(normals[v], n) > 0.0 && glm::distance(mesh.positions[v], target) < nearest)
-                nearest = glm::distance(mesh.positions[v], target), corners[i] = v;
-    }
-    return corners;
-}
-
 std::array<std::uint32_t, 4> parse_corners(const std::string& text, const geo::Mesh& mesh) {
     if (text == "auto") return automatic_corners(mesh);
+    if (text.rfind("auto:", 0) == 0) {
+        char* end = nullptr;
+        const double side = std::strtod(text.c_str() + 5, &end);
+        if (*end || !(side > 0.0 && side <= 2.0))
+            throw geo::InputError(
+                "--corners auto:F takes the square's side F in bounding-box diagonals (0 to 2), got '" + text + "'");
+        return automatic_corners(mesh, side);
+    }
     std::array<std::uint32_t, 4> c{};
     std::istringstream in(text);
     char comma = 0;
@@ -97,6 +75,16 @@ passes::QuadMapOptions map_options(const QuadOptions& o) {
     return m;
 }
 
+// A view from the side the region faces (its mean vertex normal), turned by `turn` degrees about
+// the vertical so relief shows.
+passes::View facing_view(const passes::QuadRegion& region, double turn) {
+    glm::dvec3 n(0.0);
+    for (const auto& v : geo::vertex_normals(region.mesh)) n += v;
+    n = glm::length(n) > 0.0 ? glm::normalize(n) : glm::dvec3(0, 0, 1);
+    return {.azimuth_deg = glm::degrees(std::atan2(n.x, n.z)) + turn,
+            .elevation_deg = glm::degrees(std::asin(std::clamp(n.y, -0.99, 0.99)))};
+}
+
 // The region checkered through its map, the rest of the mesh in one plain colour.
 geo::RgbaImage checker_picture(Context& ctx, const passes::QuadRegion& region, const std::vector<glm::dvec2>& uv) {
     geo::Mesh both = region.mesh;
@@ -109,12 +97,7 @@ geo::RgbaImage checker_picture(Context& ctx, const passes::QuadRegion& region, c
     r.width = r.height = 640;
     r.color = passes::MeshColor::Checker;
     r.checker_cells = 8.0;
-    const std::vector<glm::dvec3> normals = geo::vertex_normals(region.mesh);
-    glm::dvec3 n(0.0);
-    for (const auto& v : normals) n += v;
-    n = glm::length(n) > 0.0 ? glm::normalize(n) : glm::dvec3(0, 0, 1);
-    r.view = {.azimuth_deg = glm::degrees(std::atan2(n.x, n.z)),
-              .elevation_deg = glm::degrees(std::asin(std::clamp(n.y, -0.99, 0.99)))};
+    r.view = facing_view(region, 0.0);
     geo::RgbaImage picture = passes::render_mesh(ctx, both, r);
     for (std::size_t i = 3; i < picture.pixels.size(); i += 4) picture.pixels[i] = 255;
     return picture;
@@ -203,12 +186,14 @@ void run_deform(const QuadOptions& o, const GlobalOptions& global) {
     const passes::QuadRegion region = passes::cut_quad_region(mesh, parse_corners(o.corners, mesh));
     auto ctx = open_context(global);
     const passes::QuadMap m = passes::map_quad_region(o.cpu ? nullptr : ctx.get(), region, map_options(o));
+    for (auto& d : lattice.offsets) d *= mesh.bounds().diagonal();  // given in bounding-box diagonals
     const geo::Mesh deformed = o.lattice.empty() ? passes::paste_feature(mesh, region, m.uv, feature)
                                                  : passes::deform_by_lattice(mesh, region, m.uv, lattice);
     const std::filesystem::path dir(o.out);
     geo::save_mesh(deformed, dir / "deformed.ply");
     passes::RenderOptions r;
     r.width = r.height = 512;
+    r.view = facing_view(region, 50.0);
     geo::RgbaImage picture = passes::render_side_by_side(*ctx, mesh, deformed, r);
     for (std::size_t i = 3; i < picture.pixels.size(); i += 4) picture.pixels[i] = 255;
     geo::write_png(picture, dir / "compare.png");
@@ -226,7 +211,7 @@ void add_map_options(CLI::App* cmd, QuadOptions& o) {
     cmd->add_option("mesh", o.mesh, "Input mesh")->required();
     cmd->add_option("--corners", o.corners,
                     "Four vertex indices A,B,C,D counter-clockwise seen from outside (to (0,0), (1,0), (1,1), (0,1)), "
-                    "or auto")
+                    "or auto[:F] (a square of side F diagonals, default 0.2, around the flattest vertex)")
         ->required();
     cmd->add_option("--weights", o.weights, "floater (shape-preserving, default) or chord")
         ->check(CLI::IsMember({"floater", "chord"}));
@@ -264,8 +249,10 @@ void add_quadmap_commands(CLI::App& app, const GlobalOptions& global) {
     add_map_options(deform, *d);
     deform->add_option("--out", d->out, "Output folder (deformed.ply, compare.png)")->required();
     deform->add_option("--lattice", d->lattice, "Control points PxQ of the offset lattice (clamped cubic B-splines)");
-    deform->add_option("--offsets", d->offsets,
-                       "Text file of P*Q lines 'x y z', row by row (v), the outer three rows and columns ignored");
+    deform->add_option(
+        "--offsets", d->offsets,
+        "Text file of P*Q offsets 'x y z' in bounding-box diagonals, row by row (v); the outer three rows "
+        "and columns are fixed at zero");
     deform->add_option("--paste", d->paste, "A height map (EXR: its R channel, or its first, over the square) or bump");
     add_number_option(deform, "--height", d->height, -1e3, 1e3,
                       "Height of the pasted feature, in bounding-box diagonals (default 0.05)");

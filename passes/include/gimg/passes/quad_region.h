@@ -31,12 +31,27 @@ struct QuadRegion {
     std::vector<std::uint8_t> side;        // per region vertex: 0 inside, 1..4 on side W_i -> W_i+1
     std::size_t inserted = 0;              // points inserted on edges
     std::size_t merged = 0;                // crossings close to a vertex that took the vertex instead
+    std::size_t fallback_sides = 0;        // sides whose plane section failed, taken as shortest edge paths
     geo::Mesh outside;                     // the rest of the mesh, split the same way (for pictures)
 };
 
 // Throws geo::InputError with the reason when the corners are not four distinct vertices, a side
 // cannot be traced (it leaves the mesh), the sides cross or do not enclose a disk on their left.
 QuadRegion cut_quad_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 4>& corners);
+
+// The same with the mesh's adjacency and face normals built once, for cutting again and again (the
+// mesh must outlive it).
+class QuadRegionCutter {
+public:
+    explicit QuadRegionCutter(const geo::Mesh& mesh);
+    QuadRegion cut(const std::array<std::uint32_t, 4>& corners) const;
+
+private:
+    const geo::Mesh* mesh_;
+    geo::MeshAdjacency adjacency_;
+    std::vector<glm::dvec3> face_normals_;
+    double diagonal_;
+};
 
 enum class QuadWeights { Floater, Chord };
 enum class QuadStart { Flat, Dijkstra };
@@ -63,8 +78,10 @@ struct QuadMap {
     double weights_ms = 0.0, start_ms = 0.0, solve_ms = 0.0;
 };
 
-// The map of a region; with ctx == nullptr the Krylov solve runs on the CPU twin.
-QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& options = {});
+// The map of a region; with ctx == nullptr the Krylov solve runs on the CPU twin. `warm`: per
+// region vertex a first guess to use instead of the start (NaN where there is none).
+QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& options = {},
+                        const std::vector<glm::dvec2>& warm = {});
 
 // Chord-length weights: lambda_j proportional to 1 / |P_j - P_i| (same layout as floater_weights).
 std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency);
@@ -104,5 +121,34 @@ geo::Mesh deform_by_lattice(const geo::Mesh& mesh, const QuadRegion& region, con
                             const OffsetLattice& lattice);
 geo::Mesh paste_feature(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
                         const PastedFeature& feature);
+
+// Interactive editing: the mesh and its adjacency are kept; moving a corner re-cuts the region and
+// re-solves from the last map (the previous (u, v) of every vertex still in the region, the
+// accelerated start elsewhere); changing the offsets only re-evaluates the deformation.
+class QuadRegionEditor {
+public:
+    QuadRegionEditor(Context* ctx, geo::Mesh mesh, const std::array<std::uint32_t, 4>& corners,
+                     QuadMapOptions options = {});
+    QuadRegionEditor(const QuadRegionEditor&) = delete;  // the cutter points at the editor's mesh
+    QuadRegionEditor& operator=(const QuadRegionEditor&) = delete;
+    // Re-cut with corner i (0..3) at `vertex`, re-map, re-deform; returns the deformed mesh.
+    const geo::Mesh& move_corner(int i, std::uint32_t vertex);
+    const geo::Mesh& set_lattice(const OffsetLattice& lattice);
+    const QuadRegion& region() const { return region_; }
+    const QuadMap& map() const { return map_; }
+    const geo::Mesh& deformed() const { return deformed_; }
+
+private:
+    void remap(const std::vector<glm::dvec2>& previous_by_vertex);
+    Context* ctx_;
+    geo::Mesh mesh_;
+    QuadRegionCutter cutter_;
+    std::array<std::uint32_t, 4> corners_;
+    QuadMapOptions options_;
+    QuadRegion region_;
+    QuadMap map_;
+    OffsetLattice lattice_;
+    geo::Mesh deformed_;
+};
 
 }  // namespace gimg::passes
