@@ -5,6 +5,7 @@
 #include "gimg/passes/quad_region.h"
 #include "gimg/passes/solvers.h"
 #include "parameterize/tutte_system.h"
+#include "quad_region/relaxation.h"
 
 #include <Eigen/SparseLU>
 #include <glm/geometric.hpp>
@@ -18,26 +19,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
-
-// Eq. (2), in place (Gauss-Seidel) in vertex order, one field at a time: u_i <- k u_i + (1 - k)
-// sum_j lambda_j u_j until every correction |sum_j lambda_j u_j - u_i| is below tau.
-std::size_t relax(const geo::MeshAdjacency& adj, const std::vector<double>& w,
-                  const std::vector<std::uint8_t>& interior, double k, double tau, std::size_t max_sweeps,
-                  std::vector<glm::dvec2>& uv, int field) {
-    for (std::size_t sweep = 1; sweep <= max_sweeps; ++sweep) {
-        double worst = 0.0;
-        for (std::size_t i = 0; i < uv.size(); ++i) {
-            if (!interior[i]) continue;
-            const auto nb = adj.neighbors(i);
-            double mean = 0.0;
-            for (std::size_t j = 0; j < nb.size(); ++j) mean += w[adj.vertex_vertex_offsets[i] + j] * uv[nb[j]][field];
-            worst = std::max(worst, std::abs(mean - uv[i][field]));
-            uv[i][field] = k * uv[i][field] + (1.0 - k) * mean;
-        }
-        if (worst < tau) return sweep;
-    }
-    throw geo::InputError("the relaxation did not settle within " + std::to_string(max_sweeps) + " sweeps");
-}
 
 std::vector<glm::dvec2> solve_direct(const LinearSystem& s) {
     const auto n = Eigen::Index(s.a.size);
@@ -110,10 +91,15 @@ QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOpt
     t = Clock::now();
     out.uv = out.start;
     switch (o.solver) {
-        case QuadSolver::Iterate:
-            out.iterations_u = relax(adj, w, interior, o.relaxation, o.tau, o.max_sweeps, out.uv, 0);
-            out.iterations_v = relax(adj, w, interior, o.relaxation, o.tau, o.max_sweeps, out.uv, 1);
+        case QuadSolver::Iterate: {
+            const detail::ColouredRows rows = detail::colour_rows(adj, w, interior);
+            for (int field = 0; field < 2; ++field) {
+                (field ? out.iterations_v : out.iterations_u) =
+                    ctx ? detail::relax_gpu(*ctx, rows, o.relaxation, o.tau, o.max_sweeps, out.uv, field)
+                        : detail::relax_cpu(rows, o.relaxation, o.tau, o.max_sweeps, out.uv, field);
+            }
             break;
+        }
         case QuadSolver::Krylov: {
             const LinearSystem s = detail::tutte_system(adj, w, interior, fixed, out.start);
             const SolveOptions so{.tolerance = o.krylov_tolerance, .max_iterations = 20000};

@@ -4,10 +4,11 @@
 // docs/quadmap.md). Four corner vertices W1..W4 span the region: each side is the mesh cut by the
 // plane through W_i and W_i+1 spanned by (W_i - W_i+1) and (N_i + N_i+1), with points inserted
 // where it crosses edges. The region is mapped with Floater's (or chord-length) weights, the
-// corners going to (0,0), (1,0), (1,1), (0,1), solved by the paper's relaxation from a flat or an
-// accelerated start (Dijkstra distances and a bilinear normalisation), by the solver module's
-// BiCGSTAB on the GPU, or by Eigen's SparseLU; and deformed by a lattice of offsets (clamped cubic
-// B-splines, the outer layers fixed) or by a pasted height along the normals.
+// corners going to (0,0), (1,0), (1,1), (0,1), solved by the paper's relaxation (Gauss-Seidel in
+// colour order, a dispatch per colour) from a flat or an accelerated start (Dijkstra distances and
+// a bilinear normalisation), by the solver module's BiCGSTAB on the GPU, or by Eigen's SparseLU;
+// and deformed by a lattice of offsets (clamped cubic B-splines, the outer layers fixed) or by a
+// pasted height along the normals.
 
 #include "gimg/engine/context.h"
 #include "gimg/geometry/adjacency.h"
@@ -78,7 +79,7 @@ struct QuadMap {
     double weights_ms = 0.0, start_ms = 0.0, solve_ms = 0.0;
 };
 
-// The map of a region; with ctx == nullptr the Krylov solve runs on the CPU twin. `warm`: per
+// The map of a region; with ctx == nullptr the relaxation and the Krylov solve run on their CPU twins. `warm`: per
 // region vertex a first guess to use instead of the start (NaN where there is none).
 QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& options = {},
                         const std::vector<glm::dvec2>& warm = {});

@@ -1,0 +1,148 @@
+// The paper's relaxation (eq. 2) as Gauss-Seidel sweeps in colour order: the free vertices coloured
+// so no two neighbours share a colour, each colour one compute dispatch (its rows update in place
+// without reading each other), and the CPU twin running the same rows in the same order.
+#include "quad_region/relaxation.h"
+
+#include "gimg/engine/graph.h"
+#include "gimg/geometry/error.h"
+
+#include "quad_region/relax_comp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace gimg::passes::detail {
+
+namespace {
+
+const Spirv kRelax = GIMG_SPIRV(gimg_spv_quad_region_relax_comp);
+
+struct RelaxPush {
+    std::uint32_t first, count, field, sweep;
+    double k;
+};
+
+std::uint32_t float_bits(double x) {
+    const float f = float(x);
+    std::uint32_t bits;
+    std::memcpy(&bits, &f, 4);
+    return bits;
+}
+
+}  // namespace
+
+ColouredRows colour_rows(const geo::MeshAdjacency& adj, const std::vector<double>& weights,
+                         const std::vector<std::uint8_t>& interior) {
+    const std::size_t n = adj.vertex_count();
+    std::vector<std::uint32_t> colour(n, 0xffffffffu);
+    std::uint32_t colours = 0;
+    for (std::uint32_t v = 0; v < n; ++v) {
+        if (!interior[v]) continue;
+        std::vector<std::uint8_t> used(adj.neighbors(v).size() + 1, 0);
+        for (std::uint32_t w : adj.neighbors(v))
+            if (interior[w] && colour[w] < used.size()) used[colour[w]] = 1;
+        colour[v] = std::uint32_t(std::find(used.begin(), used.end(), 0) - used.begin());
+        colours = std::max(colours, colour[v] + 1);
+    }
+    ColouredRows rows;
+    rows.offsets.push_back(0);
+    rows.first.assign(colours + 1, 0);
+    for (std::uint32_t c = 0; c < colours; ++c) {
+        rows.first[c] = std::uint32_t(rows.vertex.size());
+        for (std::uint32_t v = 0; v < n; ++v) {
+            if (colour[v] != c) continue;
+            rows.vertex.push_back(v);
+            const auto nb = adj.neighbors(v);
+            for (std::size_t j = 0; j < nb.size(); ++j) {
+                rows.columns.push_back(nb[j]);
+                rows.weights.push_back(weights[adj.vertex_vertex_offsets[v] + j]);
+            }
+            rows.offsets.push_back(std::uint32_t(rows.columns.size()));
+        }
+    }
+    rows.first[colours] = std::uint32_t(rows.vertex.size());
+    return rows;
+}
+
+std::uint32_t ColouredRows::colour_count() const { return std::uint32_t(first.size() - 1); }
+
+std::size_t relax_cpu(const ColouredRows& rows, double k, double tau, std::size_t max_sweeps,
+                      std::vector<glm::dvec2>& uv, int field) {
+    const std::uint32_t limit = float_bits(tau);
+    for (std::size_t done = 0; done < max_sweeps; done += kSweepsPerCheck) {
+        std::size_t converged = 0;
+        for (std::uint32_t s = 0; s < kSweepsPerCheck; ++s) {
+            std::uint32_t worst = 0;
+            for (std::size_t r = 0; r < rows.vertex.size(); ++r) {
+                // The shader's order of operations, rounded the same way (no fused multiply-add).
+                double mean = 0.0;
+                for (std::uint32_t e = rows.offsets[r]; e < rows.offsets[r + 1]; ++e)
+                    mean += rows.weights[e] * uv[rows.columns[e]][field];
+                double& x = uv[rows.vertex[r]][field];
+                worst = std::max(worst, float_bits(std::abs(mean - x)));
+                x = k * x + (1.0 - k) * mean;
+            }
+            if (!converged && worst < limit) converged = done + s + 1;
+        }
+        if (converged) return converged;
+    }
+    throw geo::InputError("the relaxation did not settle within " + std::to_string(max_sweeps) + " sweeps");
+}
+
+std::size_t relax_gpu(Context& ctx, const ColouredRows& rows, double k, double tau, std::size_t max_sweeps,
+                      std::vector<glm::dvec2>& uv, int field) {
+    if (rows.vertex.empty()) return 1;
+    auto upload = [&](const void* data, std::size_t bytes, const char* name) {
+        Buffer b = ctx.create_buffer({std::max<std::size_t>(bytes, 16), name});
+        ctx.upload(b, data, bytes);
+        return b;
+    };
+    Buffer vertex_buf = upload(rows.vertex.data(), rows.vertex.size() * 4, "relax rows");
+    Buffer offset_buf = upload(rows.offsets.data(), rows.offsets.size() * 4, "relax offsets");
+    Buffer column_buf = upload(rows.columns.data(), rows.columns.size() * 4, "relax columns");
+    Buffer weight_buf = upload(rows.weights.data(), rows.weights.size() * 8, "relax weights");
+    Buffer uv_buf = upload(uv.data(), uv.size() * 16, "relax uv");
+    Buffer slot_buf = ctx.create_buffer({kSweepsPerCheck * 4, "relax worst corrections"});
+
+    Graph g(ctx);
+    auto vertex_h = g.import_buffer(vertex_buf), offset_h = g.import_buffer(offset_buf);
+    auto column_h = g.import_buffer(column_buf), weight_h = g.import_buffer(weight_buf);
+    auto uv_h = g.import_buffer(uv_buf), slot_h = g.import_buffer(slot_buf);
+    g.add_loop(kSweepsPerCheck, [&] {
+        for (std::uint32_t c = 0; c < rows.colour_count(); ++c) {
+            const std::uint32_t first = rows.first[c], count = rows.first[c + 1] - first;
+            if (count == 0) continue;
+            g.add_compute_pass(
+                "relax colour " + std::to_string(c),
+                [&](PassBuilder& b) {
+                    for (auto h : {vertex_h, offset_h, column_h, weight_h}) b.read(h, Access::ComputeRead);
+                    uv_h = b.write(uv_h, Access::ComputeReadWrite);
+                    slot_h = b.write(slot_h, Access::ComputeReadWrite);
+                },
+                [=, uv = uv_h, slots = slot_h](Cmd& cmd) {
+                    cmd.dispatch_threads(kRelax, {count}, {vertex_h, offset_h, column_h, weight_h, uv, slots},
+                                         RelaxPush{first, count, std::uint32_t(field), cmd.iteration(), k});
+                });
+        }
+    });
+    g.export_buffer(slot_h, Access::TransferSrc);
+    g.export_buffer(uv_h, Access::TransferSrc);
+    Plan plan = g.compile();
+    const std::uint32_t limit = float_bits(tau);
+    const std::vector<std::uint32_t> zeros(kSweepsPerCheck, 0);
+    for (std::size_t done = 0; done < max_sweeps; done += kSweepsPerCheck) {
+        ctx.upload(slot_buf, zeros.data(), zeros.size() * 4);
+        plan.execute();
+        std::vector<std::uint32_t> worst(kSweepsPerCheck);
+        ctx.download(slot_buf, worst.data(), worst.size() * 4);
+        for (std::uint32_t s = 0; s < kSweepsPerCheck; ++s)
+            if (worst[s] < limit) {
+                ctx.download(uv_buf, uv.data(), uv.size() * 16);
+                return done + s + 1;
+            }
+    }
+    throw geo::InputError("the relaxation did not settle within " + std::to_string(max_sweeps) + " sweeps");
+}
+
+}  // namespace gimg::passes::detail
