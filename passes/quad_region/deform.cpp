@@ -4,6 +4,8 @@
 #include "gimg/geometry/normals.h"
 #include "gimg/passes/quad_region.h"
 
+#include "quad_region/deform_comp.h"
+
 #include <glm/geometric.hpp>
 
 #include <algorithm>
@@ -48,7 +50,42 @@ void check_map(const geo::Mesh& mesh, const QuadRegion& region, const std::vecto
             throw geo::InputError("the region was cut from another mesh");
 }
 
+// G / h: the bump or the height map's bilinear value, in the shader's order of operations.
+double unit_height(const PastedFeature& f, glm::dvec2 uv) {
+    if (f.heights.empty()) {
+        auto b = [](double x) {
+            x = std::clamp(x, 0.0, 1.0);
+            const double t = 4.0 * x * (1.0 - x);
+            return t * t * t;
+        };
+        return b(uv.x) * b(uv.y);
+    }
+    if (f.heights.size() != std::size_t(f.width) * f.height || f.width < 2 || f.height < 2)
+        throw geo::InputError("a height map needs at least 2 x 2 values");
+    const double x = std::clamp(uv.x, 0.0, 1.0) * double(f.width - 1);
+    const double y = (1.0 - std::clamp(uv.y, 0.0, 1.0)) * double(f.height - 1);
+    const std::uint32_t x0 = std::min(std::uint32_t(x), f.width - 2), y0 = std::min(std::uint32_t(y), f.height - 2);
+    const double fx = x - double(x0), fy = y - double(y0);
+    auto at = [&](std::uint32_t i, std::uint32_t j) { return double(f.heights[std::size_t(j) * f.width + i]); };
+    const double top = at(x0, y0) * (1.0 - fx) + at(x0 + 1, y0) * fx;
+    const double bottom = at(x0, y0 + 1) * (1.0 - fx) + at(x0 + 1, y0 + 1) * fx;
+    return top * (1.0 - fy) + bottom * fy;
+}
+
+// The unweighted mean of the unit normals of the faces at a vertex, normalised (zero where they
+// cancel), of the undeformed mesh.
+std::vector<glm::dvec3> paste_normals(const geo::Mesh& mesh) {
+    const std::vector<glm::dvec3> face_n = geo::face_normals(mesh);
+    std::vector<glm::dvec3> normal(mesh.vertex_count(), glm::dvec3(0.0));
+    for (std::size_t f = 0; f < mesh.face_count(); ++f)
+        for (int k = 0; k < 3; ++k) normal[mesh.triangles[f][k]] += face_n[f];
+    for (auto& n : normal) n = glm::length(n) > 0.0 ? glm::normalize(n) : glm::dvec3(0.0);
+    return normal;
+}
+
 }  // namespace
+
+double PastedFeature::evaluate(glm::dvec2 uv) const { return scale * unit_height(*this, uv); }
 
 glm::dvec3 OffsetLattice::evaluate(glm::dvec2 uv) const {
     if (columns < 4 || rows < 4) throw geo::InputError("an offset lattice needs at least 4 x 4 control points");
@@ -66,21 +103,6 @@ glm::dvec3 OffsetLattice::evaluate(glm::dvec2 uv) const {
     return f;
 }
 
-double PastedFeature::evaluate(glm::dvec2 uv) const {
-    if (heights.empty()) {
-        auto b = [](double x) { return std::pow(4.0 * x * (1.0 - x), 3.0); };
-        return scale * b(std::clamp(uv.x, 0.0, 1.0)) * b(std::clamp(uv.y, 0.0, 1.0));
-    }
-    if (heights.size() != std::size_t(width) * height || width < 2 || height < 2)
-        throw geo::InputError("a height map needs at least 2 x 2 values");
-    const double x = std::clamp(uv.x, 0.0, 1.0) * (width - 1), y = (1.0 - std::clamp(uv.y, 0.0, 1.0)) * (height - 1);
-    const std::uint32_t x0 = std::min(std::uint32_t(x), width - 2), y0 = std::min(std::uint32_t(y), height - 2);
-    const double fx = x - x0, fy = y - y0;
-    auto at = [&](std::uint32_t i, std::uint32_t j) { return double(heights[std::size_t(j) * width + i]); };
-    return scale * ((at(x0, y0) * (1 - fx) + at(x0 + 1, y0) * fx) * (1 - fy) +
-                    (at(x0, y0 + 1) * (1 - fx) + at(x0 + 1, y0 + 1) * fx) * fy);
-}
-
 geo::Mesh deform_by_lattice(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
                             const OffsetLattice& lattice) {
     check_map(mesh, region, uv);
@@ -93,19 +115,106 @@ geo::Mesh deform_by_lattice(const geo::Mesh& mesh, const QuadRegion& region, con
 geo::Mesh paste_feature(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
                         const PastedFeature& feature) {
     check_map(mesh, region, uv);
-    // The unweighted mean of the unit normals of the faces at a vertex, of the undeformed mesh.
-    const std::vector<glm::dvec3> face_n = geo::face_normals(mesh);
-    std::vector<glm::dvec3> normal(mesh.vertex_count(), glm::dvec3(0.0));
-    for (std::size_t f = 0; f < mesh.face_count(); ++f)
-        for (int k = 0; k < 3; ++k) normal[mesh.triangles[f][k]] += face_n[f];
-    const double diagonal = mesh.bounds().diagonal();
+    const std::vector<glm::dvec3> normal = paste_normals(mesh);
+    const double scale = feature.scale * mesh.bounds().diagonal();
     geo::Mesh out = mesh;
     for (std::size_t i = 0; i < uv.size(); ++i) {
         const std::uint32_t o = region.original[i];
-        if (o == kInsertedNode || glm::length(normal[o]) == 0.0) continue;
-        out.positions[o] += glm::normalize(normal[o]) * (feature.evaluate(uv[i]) * diagonal);
+        if (o == kInsertedNode) continue;
+        out.positions[o] += normal[o] * (unit_height(feature, uv[i]) * scale);
     }
     return out;
+}
+
+void add_quad_deformation(Graph& graph, BufferHandle positions, BufferHandle normals, BufferHandle original,
+                          BufferHandle uv, BufferHandle offsets, BufferHandle heights, const QuadDeformation& what) {
+    static const Spirv kDeform = GIMG_SPIRV(gimg_spv_quad_region_deform_comp);
+    struct Push {
+        std::uint32_t count, mode, columns, rows;
+        double scale;
+    };
+    const Push push{what.region_vertices, std::uint32_t(what.kind), what.columns, what.rows, what.scale};
+    graph.add_compute_pass(
+        "quad region deformation",
+        [&](PassBuilder& b) {
+            for (auto h : {normals, original, uv, offsets, heights}) b.read(h, Access::ComputeRead);
+            positions = b.write(positions, Access::ComputeReadWrite);
+        },
+        [=](Cmd& c) {
+            c.dispatch_threads(kDeform, {std::max(push.count, 1u)},
+                               {positions, normals, original, uv, offsets, heights}, push);
+        });
+}
+
+namespace {
+
+geo::Mesh deform_gpu(Context& ctx, const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
+                     QuadDeformation what, const std::vector<double>& offsets, const std::vector<float>& heights) {
+    check_map(mesh, region, uv);
+    auto upload = [&](const void* data, std::size_t bytes, const char* name) {
+        Buffer b = ctx.create_buffer({std::max<std::size_t>(bytes, 16), name});
+        if (bytes) ctx.upload(b, data, bytes);
+        return b;
+    };
+    std::vector<double> positions(3 * mesh.vertex_count()), normals;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        for (int k = 0; k < 3; ++k) positions[3 * v + std::size_t(k)] = mesh.positions[v][k];
+    if (what.kind != QuadDeformation::Kind::Lattice)
+        for (const glm::dvec3& n : paste_normals(mesh)) normals.insert(normals.end(), {n.x, n.y, n.z});
+    Buffer pos = upload(positions.data(), positions.size() * 8, "deform positions");
+    Buffer nrm = upload(normals.data(), normals.size() * 8, "deform normals");
+    Buffer org = upload(region.original.data(), region.original.size() * 4, "deform original");
+    Buffer par = upload(uv.data(), uv.size() * 16, "deform uv");
+    Buffer off = upload(offsets.data(), offsets.size() * 8, "deform offsets");
+    Buffer hgt = upload(heights.data(), heights.size() * 4, "deform heights");
+    what.region_vertices = std::uint32_t(uv.size());
+    Graph g(ctx);
+    auto pos_h = g.import_buffer(pos);
+    add_quad_deformation(g, pos_h, g.import_buffer(nrm), g.import_buffer(org), g.import_buffer(par),
+                         g.import_buffer(off), g.import_buffer(hgt), what);
+    g.export_buffer(pos_h, Access::TransferSrc);
+    Plan plan = g.compile();
+    plan.execute();
+    ctx.download(pos, positions.data(), positions.size() * 8);
+    geo::Mesh out = mesh;
+    for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
+        out.positions[v] = {positions[3 * v], positions[3 * v + 1], positions[3 * v + 2]};
+    return out;
+}
+
+}  // namespace
+
+geo::Mesh deform_by_lattice_gpu(Context& ctx, const geo::Mesh& mesh, const QuadRegion& region,
+                                const std::vector<glm::dvec2>& uv, const OffsetLattice& lattice) {
+    lattice.evaluate({0.5, 0.5});  // the lattice's own checks
+    if (lattice.columns > 128 || lattice.rows > 128)
+        throw geo::InputError("the GPU lattice takes at most 128 x 128 control points");
+    std::vector<double> offsets;
+    auto free = [&](std::uint32_t i, std::uint32_t n) {
+        return int(i) > lattice.fixed_layers && int(i) + 1 + lattice.fixed_layers < int(n);
+    };
+    for (std::uint32_t q = 0; q < lattice.rows; ++q)
+        for (std::uint32_t p = 0; p < lattice.columns; ++p) {
+            const glm::dvec3 o = free(p, lattice.columns) && free(q, lattice.rows)
+                                     ? lattice.offsets[std::size_t(q) * lattice.columns + p]
+                                     : glm::dvec3(0.0);
+            offsets.insert(offsets.end(), {o.x, o.y, o.z});
+        }
+    return deform_gpu(ctx, mesh, region, uv,
+                      {.kind = QuadDeformation::Kind::Lattice, .columns = lattice.columns, .rows = lattice.rows},
+                      offsets, {});
+}
+
+geo::Mesh paste_feature_gpu(Context& ctx, const geo::Mesh& mesh, const QuadRegion& region,
+                            const std::vector<glm::dvec2>& uv, const PastedFeature& feature) {
+    feature.evaluate({0.5, 0.5});  // the height map's own checks
+    const double scale = feature.scale * mesh.bounds().diagonal();
+    if (feature.heights.empty())
+        return deform_gpu(ctx, mesh, region, uv, {.kind = QuadDeformation::Kind::Bump, .scale = scale}, {}, {});
+    return deform_gpu(
+        ctx, mesh, region, uv,
+        {.kind = QuadDeformation::Kind::HeightMap, .columns = feature.width, .rows = feature.height, .scale = scale},
+        {}, feature.heights);
 }
 
 }  // namespace gimg::passes

@@ -187,8 +187,11 @@ void run_deform(const QuadOptions& o, const GlobalOptions& global) {
     auto ctx = open_context(global);
     const passes::QuadMap m = passes::map_quad_region(o.cpu ? nullptr : ctx.get(), region, map_options(o));
     for (auto& d : lattice.offsets) d *= mesh.bounds().diagonal();  // given in bounding-box diagonals
-    const geo::Mesh deformed = o.lattice.empty() ? passes::paste_feature(mesh, region, m.uv, feature)
-                                                 : passes::deform_by_lattice(mesh, region, m.uv, lattice);
+    const geo::Mesh deformed = o.lattice.empty()
+                                   ? (o.cpu ? passes::paste_feature(mesh, region, m.uv, feature)
+                                            : passes::paste_feature_gpu(*ctx, mesh, region, m.uv, feature))
+                                   : (o.cpu ? passes::deform_by_lattice(mesh, region, m.uv, lattice)
+                                            : passes::deform_by_lattice_gpu(*ctx, mesh, region, m.uv, lattice));
     const std::filesystem::path dir(o.out);
     geo::save_mesh(deformed, dir / "deformed.ply");
     passes::RenderOptions r;
@@ -223,7 +226,7 @@ void add_map_options(CLI::App* cmd, QuadOptions& o) {
     add_number_option(cmd, "--relaxation", o.relaxation, 0.0, 0.999, "k of the relaxation (default 0.05)");
     add_number_option(cmd, "--tau", o.tau, 1e-15, 1.0,
                       "the relaxation stops when every correction is below this (default 1e-4)");
-    cmd->add_flag("--cpu", o.cpu, "Solve with the CPU twin");
+    cmd->add_flag("--cpu", o.cpu, "Solve (and deform) with the CPU twins");
     cmd->add_option("--json", o.json, "Write the figures as JSON");
 }
 

@@ -308,3 +308,31 @@ TEST_F(QuadRegion, TheRelaxationOnTheGpuIsItsCpuTwin) {
         EXPECT_EQ(gpu.flipped, 0u);
     }
 }
+
+TEST_F(QuadRegion, TheDeformationPassIsItsCpuTwin) {
+    geo::Mesh sheet = jittered_sheet();
+    for (auto& p : sheet.positions) p.z = 0.2 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y);
+    const gp::QuadRegion r = gp::cut_quad_region(sheet, unit_corners(sheet));
+    const gp::QuadMap m = gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Direct});
+    auto worst = [](const geo::Mesh& a, const geo::Mesh& b) {
+        double w = 0.0;
+        for (std::size_t i = 0; i < a.positions.size(); ++i)
+            w = std::max(w, glm::distance(a.positions[i], b.positions[i]));
+        return w;
+    };
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> offset(-0.1, 0.1);
+    gp::OffsetLattice lattice{.columns = 11, .rows = 9};
+    for (int k = 0; k < 99; ++k) lattice.offsets.push_back({offset(rng), offset(rng), offset(rng)});
+    const geo::Mesh cpu = gp::deform_by_lattice(sheet, r, m.uv, lattice);
+    EXPECT_GT(worst(cpu, sheet), 1e-3);  // it moved
+    EXPECT_LE(worst(gp::deform_by_lattice_gpu(ctx(), sheet, r, m.uv, lattice), cpu), 1e-13);
+    const gp::PastedFeature bump{.scale = 0.05};
+    EXPECT_LE(worst(gp::paste_feature_gpu(ctx(), sheet, r, m.uv, bump), gp::paste_feature(sheet, r, m.uv, bump)),
+              1e-13);
+    gp::PastedFeature map{.width = 5, .height = 4, .scale = 0.02};
+    for (int k = 0; k < 20; ++k) map.heights.push_back(float(offset(rng)));
+    const geo::Mesh pasted = gp::paste_feature(sheet, r, m.uv, map);
+    EXPECT_GT(worst(pasted, sheet), 1e-5);
+    EXPECT_LE(worst(gp::paste_feature_gpu(ctx(), sheet, r, m.uv, map), pasted), 1e-13);
+}

@@ -11,6 +11,7 @@
 // pasted height along the normals.
 
 #include "gimg/engine/context.h"
+#include "gimg/engine/graph.h"
 #include "gimg/geometry/adjacency.h"
 #include "gimg/geometry/mesh.h"
 
@@ -122,6 +123,25 @@ geo::Mesh deform_by_lattice(const geo::Mesh& mesh, const QuadRegion& region, con
                             const OffsetLattice& lattice);
 geo::Mesh paste_feature(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
                         const PastedFeature& feature);
+// The GPU path: one compute pass over the region's vertices, in the CPU twin's order of operations.
+geo::Mesh deform_by_lattice_gpu(Context& ctx, const geo::Mesh& mesh, const QuadRegion& region,
+                                const std::vector<glm::dvec2>& uv, const OffsetLattice& lattice);
+geo::Mesh paste_feature_gpu(Context& ctx, const geo::Mesh& mesh, const QuadRegion& region,
+                            const std::vector<glm::dvec2>& uv, const PastedFeature& feature);
+
+// The deformation recorded into a caller's graph. positions: 3 float64 per mesh vertex, moved in
+// place; normals: 3 float64 per mesh vertex, unit (paste only); original: a uint32 per region vertex
+// (kInsertedNode for inserted points); uv: 2 float64 per region vertex; offsets: 3 float64 per
+// control point with the fixed layers zero (lattice); heights: float32, row 0 at v = 1 (height map).
+// Buffers a mode does not read may be any buffer of 16 bytes.
+struct QuadDeformation {
+    enum class Kind : std::uint32_t { Lattice, Bump, HeightMap } kind = Kind::Lattice;
+    std::uint32_t region_vertices = 0;
+    std::uint32_t columns = 0, rows = 0;  // the lattice, or the height map's width and height
+    double scale = 0.0;                   // paste: the height in model units
+};
+void add_quad_deformation(Graph& graph, BufferHandle positions, BufferHandle normals, BufferHandle original,
+                          BufferHandle uv, BufferHandle offsets, BufferHandle heights, const QuadDeformation& what);
 
 // Interactive editing: the mesh and its adjacency are kept; moving a corner re-cuts the region and
 // re-solves from the last map (the previous (u, v) of every vertex still in the region, the
