@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace gimg::passes {
 
@@ -84,6 +85,43 @@ std::vector<glm::dvec3> paste_normals(const geo::Mesh& mesh) {
 }
 
 }  // namespace
+
+glm::dvec2 polar_coordinates(glm::dvec2 uv) {
+    const glm::dvec2 d = uv - glm::dvec2(0.5);
+    double theta = std::atan2(d.y, d.x);
+    if (theta < 0.0) theta += 2.0 * std::numbers::pi;
+    return {2.0 * glm::length(d), theta};
+}
+
+glm::dvec3 PolarLattice::evaluate(glm::dvec2 uv) const {
+    if (rings < 7 || sectors < 3) throw geo::InputError("a polar lattice needs at least 7 rings and 3 sectors");
+    if (offsets.size() != std::size_t(rings) * sectors)
+        throw geo::InputError("the polar lattice has " + std::to_string(offsets.size()) + " offsets for " +
+                              std::to_string(rings) + " x " + std::to_string(sectors) + " control points");
+    const glm::dvec2 rt = polar_coordinates(uv);
+    if (rt.x >= 1.0) return glm::dvec3(0.0);
+    const std::vector<double> br = cubic_basis(rings, rt.x);
+    // Uniform periodic cubic B-spline in theta: the four control points around the span.
+    const double x = rt.y / (2.0 * std::numbers::pi) * sectors;
+    const auto span = std::uint32_t(std::floor(x)) % sectors;
+    const double t = x - std::floor(x);
+    const double c[4] = {(1 - t) * (1 - t) * (1 - t) / 6.0, (3 * t * t * t - 6 * t * t + 4) / 6.0,
+                         (-3 * t * t * t + 3 * t * t + 3 * t + 1) / 6.0, t * t * t / 6.0};
+    glm::dvec3 f(0.0);
+    for (std::uint32_t p = 3; p + 3 < rings; ++p)
+        for (int k = 0; k < 4; ++k)
+            f += offsets[std::size_t(p) * sectors + (span + sectors - 1 + std::uint32_t(k)) % sectors] * (br[p] * c[k]);
+    return f;
+}
+
+geo::Mesh deform_by_polar_lattice(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
+                                  const PolarLattice& lattice) {
+    check_map(mesh, region, uv);
+    geo::Mesh out = mesh;
+    for (std::size_t i = 0; i < uv.size(); ++i)
+        if (region.original[i] != kInsertedNode) out.positions[region.original[i]] += lattice.evaluate(uv[i]);
+    return out;
+}
 
 double PastedFeature::evaluate(glm::dvec2 uv) const { return scale * unit_height(*this, uv); }
 

@@ -10,6 +10,7 @@
 #include <Eigen/SparseLU>
 #include <glm/geometric.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -61,6 +62,7 @@ std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacenc
 
 QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& o,
                         const std::vector<glm::dvec2>& warm) {
+    if (region.corner_count != 4) throw geo::InputError("a square map needs a region of four corners");
     if (!(o.relaxation >= 0.0 && o.relaxation < 1.0)) throw geo::InputError("the relaxation k must be in [0, 1)");
     if (!(o.tau > 0.0)) throw geo::InputError("tau must be positive");
     const geo::Mesh& mesh = region.mesh;
@@ -115,6 +117,75 @@ QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOpt
     }
     out.solve_ms = ms_since(t);
     out.flipped = count_flipped(mesh, out.uv);
+    return out;
+}
+
+std::vector<glm::dvec3> barycentric_map(Context* ctx, const QuadRegion& r, QuadWeights weights) {
+    if (r.corner_count != 3) throw geo::InputError("barycentric coordinates need a region of three corners");
+    const geo::Mesh& mesh = r.mesh;
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    const std::vector<double> w =
+        weights == QuadWeights::Floater ? floater_weights(mesh, adj) : chord_weights(mesh, adj);
+    const std::size_t n = mesh.vertex_count();
+    // Boundary values: walk each side W_i -> W_i+1 by chord length; coordinate i falls from 1 to 0
+    // along it, coordinate i+1 rises from 0 to 1, the third is 0.
+    std::vector<glm::dvec3> fixed(n, glm::dvec3(0.0));
+    const SquareBoundary loop = square_boundary(mesh, adj, std::nullopt);  // the boundary loop, any corners
+    std::vector<std::uint32_t> order = loop.loop;
+    std::rotate(order.begin(), std::find(order.begin(), order.end(), r.corners[0]), order.end());
+    for (int i = 0; i < 3; ++i) {
+        const auto begin = std::find(order.begin(), order.end(), r.corners[i]);
+        const auto end = i < 2 ? std::find(order.begin(), order.end(), r.corners[i + 1]) : order.end();
+        std::vector<std::uint32_t> side(begin, end);
+        side.push_back(i < 2 ? *end : order.front());
+        double total = 0.0;
+        std::vector<double> arc{0.0};
+        for (std::size_t k = 0; k + 1 < side.size(); ++k)
+            arc.push_back(total += glm::distance(mesh.positions[side[k]], mesh.positions[side[k + 1]]));
+        for (std::size_t k = 0; k + 1 < side.size(); ++k) {
+            const double t = total > 0.0 ? arc[k] / total : 0.0;
+            fixed[side[k]][i] = 1.0 - t;
+            fixed[side[k]][(i + 1) % 3] = t;
+        }
+    }
+    LinearSystem s;
+    s.a.size = n;
+    s.rhs_count = 3;
+    std::vector<std::uint8_t> boundary(n, 0);
+    for (std::uint32_t v : order) boundary[v] = 1;
+    for (std::size_t i = 0; i < n; ++i) {
+        s.a.columns.push_back(std::uint32_t(i));
+        s.a.values.push_back(1.0);
+        if (!boundary[i]) {
+            const auto nb = adj.neighbors(i);
+            for (std::size_t k = 0; k < nb.size(); ++k)
+                s.a.columns.push_back(nb[k]), s.a.values.push_back(-w[adj.vertex_vertex_offsets[i] + k]);
+        }
+        s.a.offsets.push_back(std::uint32_t(s.a.columns.size()));
+    }
+    s.b.assign(3 * n, 0.0);
+    s.fixed = boundary;
+    for (std::size_t i = 0; i < n; ++i)
+        for (int c = 0; c < 3; ++c) s.fixed_values.push_back(fixed[i][c]);
+    std::vector<glm::dvec3> out(n);
+    if (ctx) {
+        const SolveResult res = solve_general(*ctx, s, {.tolerance = 1e-12, .max_iterations = 20000});
+        if (!res.converged) throw geo::InputError("the barycentric system did not converge");
+        for (std::size_t i = 0; i < n; ++i) out[i] = {res.x[3 * i], res.x[3 * i + 1], res.x[3 * i + 2]};
+    } else {
+        // Two direct solves of the two-column helper, the third column from the first's matrix.
+        LinearSystem first = s, second = s;
+        first.rhs_count = second.rhs_count = 2;
+        first.fixed_values.clear(), second.fixed_values.clear();
+        for (std::size_t i = 0; i < n; ++i) {
+            first.fixed_values.insert(first.fixed_values.end(), {fixed[i].x, fixed[i].y});
+            second.fixed_values.insert(second.fixed_values.end(), {fixed[i].z, 0.0});
+        }
+        first.b.assign(2 * n, 0.0), second.b.assign(2 * n, 0.0);
+        const std::vector<glm::dvec2> xy = solve_direct(first), z = solve_direct(second);
+        for (std::size_t i = 0; i < n; ++i) out[i] = {xy[i].x, xy[i].y, z[i].x};
+    }
+    for (auto& b : out) b /= b.x + b.y + b.z;
     return out;
 }
 

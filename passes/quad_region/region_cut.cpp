@@ -31,22 +31,23 @@ struct Segment {
 class RegionCutter {
 public:
     RegionCutter(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, const std::vector<glm::dvec3>& face_normals,
-                 double diagonal, const std::array<std::uint32_t, 4>& corners)
-        : mesh_(mesh), adj_(adj), face_n_(face_normals), diagonal_(diagonal), corners_(corners) {}
+                 double diagonal, std::vector<std::uint32_t> corners)
+        : mesh_(mesh), adj_(adj), face_n_(face_normals), diagonal_(diagonal), corners_(std::move(corners)),
+          n_(int(corners_.size())) {}
 
     QuadRegion cut() {
-        std::array<glm::dvec3, 4> normal{};
-        for (int i = 0; i < 4; ++i) {
+        std::vector<glm::dvec3> normal(corners_.size(), glm::dvec3(0.0));
+        for (int i = 0; i < n_; ++i) {
             for (std::uint32_t f : adj_.faces_of_vertex(corners_[i])) normal[i] += face_n_[f];
             if (glm::length(normal[i]) == 0.0)
                 throw geo::InputError("corner " + std::to_string(corners_[i]) + " has no face with a normal");
             normal[i] = glm::normalize(normal[i]);
         }
-        std::array<std::vector<std::uint32_t>, 4> paths;
-        for (int i = 0; i < 4; ++i) {
+        std::vector<std::vector<std::uint32_t>> paths(corners_.size());
+        for (int i = 0; i < n_; ++i) {
             const std::size_t segments = segments_.size(), points = point_edge_.size();
             try {
-                paths[i] = trace(i, normal[i], normal[(i + 1) % 4]);
+                paths[i] = trace(i, normal[i], normal[(i + 1) % n_]);
             } catch (const geo::InputError&) {
                 // The section left the mesh or turned back: the shortest edge path instead (sec. 4.1's
                 // fallback), with the points the failed trace inserted taken back.
@@ -88,7 +89,7 @@ private:
 
     // The shortest path along edges from corner i to corner i + 1 (Dijkstra, edge lengths).
     std::vector<std::uint32_t> edge_path(int i) {
-        const std::uint32_t from = corners_[i], target = corners_[(i + 1) % 4];
+        const std::uint32_t from = corners_[i], target = corners_[(i + 1) % n_];
         std::vector<double> dist(mesh_.vertex_count(), std::numeric_limits<double>::infinity());
         std::vector<std::uint32_t> parent(mesh_.vertex_count(), kNone);
         using Item = std::pair<double, std::uint32_t>;
@@ -115,7 +116,7 @@ private:
     }
 
     std::vector<std::uint32_t> trace(int i, const glm::dvec3& ni, const glm::dvec3& nj) {
-        const std::uint32_t from = corners_[i], target = corners_[(i + 1) % 4];
+        const std::uint32_t from = corners_[i], target = corners_[(i + 1) % n_];
         const glm::dvec3 w = mesh_.positions[from], toward = mesh_.positions[target] - w;
         glm::dvec3 n = glm::cross(w - mesh_.positions[target], ni + nj);
         if (glm::length(n) == 0.0)
@@ -194,9 +195,9 @@ private:
         return path;
     }
 
-    void check_simple(const std::array<std::vector<std::uint32_t>, 4>& paths) const {
+    void check_simple(const std::vector<std::vector<std::uint32_t>>& paths) const {
         std::map<std::uint32_t, int> owner;
-        for (int i = 0; i < 4; ++i)
+        for (int i = 0; i < n_; ++i)
             for (std::size_t k = 0; k + 1 < paths[i].size(); ++k) {
                 const auto [it, fresh] = owner.emplace(paths[i][k], i);
                 if (!fresh)
@@ -210,7 +211,7 @@ private:
     // Splits every face a side crosses along it, then floods the faces on the sides' left: original
     // faces through the mesh's adjacency, split faces through their pieces' edges, so the work grows
     // with the region, not the mesh.
-    QuadRegion gather(const std::array<std::vector<std::uint32_t>, 4>& paths) {
+    QuadRegion gather(const std::vector<std::vector<std::uint32_t>>& paths) {
         std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> chords;
         std::unordered_set<std::uint64_t> barrier;
         for (const Segment& sg : segments_) {
@@ -322,9 +323,10 @@ private:
             r.outside.triangles.push_back(out);
         }
         r.side.assign(r.mesh.positions.size(), 0);
-        for (int i = 0; i < 4; ++i)
+        for (int i = 0; i < n_; ++i)
             for (std::size_t k = 0; k + 1 < paths[i].size(); ++k) r.side[index.at(paths[i][k])] = std::uint8_t(i + 1);
-        for (int i = 0; i < 4; ++i) r.corners[i] = index.at(corners_[i]);
+        r.corner_count = std::uint32_t(n_);
+        for (int i = 0; i < n_; ++i) r.corners[i] = index.at(corners_[i]);
         r.merged = merged_;
         r.fallback_sides = fallbacks_;
         for (std::uint32_t p = 0; p < point_pos_.size(); ++p)
@@ -398,7 +400,8 @@ private:
     const geo::MeshAdjacency& adj_;
     const std::vector<glm::dvec3>& face_n_;
     double diagonal_;
-    std::array<std::uint32_t, 4> corners_;
+    std::vector<std::uint32_t> corners_;
+    int n_;
     std::vector<glm::dvec3> point_pos_;      // inserted points (ids from V on)
     std::vector<std::uint32_t> point_edge_;  // per inserted point, its edge
     std::map<std::pair<std::uint32_t, double>, std::uint32_t> inserted_;
@@ -413,18 +416,30 @@ QuadRegionCutter::QuadRegionCutter(const geo::Mesh& mesh)
       diagonal_(mesh.bounds().diagonal()) {}
 
 QuadRegion QuadRegionCutter::cut(const std::array<std::uint32_t, 4>& corners) const {
-    for (int i = 0; i < 4; ++i) {
+    return cut_polygon({corners.begin(), corners.end()});
+}
+
+QuadRegion QuadRegionCutter::cut_triangle(const std::array<std::uint32_t, 3>& corners) const {
+    return cut_polygon({corners.begin(), corners.end()});
+}
+
+QuadRegion QuadRegionCutter::cut_polygon(const std::vector<std::uint32_t>& corners) const {
+    for (std::size_t i = 0; i < corners.size(); ++i) {
         if (corners[i] >= mesh_->vertex_count())
             throw geo::InputError("corner " + std::to_string(corners[i]) + " is not a vertex of the mesh (it has " +
                                   std::to_string(mesh_->vertex_count()) + ")");
-        for (int j = 0; j < i; ++j)
-            if (corners[i] == corners[j]) throw geo::InputError("the four corners must be distinct vertices");
+        for (std::size_t j = 0; j < i; ++j)
+            if (corners[i] == corners[j]) throw geo::InputError("the corners must be distinct vertices");
     }
     return RegionCutter(*mesh_, adjacency_, face_normals_, diagonal_, corners).cut();
 }
 
 QuadRegion cut_quad_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 4>& corners) {
     return QuadRegionCutter(mesh).cut(corners);
+}
+
+QuadRegion cut_triangle_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 3>& corners) {
+    return QuadRegionCutter(mesh).cut_triangle(corners);
 }
 
 }  // namespace gimg::passes

@@ -21,6 +21,7 @@
 #include <glm/trigonometric.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -31,34 +32,48 @@ namespace gimg::cli {
 
 namespace {
 
-std::array<std::uint32_t, 4> parse_corners(const std::string& text, const geo::Mesh& mesh) {
-    if (text == "auto") return automatic_corners(mesh);
+// Four corners (a quad region), or three (a triangle region, barycentric coordinates), or auto[:F].
+std::vector<std::uint32_t> parse_corners(const std::string& text, const geo::Mesh& mesh) {
+    if (text == "auto") {
+        const auto c = automatic_corners(mesh);
+        return {c.begin(), c.end()};
+    }
     if (text.rfind("auto:", 0) == 0) {
         char* end = nullptr;
         const double side = std::strtod(text.c_str() + 5, &end);
         if (*end || !(side > 0.0 && side <= 2.0))
             throw geo::InputError(
                 "--corners auto:F takes the square's side F in bounding-box diagonals (0 to 2), got '" + text + "'");
-        return automatic_corners(mesh, side);
+        const auto c = automatic_corners(mesh, side);
+        return {c.begin(), c.end()};
     }
-    std::array<std::uint32_t, 4> c{};
+    std::vector<std::uint32_t> c;
     std::istringstream in(text);
-    char comma = 0;
-    for (int i = 0; i < 4; ++i) {
+    for (;;) {
         long long v = -1;
-        if (!(in >> v) || v < 0 || v > 0xfffffffe || (i < 3 && (!(in >> comma) || comma != ',')))
-            throw geo::InputError("--corners takes four vertex indices A,B,C,D (counter-clockwise) or auto, got '" +
-                                  text + "'");
-        c[i] = std::uint32_t(v);
+        if (!(in >> v) || v < 0 || v > 0xfffffffe) break;
+        c.push_back(std::uint32_t(v));
+        char comma = 0;
+        if (!(in >> comma)) {
+            if (c.size() == 3 || c.size() == 4) return c;
+            break;
+        }
+        if (comma != ',') break;
     }
-    if (!in.eof() && (in >> std::ws, !in.eof()))
-        throw geo::InputError("--corners takes four vertex indices A,B,C,D or auto, got '" + text + "'");
-    return c;
+    throw geo::InputError(
+        "--corners takes four vertex indices A,B,C,D (or three for a triangle), counter-clockwise, "
+        "or auto, got '" +
+        text + "'");
+}
+
+std::array<std::uint32_t, 4> four_corners(const std::vector<std::uint32_t>& c) {
+    if (c.size() != 4) throw geo::InputError("deform takes a region of four corners");
+    return {c[0], c[1], c[2], c[3]};
 }
 
 struct QuadOptions {
     std::string mesh, corners, out, json, weights = "floater", start = "dijkstra", solver = "krylov";
-    std::string lattice, offsets, paste;
+    std::string lattice, polar, offsets, paste;
     double relaxation = 0.05, tau = 1e-4, height = 0.05;
     bool cpu = false;
 };
@@ -126,12 +141,55 @@ nlohmann::json map_json(const passes::QuadRegion& region, const passes::QuadMap&
             {"solve_ms", m.solve_ms}};
 }
 
+// Three corners: barycentric coordinates; region.obj carries them as (u, v) on an equilateral
+// triangle, (beta + gamma / 2, gamma sqrt(3) / 2).
+void run_triangle(const QuadOptions& o, const GlobalOptions& global, const passes::QuadRegion& region, Context& ctx) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::vector<glm::dvec3> bary =
+        passes::barycentric_map(o.cpu ? nullptr : &ctx, region,
+                                o.weights == "chord" ? passes::QuadWeights::Chord : passes::QuadWeights::Floater);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    std::vector<glm::dvec2> uv(bary.size());
+    for (std::size_t i = 0; i < uv.size(); ++i) uv[i] = {bary[i].y + 0.5 * bary[i].z, bary[i].z * std::sqrt(3.0) / 2.0};
+    geo::Mesh out = region.mesh;
+    out.texcoords = uv;
+    const std::filesystem::path dir(o.out);
+    geo::save_mesh(out, dir / "region.obj");
+    geo::write_png(checker_picture(ctx, region, uv), dir / "checker.png");
+    std::size_t flipped = 0;
+    for (const auto& t : out.triangles) {
+        const glm::dvec2 a = uv[t.y] - uv[t.x], b = uv[t.z] - uv[t.x];
+        flipped += a.x * b.y - a.y * b.x < 0.0;
+    }
+    if (!global.quiet)
+        std::printf(
+            "%s: triangle region of %zu vertices (%zu points inserted on edges), barycentric coordinates in "
+            "%.1f ms, %zu flipped; wrote %s/{region.obj, checker.png}\n",
+            o.mesh.c_str(), region.mesh.vertex_count(), region.inserted, ms, flipped, o.out.c_str());
+    nlohmann::json j{{"mesh", o.mesh},
+                     {"coordinates", "barycentric"},
+                     {"region_vertices", region.mesh.vertex_count()},
+                     {"region_faces", region.mesh.face_count()},
+                     {"inserted_points", region.inserted},
+                     {"merged_points", region.merged},
+                     {"weights", o.weights},
+                     {"flipped", flipped},
+                     {"solve_ms", ms}};
+    add_machine_figures(j, &ctx);
+    write_json(o.json, j);
+}
+
 void run_quadmap(const QuadOptions& o, const GlobalOptions& global) {
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
-    const passes::QuadRegion region = passes::cut_quad_region(mesh, parse_corners(o.corners, mesh));
+    const std::vector<std::uint32_t> corners = parse_corners(o.corners, mesh);
     auto ctx = open_context(global);
-    const passes::QuadMap m = passes::map_quad_region(o.cpu ? nullptr : ctx.get(), region, map_options(o));
     const std::filesystem::path dir(o.out);
+    if (corners.size() == 3) {
+        run_triangle(o, global, passes::cut_triangle_region(mesh, {corners[0], corners[1], corners[2]}), *ctx);
+        return;
+    }
+    const passes::QuadRegion region = passes::cut_quad_region(mesh, four_corners(corners));
+    const passes::QuadMap m = passes::map_quad_region(o.cpu ? nullptr : ctx.get(), region, map_options(o));
     geo::Mesh out = region.mesh;
     out.texcoords = m.uv;
     geo::save_mesh(out, dir / "region.obj");
@@ -169,12 +227,20 @@ passes::OffsetLattice read_lattice(const std::string& size, const std::string& p
 }
 
 void run_deform(const QuadOptions& o, const GlobalOptions& global) {
-    if (o.lattice.empty() == o.paste.empty())
-        throw geo::InputError("deform takes either --lattice PxQ with --offsets FILE, or --paste HEIGHT.exr|bump");
-    if (!o.lattice.empty() && o.offsets.empty()) throw geo::InputError("--lattice needs --offsets FILE");
+    if (int(!o.lattice.empty()) + int(!o.polar.empty()) + int(!o.paste.empty()) != 1)
+        throw geo::InputError(
+            "deform takes either --lattice PxQ or --polar-lattice RxS with --offsets FILE, or --paste HEIGHT.exr|bump");
+    if ((!o.lattice.empty() || !o.polar.empty()) && o.offsets.empty())
+        throw geo::InputError("a lattice needs --offsets FILE");
     passes::OffsetLattice lattice;
     passes::PastedFeature feature{.scale = o.height};
+    passes::PolarLattice polar;
     if (!o.lattice.empty()) lattice = read_lattice(o.lattice, o.offsets);
+    if (!o.polar.empty()) {
+        const passes::OffsetLattice read = read_lattice(o.polar, o.offsets);
+        polar = {.rings = read.columns, .sectors = read.rows, .offsets = read.offsets};
+        polar.evaluate({0.5, 0.5});  // its own checks, before any work
+    }
     if (!o.paste.empty() && o.paste != "bump") {
         const geo::FloatImage h = geo::read_exr(o.paste);
         if (h.channels.empty()) throw geo::InputError(o.paste + ": no channel to read heights from");
@@ -183,11 +249,13 @@ void run_deform(const QuadOptions& o, const GlobalOptions& global) {
         feature.heights = first;
     }
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
-    const passes::QuadRegion region = passes::cut_quad_region(mesh, parse_corners(o.corners, mesh));
+    const passes::QuadRegion region = passes::cut_quad_region(mesh, four_corners(parse_corners(o.corners, mesh)));
     auto ctx = open_context(global);
     const passes::QuadMap m = passes::map_quad_region(o.cpu ? nullptr : ctx.get(), region, map_options(o));
     for (auto& d : lattice.offsets) d *= mesh.bounds().diagonal();  // given in bounding-box diagonals
-    const geo::Mesh deformed = o.lattice.empty()
+    for (auto& d : polar.offsets) d *= mesh.bounds().diagonal();
+    const geo::Mesh deformed = !o.polar.empty() ? passes::deform_by_polar_lattice(mesh, region, m.uv, polar)
+                               : o.lattice.empty()
                                    ? (o.cpu ? passes::paste_feature(mesh, region, m.uv, feature)
                                             : passes::paste_feature_gpu(*ctx, mesh, region, m.uv, feature))
                                    : (o.cpu ? passes::deform_by_lattice(mesh, region, m.uv, lattice)
@@ -205,7 +273,7 @@ void run_deform(const QuadOptions& o, const GlobalOptions& global) {
                     o.mesh.c_str(), region.mesh.vertex_count(), m.flipped, o.out.c_str());
     nlohmann::json j = map_json(region, m, o);
     j["mesh"] = o.mesh;
-    j["deformation"] = o.lattice.empty() ? "paste" : "lattice";
+    j["deformation"] = !o.polar.empty() ? "polar lattice" : o.lattice.empty() ? "paste" : "lattice";
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }

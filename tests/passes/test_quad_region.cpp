@@ -15,6 +15,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <numbers>
 #include <random>
 
 using namespace gimg;
@@ -335,4 +336,69 @@ TEST_F(QuadRegion, TheDeformationPassIsItsCpuTwin) {
     const geo::Mesh pasted = gp::paste_feature(sheet, r, m.uv, map);
     EXPECT_GT(worst(pasted, sheet), 1e-5);
     EXPECT_LE(worst(gp::paste_feature_gpu(ctx(), sheet, r, m.uv, map), pasted), 1e-13);
+}
+
+TEST(QuadDeform, PolarCoordinatesAndTheConcentricLattice) {
+    const glm::dvec2 east = gp::polar_coordinates({1.0, 0.5}), north = gp::polar_coordinates({0.5, 1.0});
+    EXPECT_NEAR(east.x, 1.0, 1e-15);
+    EXPECT_NEAR(east.y, 0.0, 1e-15);
+    EXPECT_NEAR(north.x, 1.0, 1e-15);
+    EXPECT_NEAR(north.y, std::numbers::pi / 2, 1e-15);
+    const glm::dvec2 p = gp::polar_coordinates({0.3, 0.2});  // round trip
+    EXPECT_NEAR(0.5 + 0.5 * p.x * std::cos(p.y), 0.3, 1e-15);
+    EXPECT_NEAR(0.5 + 0.5 * p.x * std::sin(p.y), 0.2, 1e-15);
+    gp::PolarLattice lattice{.rings = 9, .sectors = 6};
+    for (std::uint32_t k = 0; k < 54; ++k) lattice.offsets.push_back({0.0, 0.0, 1.0 + double(k % 6)});
+    EXPECT_EQ(lattice.evaluate({0.5, 0.5}), glm::dvec3(0.0));    // the centre
+    EXPECT_EQ(lattice.evaluate({1.0, 0.5}), glm::dvec3(0.0));    // the inscribed circle
+    EXPECT_EQ(lattice.evaluate({0.99, 0.99}), glm::dvec3(0.0));  // beyond it
+    auto at = [&](double r, double theta) {
+        return lattice.evaluate({0.5 + 0.5 * r * std::cos(theta), 0.5 + 0.5 * r * std::sin(theta)}).z;
+    };
+    EXPECT_GT(at(0.5, 0.3), 0.1);
+    EXPECT_GT(std::abs(at(0.5, 0.3) - at(0.5, 2.3)), 0.1);                   // it turns with theta
+    EXPECT_NEAR(at(0.5, 1e-9), at(0.5, 2 * std::numbers::pi - 1e-9), 1e-6);  // and closes around
+    EXPECT_LT(std::abs(at(0.98, 1.0)), 1e-3);                                // fading to the circle
+}
+
+TEST_F(QuadRegion, APlanarTriangleGetsItsBarycentricCoordinates) {
+    // A triangle meshed irregularly (rows of points, interior ones jittered), corners at its corners.
+    const int n = 12;
+    geo::Mesh tri;
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> jitter(-0.01, 0.01);
+    const glm::dvec3 a{0, 0, 0}, b{1, 0, 0}, c{0.3, 0.9, 0};
+    std::vector<std::vector<std::uint32_t>> id(n + 1);
+    for (int i = 0; i <= n; ++i)
+        for (int j = 0; j <= n - i; ++j) {
+            glm::dvec3 p = a + (b - a) * (double(j) / n) + (c - a) * (double(i) / n);
+            if (i > 0 && j > 0 && i + j < n) p += glm::dvec3(jitter(rng), jitter(rng), 0.0);
+            id[i].push_back(std::uint32_t(tri.positions.size()));
+            tri.positions.push_back(p);
+        }
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n - i; ++j) {
+            tri.triangles.push_back({id[i][j], id[i][j + 1], id[i + 1][j]});
+            if (j + 1 < n - i) tri.triangles.push_back({id[i][j + 1], id[i + 1][j + 1], id[i + 1][j]});
+        }
+    const gp::QuadRegion r = gp::cut_triangle_region(tri, {id[0][0], id[0][n], id[n][0]});
+    ASSERT_EQ(r.corner_count, 3u);
+    ASSERT_EQ(r.mesh.vertex_count(), tri.vertex_count());
+    auto truth = [&](glm::dvec3 p) {
+        // Solve p = a + s (b - a) + t (c - a) in the plane.
+        const glm::dvec2 e1{b.x - a.x, b.y - a.y}, e2{c.x - a.x, c.y - a.y}, q{p.x - a.x, p.y - a.y};
+        const double det = e1.x * e2.y - e1.y * e2.x;
+        const double s = (q.x * e2.y - q.y * e2.x) / det, t = (e1.x * q.y - e1.y * q.x) / det;
+        return glm::dvec3(1.0 - s - t, s, t);
+    };
+    for (Context* c2 : {static_cast<Context*>(nullptr), &ctx()}) {
+        const std::vector<glm::dvec3> bary = gp::barycentric_map(c2, r);
+        double worst = 0.0;
+        for (std::size_t i = 0; i < bary.size(); ++i) {
+            worst = std::max(worst, glm::length(bary[i] - truth(r.mesh.positions[i])));
+            EXPECT_NEAR(bary[i].x + bary[i].y + bary[i].z, 1.0, 1e-14);
+        }
+        EXPECT_LE(worst, c2 ? 1e-9 : 1e-12) << (c2 ? "gpu" : "cpu");
+    }
+    EXPECT_THROW(gp::map_quad_region(nullptr, r), geo::InputError);
 }

@@ -27,19 +27,23 @@ inline constexpr std::uint32_t kInsertedNode = 0xffffffffu;
 // The region as its own mesh: the faces of the original on the left of W1 -> W2 -> W3 -> W4, those
 // crossed by a side split along it. Vertices are original vertices or points inserted on edges.
 struct QuadRegion {
-    geo::Mesh mesh;                        // the region; counter-clockwise like the original
-    std::vector<std::uint32_t> original;   // per region vertex: its original vertex, or kInsertedNode
-    std::array<std::uint32_t, 4> corners;  // W1..W4 as region vertex indices
-    std::vector<std::uint8_t> side;        // per region vertex: 0 inside, 1..4 on side W_i -> W_i+1
-    std::size_t inserted = 0;              // points inserted on edges
-    std::size_t merged = 0;                // crossings close to a vertex that took the vertex instead
-    std::size_t fallback_sides = 0;        // sides whose plane section failed, taken as shortest edge paths
-    geo::Mesh outside;                     // the rest of the mesh, split the same way (for pictures)
+    geo::Mesh mesh;                          // the region; counter-clockwise like the original
+    std::vector<std::uint32_t> original;     // per region vertex: its original vertex, or kInsertedNode
+    std::array<std::uint32_t, 4> corners{};  // W1..W4 (W1..W3 for a triangle) as region vertex indices
+    std::uint32_t corner_count = 4;          // 3 for a triangle region (cut_triangle_region)
+    std::vector<std::uint8_t> side;          // per region vertex: 0 inside, i on side W_i -> W_i+1
+    std::size_t inserted = 0;                // points inserted on edges
+    std::size_t merged = 0;                  // crossings close to a vertex that took the vertex instead
+    std::size_t fallback_sides = 0;          // sides whose plane section failed, taken as shortest edge paths
+    geo::Mesh outside;                       // the rest of the mesh, split the same way (for pictures)
 };
 
 // Throws geo::InputError with the reason when the corners are not four distinct vertices, a side
 // cannot be traced (it leaves the mesh), the sides cross or do not enclose a disk on their left.
 QuadRegion cut_quad_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 4>& corners);
+
+// The three-sided region of three corners (sec. 4.2, barycentric coordinates), cut the same way.
+QuadRegion cut_triangle_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 3>& corners);
 
 // The same with the mesh's adjacency and face normals built once, for cutting again and again (the
 // mesh must outlive it).
@@ -47,8 +51,10 @@ class QuadRegionCutter {
 public:
     explicit QuadRegionCutter(const geo::Mesh& mesh);
     QuadRegion cut(const std::array<std::uint32_t, 4>& corners) const;
+    QuadRegion cut_triangle(const std::array<std::uint32_t, 3>& corners) const;
 
 private:
+    QuadRegion cut_polygon(const std::vector<std::uint32_t>& corners) const;
     const geo::Mesh* mesh_;
     geo::MeshAdjacency adjacency_;
     std::vector<glm::dvec3> face_normals_;
@@ -85,6 +91,13 @@ struct QuadMap {
 QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& options = {},
                         const std::vector<glm::dvec2>& warm = {});
 
+// Barycentric coordinates (alpha, beta, gamma) of a triangle region's vertices (sec. 4.2): three
+// solves with the same weights, the alpha one with alpha = 1 at W1, 0 on the side W2 W3 and chord
+// length along the two others (likewise beta, gamma), each then divided by their sum. With
+// ctx == nullptr, SparseLU; else the solver module's BiCGSTAB on the GPU.
+std::vector<glm::dvec3> barycentric_map(Context* ctx, const QuadRegion& triangle,
+                                        QuadWeights weights = QuadWeights::Floater);
+
 // Chord-length weights: lambda_j proportional to 1 / |P_j - P_i| (same layout as floater_weights).
 std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency);
 
@@ -107,6 +120,23 @@ struct OffsetLattice {
     int fixed_layers = 2;
     glm::dvec3 evaluate(glm::dvec2 uv) const;  // with the fixed layers zeroed
 };
+
+// Polar coordinates on the square (sec. 4.2): centre (1/2, 1/2), r = 2 |(u, v) - centre| (1 on
+// the inscribed circle), theta = atan2(v - 1/2, u - 1/2) in [0, 2 pi).
+glm::dvec2 polar_coordinates(glm::dvec2 uv);
+
+// Offsets on a concentric lattice: F = sum_pq O_pq B_p(r) C_q(theta), B clamped cubic B-splines on
+// r in [0, 1] (`rings` control points), C periodic uniform cubic B-splines in theta (`sectors`
+// control points). The outer three rings are fixed at zero (C2 at r = 1), and so are the inner
+// three (F does not depend on theta at the centre); nothing moves beyond r = 1. At least 7 rings
+// (one free) and 3 sectors.
+struct PolarLattice {
+    std::uint32_t rings = 9, sectors = 8;
+    std::vector<glm::dvec3> offsets;  // rings * sectors, ring-major (p * sectors + q)
+    glm::dvec3 evaluate(glm::dvec2 uv) const;
+};
+geo::Mesh deform_by_polar_lattice(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
+                                  const PolarLattice& lattice);
 
 // A height field along the normals: G(u, v) from a height map (bilinear, [0, 1]^2 over the image)
 // or the built-in bump h (4u(1 - u))^3 (4v(1 - v))^3.
