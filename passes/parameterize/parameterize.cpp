@@ -1,6 +1,7 @@
 // The square map and its iterations: build the weighted Tutte system with the boundary fixed, solve
 // it (GPU or the CPU twin), reweigh, solve again from the last map, until E_sigma stops falling.
 #include "gimg/geometry/error.h"
+#include "gimg/geometry/normals.h"
 #include "gimg/passes/parameterize.h"
 #include "gimg/passes/solvers.h"
 #include "parameterize/reweighting.h"
@@ -56,7 +57,7 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         fixed_uv[out.boundary.loop[k]] = out.boundary.uv[k];
     }
     for (std::uint32_t c : out.boundary.corners) in.corner[c] = 1;
-    in.face_area_3d = detail::face_areas_3d(mesh);
+    in.face_area_3d = geo::face_areas(mesh);
     in.ring_area_3d = detail::ring_areas(adj, in.face_area_3d);
     if (options.variant == ParameterizeVariant::Curvature)
         in.feature = curvature_feature(mesh, adj, options.curvature_root);

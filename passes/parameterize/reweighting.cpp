@@ -3,6 +3,7 @@
 #include "parameterize/reweighting.h"
 
 #include "gimg/geometry/curvature.h"
+#include "gimg/geometry/normals.h"
 
 #include <glm/geometric.hpp>
 
@@ -21,16 +22,6 @@ double uv_area(const std::vector<glm::dvec2>& uv, const glm::uvec3& t) {
 }
 
 }  // namespace
-
-std::vector<double> face_areas_3d(const geo::Mesh& mesh) {
-    std::vector<double> out(mesh.face_count());
-    for (std::size_t f = 0; f < out.size(); ++f) {
-        const glm::uvec3& t = mesh.triangles[f];
-        out[f] = 0.5 * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
-                                              mesh.positions[t.z] - mesh.positions[t.x]));
-    }
-    return out;
-}
 
 std::vector<double> ring_areas(const geo::MeshAdjacency& adj, const std::vector<double>& face_area) {
     std::vector<double> out(adj.vertex_count(), 0.0);

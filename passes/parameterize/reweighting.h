@@ -19,7 +19,6 @@ struct ReweightingInput {
     bool boundary_factors_on_ratio = false;
 };
 
-std::vector<double> face_areas_3d(const geo::Mesh& mesh);
 std::vector<double> uv_face_areas(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv);
 // Per vertex, the sum of its faces' areas.
 std::vector<double> ring_areas(const geo::MeshAdjacency& adj, const std::vector<double>& face_area);

@@ -84,6 +84,17 @@ std::vector<glm::dvec3> paste_normals(const geo::Mesh& mesh) {
     return normal;
 }
 
+// P'_o = P_o + F(u_i, v_i) for every region vertex i of an original vertex o.
+template <class Offset>
+geo::Mesh offset_region(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
+                        Offset&& offset) {
+    check_map(mesh, region, uv);
+    geo::Mesh out = mesh;
+    for (std::size_t i = 0; i < uv.size(); ++i)
+        if (region.original[i] != kInsertedNode) out.positions[region.original[i]] += offset(uv[i]);
+    return out;
+}
+
 }  // namespace
 
 glm::dvec2 polar_coordinates(glm::dvec2 uv) {
@@ -116,11 +127,7 @@ glm::dvec3 PolarLattice::evaluate(glm::dvec2 uv) const {
 
 geo::Mesh deform_by_polar_lattice(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
                                   const PolarLattice& lattice) {
-    check_map(mesh, region, uv);
-    geo::Mesh out = mesh;
-    for (std::size_t i = 0; i < uv.size(); ++i)
-        if (region.original[i] != kInsertedNode) out.positions[region.original[i]] += lattice.evaluate(uv[i]);
-    return out;
+    return offset_region(mesh, region, uv, [&](glm::dvec2 p) { return lattice.evaluate(p); });
 }
 
 double PastedFeature::evaluate(glm::dvec2 uv) const { return scale * unit_height(*this, uv); }
@@ -143,11 +150,7 @@ glm::dvec3 OffsetLattice::evaluate(glm::dvec2 uv) const {
 
 geo::Mesh deform_by_lattice(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
                             const OffsetLattice& lattice) {
-    check_map(mesh, region, uv);
-    geo::Mesh out = mesh;
-    for (std::size_t i = 0; i < uv.size(); ++i)
-        if (region.original[i] != kInsertedNode) out.positions[region.original[i]] += lattice.evaluate(uv[i]);
-    return out;
+    return offset_region(mesh, region, uv, [&](glm::dvec2 p) { return lattice.evaluate(p); });
 }
 
 geo::Mesh paste_feature(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
