@@ -1,6 +1,6 @@
-// The region of four corners (sec. 4.1): each side traced face by face along its plane section,
-// crossings close to a vertex merged into it, the faces it crosses split along it, and the faces on
-// the left of W1 -> W2 -> W3 -> W4 gathered by a flood fill that the sides stop.
+// The region of four (or three) corners (sec. 4.1): each side traced face by face along its plane
+// section, crossings close to a vertex merged into it, the faces it crosses split along it, and the
+// faces on the left of W1 -> W2 -> W3 (-> W4) gathered by a flood fill that the sides stop.
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/normals.h"
 #include "gimg/passes/parameterize.h"
@@ -9,13 +9,13 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
-#include <map>
 #include <limits>
+#include <map>
 #include <queue>
 #include <set>
+#include <string>
 #include <unordered_map>
 #include <unordered_set>
-#include <string>
 
 namespace gimg::passes {
 
