@@ -34,7 +34,7 @@ void run_quad_bench(const QuadBenchOptions& o, const GlobalOptions& global) {
     std::vector<std::string> regions = o.regions;
     if (regions.empty())
         for (const char* r :
-             {"bunny.off:0.25", "mannequin_devil.off:0.5", "bunny.off:0.35", "bunny.off:0.5", "camel.off:0.25"})
+             {"bunny.off:0.25", "mannequin_devil.off:0.6", "bunny.off:0.35", "bunny.off:0.45", "camel.off:0.25"})
             regions.push_back((shared_mesh_dir() / r).string());
     auto context = open_context(global);
     Context& ctx = *context;
@@ -149,7 +149,7 @@ void add_bench_quadmap_command(CLI::App& bench, const GlobalOptions& global) {
     cmd->add_option(
         "--region", o->regions,
         "MESH:SIDE, a square of SIDE times the diagonal around the flattest vertex (default: bunny at 0.25, "
-        "0.35, 0.5; mannequin_devil at 0.5; camel at 0.25)");
+        "0.35, 0.45; mannequin_devil at 0.6; camel at 0.25)");
     add_count_option(cmd, "--runs", o->runs, 1, 1000, "Runs per case; medians (default 5)");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_quad_bench(*o, global); }); });
