@@ -41,14 +41,18 @@ std::vector<std::vector<float>> poses(const std::vector<float>& f, std::uint32_t
 
 std::size_t descriptor_size(const RetrievalOptions& o) {
     const std::size_t r = o.reduced;
-    return o.cylinders * (o.descriptor == RetrievalDescriptor::Image ? r * r : r * (r / 2 + 1));
+    const std::size_t one = o.cylinders * (o.descriptor == RetrievalDescriptor::Image ? r * r : r * (r / 2 + 1));
+    return o.descriptor == RetrievalDescriptor::Spectrum2DSlope ? 2 * one : one;
 }
 
 const char* descriptor_name(RetrievalDescriptor d) {
     return d == RetrievalDescriptor::Image           ? "image"
            : d == RetrievalDescriptor::ThetaSpectrum ? "theta_spectrum"
-                                                     : "spectrum_2d";
+           : d == RetrievalDescriptor::Spectrum2D    ? "spectrum_2d"
+                                                     : "spectrum_2d_slope";
 }
+
+std::vector<float> spectra(const RetrievalOptions& options, const std::vector<float>& image);
 
 }  // namespace
 
@@ -57,6 +61,36 @@ std::vector<float> describe_feature(const RetrievalOptions& options, const std::
     if (image.size() != options.cylinders * r * r)
         throw geo::InputError("retrieval: the feature does not match the database's size");
     if (options.descriptor == RetrievalDescriptor::Image) return image;
+    if (options.descriptor != RetrievalDescriptor::Spectrum2DSlope) return spectra(options, image);
+    // The slope: central differences, circular in theta, one-sided at the top and bottom rows.
+    std::vector<float> slope(image.size());
+    for (std::size_t c = 0; c < options.cylinders; ++c)
+        for (std::size_t v = 0; v < r; ++v)
+            for (std::size_t u = 0; u < r; ++u) {
+                auto at = [&](std::size_t uu, std::size_t vv) { return image[(c * r + vv) * r + uu]; };
+                const float du = at((u + 1) % r, v) - at((u + r - 1) % r, v);
+                const float dv = at(u, std::min(v + 1, r - 1)) - at(u, v > 0 ? v - 1 : 0);
+                slope[(c * r + v) * r + u] = std::sqrt(du * du + dv * dv);
+            }
+    RetrievalOptions plain = options;
+    plain.descriptor = RetrievalDescriptor::Spectrum2D;
+    std::vector<float> out = spectra(plain, image), second = spectra(plain, slope);
+    for (std::vector<float>* half : {&out, &second}) {
+        double length = 0.0;
+        for (float f : *half) length += double(f) * f;
+        length = std::sqrt(length);
+        if (length > 0.0)
+            for (float& f : *half) f = float(f / length);
+    }
+    out.insert(out.end(), second.begin(), second.end());
+    return out;
+}
+
+namespace {
+
+// ThetaSpectrum or Spectrum2D of a reduced image.
+std::vector<float> spectra(const RetrievalOptions& options, const std::vector<float>& image) {
+    const std::size_t r = options.reduced;
     std::vector<double> cosine(r), sine(r);  // of 2 pi m / r
     for (std::size_t m = 0; m < r; ++m) {
         cosine[m] = std::cos(2.0 * 3.14159265358979323846 * double(m) / double(r));
@@ -72,7 +106,6 @@ std::vector<float> describe_feature(const RetrievalOptions& options, const std::
             rows[v * (r / 2 + 1) + k] = z;
         }
     std::vector<float> out;
-    out.reserve(descriptor_size(options));
     if (options.descriptor == RetrievalDescriptor::ThetaSpectrum) {
         for (const auto& z : rows) out.push_back(float(std::abs(z)));
         return out;
@@ -89,6 +122,8 @@ std::vector<float> describe_feature(const RetrievalOptions& options, const std::
             }
     return out;
 }
+
+}  // namespace
 
 ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& features, std::vector<std::string> paths,
                                    std::vector<std::string> labels, const RetrievalOptions& options) {
@@ -198,11 +233,13 @@ ShapeDatabase read_shape_database(const std::filesystem::path& path) {
         db.options.reduced = j.at("reduced").get<std::uint32_t>();
         db.options.variance = j.at("variance").get<double>();
         const std::string descriptor = j.value("descriptor", std::string("image"));
-        if (descriptor != "image" && descriptor != "theta_spectrum" && descriptor != "spectrum_2d")
+        if (descriptor != "image" && descriptor != "theta_spectrum" && descriptor != "spectrum_2d" &&
+            descriptor != "spectrum_2d_slope")
             throw geo::InputError(path.string() + ": unknown descriptor \"" + descriptor + "\"");
         db.options.descriptor = descriptor == "image"            ? RetrievalDescriptor::Image
                                 : descriptor == "theta_spectrum" ? RetrievalDescriptor::ThetaSpectrum
-                                                                 : RetrievalDescriptor::Spectrum2D;
+                                : descriptor == "spectrum_2d"    ? RetrievalDescriptor::Spectrum2D
+                                                                 : RetrievalDescriptor::Spectrum2DSlope;
         db.options.cylinders = j.value("cylinders", 1u);
         if (db.options.cylinders != 1 && db.options.cylinders != 3)
             throw geo::InputError(path.string() + ": cylinders must be 1 or 3");

@@ -87,9 +87,10 @@ struct IndexOptions {
 };
 
 void run_index(IndexOptions o, const GlobalOptions& global) {
-    o.retrieval.descriptor = o.descriptor == "spectrum"     ? passes::RetrievalDescriptor::ThetaSpectrum
-                             : o.descriptor == "spectrum2d" ? passes::RetrievalDescriptor::Spectrum2D
-                                                            : passes::RetrievalDescriptor::Image;
+    o.retrieval.descriptor = o.descriptor == "spectrum"           ? passes::RetrievalDescriptor::ThetaSpectrum
+                             : o.descriptor == "spectrum2d"       ? passes::RetrievalDescriptor::Spectrum2D
+                             : o.descriptor == "spectrum2d-slope" ? passes::RetrievalDescriptor::Spectrum2DSlope
+                                                                  : passes::RetrievalDescriptor::Image;
     if (o.retrieval.cylinders == 2) throw geo::InputError("--cylinders takes 1 or 3");
     if (o.retrieval.reduced % 2 != 0 || o.retrieval.size % o.retrieval.reduced != 0)
         throw geo::InputError("--size must be a multiple of --reduced, and --reduced even");
@@ -350,11 +351,13 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
     add_number_option(index, "--variance", io->retrieval.variance, 0.01, 1.0,
                       "Share of the variance the kept components hold (default 0.95)");
     index
-        ->add_option("--descriptor", io->descriptor,
-                     "image (the reduced image, the thesis; default), spectrum (per row, the magnitudes of its "
-                     "DFT over theta: the same for every turn about the axis) or spectrum2d (the magnitudes of "
-                     "its 2D DFT: also the same turned end over end)")
-        ->check(CLI::IsMember({"image", "spectrum", "spectrum2d"}));
+        ->add_option(
+            "--descriptor", io->descriptor,
+            "image (the reduced image, the thesis; default), spectrum (per row, the magnitudes of its "
+            "DFT over theta: the same for every turn about the axis), spectrum2d (the magnitudes of "
+            "its 2D DFT: also the same turned end over end) or spectrum2d-slope (spectrum2d of the image and of its "
+            "slope, a second channel)")
+        ->check(CLI::IsMember({"image", "spectrum", "spectrum2d", "spectrum2d-slope"}));
     add_count_option(index, "--cylinders", io->retrieval.cylinders, 1, 3,
                      "1: the cylinder around the main axis (the thesis; default); 3: one around each principal axis");
     index->add_option("--json", io->json, "Write the figures as JSON");

@@ -232,12 +232,22 @@ TEST(Retrieval, TheTwoDimensionalSpectrumIsTheSameTurnedEndOverEnd) {
             over[(r - 1 - v) * r + (r - 1 - u)] = image[v * r + u];  // rows reversed, theta mirrored
             turned[v * r + (u + 3) % r] = image[v * r + u];
         }
-    const gp::RetrievalOptions options{.size = 32, .reduced = r, .descriptor = gp::RetrievalDescriptor::Spectrum2D};
-    const auto a = gp::describe_feature(options, image), b = gp::describe_feature(options, over),
-               c = gp::describe_feature(options, turned);
-    ASSERT_EQ(a.size(), std::size_t(r * (r / 2 + 1)));
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        ASSERT_NEAR(b[i], a[i], 1e-3f) << i;
-        ASSERT_NEAR(c[i], a[i], 1e-3f) << i;
+    for (auto descriptor : {gp::RetrievalDescriptor::Spectrum2D, gp::RetrievalDescriptor::Spectrum2DSlope}) {
+        const gp::RetrievalOptions options{.size = 32, .reduced = r, .descriptor = descriptor};
+        const auto a = gp::describe_feature(options, image), b = gp::describe_feature(options, over),
+                   c = gp::describe_feature(options, turned);
+        const bool slope = descriptor == gp::RetrievalDescriptor::Spectrum2DSlope;
+        ASSERT_EQ(a.size(), std::size_t(r * (r / 2 + 1)) * (slope ? 2 : 1));
+        for (std::size_t i = 0; i < a.size(); ++i) {
+            ASSERT_NEAR(b[i], a[i], 1e-3f) << i;
+            ASSERT_NEAR(c[i], a[i], 1e-3f) << i;
+        }
+        if (slope) {  // two halves of unit length
+            double first = 0.0, second = 0.0;
+            for (std::size_t i = 0; i < a.size() / 2; ++i)
+                first += a[i] * a[i], second += a[a.size() / 2 + i] * a[a.size() / 2 + i];
+            EXPECT_NEAR(first, 1.0, 1e-5);
+            EXPECT_NEAR(second, 1.0, 1e-5);
+        }
     }
 }

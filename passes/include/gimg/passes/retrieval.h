@@ -18,11 +18,14 @@ namespace gimg::passes {
 
 // What the PCA sees of a reduced image.
 enum class RetrievalDescriptor {
-    Image,          // its reduced^2 values (the thesis)
-    ThetaSpectrum,  // per row, the magnitudes of its DFT over theta (reduced / 2 + 1 of them):
-                    // the same for every turn of the model about its axis, and for its mirror image
-    Spectrum2D,     // the magnitudes of the image's 2D DFT (reduced / 2 + 1 frequencies in theta, all
-                    // reduced in height): as ThetaSpectrum, and also the same turned end over end
+    Image,            // its reduced^2 values (the thesis)
+    ThetaSpectrum,    // per row, the magnitudes of its DFT over theta (reduced / 2 + 1 of them):
+                      // the same for every turn of the model about its axis, and for its mirror image
+    Spectrum2D,       // the magnitudes of the image's 2D DFT (reduced / 2 + 1 frequencies in theta, all
+                      // reduced in height): as ThetaSpectrum, and also the same turned end over end
+    Spectrum2DSlope,  // Spectrum2D of the image followed by Spectrum2D of its slope (the length of its
+                      // central-difference gradient, circular in theta), each half scaled to unit
+                      // length: a second channel as PANORAMA's normals give one; the same invariances
 };
 
 struct RetrievalOptions {
