@@ -1,0 +1,267 @@
+// The Python module `gimg`: the library's capabilities on NumPy arrays (docs/python.md). Meshes go
+// in as (positions N x 3 float, faces M x 3 int) and come out as float64 and int64 arrays; bad
+// input raises ValueError with the command line's one-line message, machine failures
+// gimg.DeviceError (a RuntimeError). The GIL is released while the library works.
+#include "gimg/engine/context.h"
+#include "gimg/engine/error.h"
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/io.h"
+#include "gimg/geometry/topology.h"
+#include "gimg/passes/cylinder.h"
+#include "gimg/passes/parameterize.h"
+#include "gimg/passes/quad_region.h"
+#include "gimg/passes/reconstruct.h"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+namespace py = pybind11;
+using namespace gimg;
+
+namespace {
+
+using Positions = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Faces = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>;
+
+// The mesh of two arrays, checked as the loaders check files.
+geo::Mesh to_mesh(const Positions& positions, const Faces& faces) {
+    if (positions.ndim() != 2 || positions.shape(1) != 3) throw geo::InputError("positions must be an N x 3 array");
+    if (faces.ndim() != 2 || faces.shape(1) != 3)
+        throw geo::InputError("faces must be an M x 3 array of vertex indices");
+    geo::Mesh m;
+    const auto p = positions.unchecked<2>();
+    for (py::ssize_t i = 0; i < p.shape(0); ++i) {
+        const glm::dvec3 v{p(i, 0), p(i, 1), p(i, 2)};
+        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+            throw geo::InputError("position " + std::to_string(i) + " is not finite");
+        m.positions.push_back(v);
+    }
+    const auto f = faces.unchecked<2>();
+    for (py::ssize_t i = 0; i < f.shape(0); ++i) {
+        glm::uvec3 t;
+        for (int k = 0; k < 3; ++k) {
+            const std::int64_t id = f(i, k);
+            if (id < 0 || id >= py::ssize_t(m.positions.size()))
+                throw geo::InputError("face " + std::to_string(i) + " names vertex " + std::to_string(id) + " of " +
+                                      std::to_string(m.positions.size()));
+            t[k] = std::uint32_t(id);
+        }
+        m.triangles.push_back(t);
+    }
+    if (m.triangles.empty()) throw geo::InputError("the mesh has no faces");
+    return m;
+}
+
+py::array_t<double> positions_array(const std::vector<glm::dvec3>& p) {
+    py::array_t<double> out({py::ssize_t(p.size()), py::ssize_t(3)});
+    auto o = out.mutable_unchecked<2>();
+    for (py::ssize_t i = 0; i < o.shape(0); ++i)
+        for (int k = 0; k < 3; ++k) o(i, k) = p[std::size_t(i)][k];
+    return out;
+}
+
+py::array_t<std::int64_t> faces_array(const std::vector<glm::uvec3>& t) {
+    py::array_t<std::int64_t> out({py::ssize_t(t.size()), py::ssize_t(3)});
+    auto o = out.mutable_unchecked<2>();
+    for (py::ssize_t i = 0; i < o.shape(0); ++i)
+        for (int k = 0; k < 3; ++k) o(i, k) = t[std::size_t(i)][k];
+    return out;
+}
+
+py::array_t<double> uv_array(const std::vector<glm::dvec2>& uv) {
+    py::array_t<double> out({py::ssize_t(uv.size()), py::ssize_t(2)});
+    auto o = out.mutable_unchecked<2>();
+    for (py::ssize_t i = 0; i < o.shape(0); ++i) o(i, 0) = uv[std::size_t(i)].x, o(i, 1) = uv[std::size_t(i)].y;
+    return out;
+}
+
+// The Vulkan device, made once and reused by every call given it.
+class Device {
+public:
+    explicit Device(const std::string& name) {
+        ContextOptions o = ContextOptions::from_environment();
+        if (!name.empty()) o.device_filter = name;
+        ctx_ = Context::create(o);
+    }
+    Context& context() { return *ctx_; }
+    std::string name() const { return ctx_->device_info().name; }
+
+private:
+    std::unique_ptr<Context> ctx_;
+};
+
+}  // namespace
+
+PYBIND11_MODULE(gimg, m) {
+    m.doc() = "gimg: triangle meshes to geometry images and parameterizations, and back, on Vulkan";
+    static py::exception<gimg::Error> device_error(m, "DeviceError", PyExc_RuntimeError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const geo::InputError& e) {
+            PyErr_SetString(PyExc_ValueError, e.what());
+        } catch (const gimg::Error& e) {
+            if (e.is_input_error())
+                PyErr_SetString(PyExc_ValueError, e.what());
+            else
+                device_error(e.what());
+        } catch (const geo::EnvironmentError& e) {
+            PyErr_SetString(PyExc_OSError, e.what());
+        }
+    });
+
+    py::class_<Device>(m, "Device", "A Vulkan device (GIMG_DEVICE and GIMG_VALIDATION apply), reused across calls")
+        .def(py::init<const std::string&>(), py::arg("name") = "",
+             "name: part of the device's name (default: the one gimg prefers)")
+        .def_property_readonly("name", &Device::name);
+
+    m.def(
+        "load_mesh",
+        [](const std::string& path) {
+            const geo::Mesh mesh = geo::load_mesh(path);
+            return py::make_tuple(positions_array(mesh.positions), faces_array(mesh.triangles));
+        },
+        py::arg("path"), "(positions N x 3, faces M x 3) of an OBJ, PLY, OFF or STL file");
+    m.def(
+        "save_mesh",
+        [](const std::string& path, const Positions& positions, const Faces& faces) {
+            geo::save_mesh(to_mesh(positions, faces), path);
+        },
+        py::arg("path"), py::arg("positions"), py::arg("faces"), "Writes .ply or .obj, whole or not at all");
+    m.def(
+        "info",
+        [](const Positions& positions, const Faces& faces) {
+            const geo::MeshInfo i = geo::analyze_topology(to_mesh(positions, faces));
+            py::dict d;
+            d["vertices"] = i.vertices, d["faces"] = i.faces, d["edges"] = i.edges, d["components"] = i.components;
+            d["boundary_loops"] = i.boundary_loops, d["non_manifold_edges"] = i.non_manifold_edges;
+            d["non_manifold_vertices"] = i.non_manifold_vertices, d["degenerate_faces"] = i.degenerate_faces;
+            d["closed"] = i.closed, d["manifold"] = i.manifold, d["oriented"] = i.oriented;
+            py::list genus;
+            for (const auto& c : i.component_info) genus.append(c.genus ? py::cast(*c.genus) : py::none());
+            d["genus"] = genus;
+            return d;
+        },
+        py::arg("positions"), py::arg("faces"), "Counts, components, boundary loops, genus and defects (gimg info)");
+    m.def(
+        "cylinder",
+        [](Device& device, const Positions& positions, const Faces& faces, std::uint32_t width, std::uint32_t height) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            passes::CylinderImage image;
+            passes::CylinderFrame frame;
+            {
+                py::gil_scoped_release release;
+                frame = passes::fit_cylinder_frame(mesh);
+                passes::CylinderZBuffer zbuffer(device.context(), width, height);
+                image = zbuffer.project(zbuffer.add_mesh(passes::make_cylinder_mesh(mesh, frame)));
+            }
+            py::array_t<float> distance({py::ssize_t(height), py::ssize_t(width)});
+            py::array_t<bool> mask({py::ssize_t(height), py::ssize_t(width)});
+            auto d = distance.mutable_unchecked<2>();
+            auto k = mask.mutable_unchecked<2>();
+            for (std::uint32_t v = 0; v < height; ++v)
+                for (std::uint32_t u = 0; u < width; ++u) {
+                    d(v, u) = image.covered[image.index(u, v)] ? image.distance[image.index(u, v)] : NAN;
+                    k(v, u) = image.covered[image.index(u, v)] != 0;
+                }
+            py::array_t<double> rotation({3, 3});
+            auto r = rotation.mutable_unchecked<2>();
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) r(i, j) = frame.rotation[j][i];  // row i, column j
+            py::dict f;
+            f["rotation"] = rotation;
+            f["translation"] = py::make_tuple(frame.translation.x, frame.translation.y, frame.translation.z);
+            f["scale"] = frame.scale;
+            return py::make_tuple(distance, mask, f);
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("width") = 256, py::arg("height") = 128,
+        "The cylindrical geometry image on the GPU (gimg cylinder): (distance H x W, NaN where empty; mask; frame)");
+    m.def(
+        "gim",
+        [](Device* device, const Positions& positions, const Faces& faces, std::uint32_t size,
+           const std::string& variant, std::size_t iterations) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            const auto v = passes::parse_variant(variant);
+            if (!v) throw geo::InputError("variant must be tutte, floater, stretch, density, uniform3d or curvature");
+            passes::Parameterization map;
+            passes::PositionImage image;
+            geo::Mesh back;
+            {
+                py::gil_scoped_release release;
+                Context* ctx = device ? &device->context() : nullptr;
+                map = passes::parameterize_square(ctx, mesh, {.variant = *v, .max_iterations = iterations});
+                image = ctx ? passes::geometry_image_gpu(*ctx, mesh, map.uv, size)
+                            : passes::geometry_image_cpu(mesh, map.uv, size);
+                back = ctx ? passes::reconstruct_gpu(*ctx, image) : passes::reconstruct_cpu(image);
+            }
+            py::array_t<float> xyz({py::ssize_t(size), py::ssize_t(size), py::ssize_t(3)});
+            py::array_t<bool> covered({py::ssize_t(size), py::ssize_t(size)});
+            auto x = xyz.mutable_unchecked<3>();
+            auto c = covered.mutable_unchecked<2>();
+            for (std::uint32_t b = 0; b < size; ++b)
+                for (std::uint32_t a = 0; a < size; ++a) {
+                    const std::size_t o = image.index(a, b);
+                    for (int k = 0; k < 3; ++k) x(b, a, k) = image.xyz[3 * o + std::size_t(k)];
+                    c(b, a) = image.covered[o] != 0;
+                }
+            py::dict d;
+            d["uv"] = uv_array(map.uv);
+            d["image"] = xyz;
+            d["covered"] = covered;
+            d["positions"] = positions_array(back.positions);
+            d["faces"] = faces_array(back.triangles);
+            d["iterations"] = map.iterations.size() - 1;
+            d["flipped"] = map.iterations.back().flipped;
+            return d;
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 129,
+        py::arg("variant") = "curvature", py::arg("iterations") = 50,
+        "A disk mesh's square map and N x N geometry image (gimg gim); device None runs the CPU twins. Returns "
+        "a dict: uv, image (N x N x 3), covered, positions and faces of the reconstruction, iterations, flipped");
+    m.def(
+        "quadmap",
+        [](Device* device, const Positions& positions, const Faces& faces, std::vector<std::uint32_t> corners,
+           const std::string& weights, const std::string& start, const std::string& solver) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            if (corners.size() != 4) throw geo::InputError("corners: four vertex indices, counter-clockwise");
+            if (weights != "floater" && weights != "chord") throw geo::InputError("weights must be floater or chord");
+            if (start != "dijkstra" && start != "flat") throw geo::InputError("start must be dijkstra or flat");
+            if (solver != "krylov" && solver != "iterate" && solver != "direct")
+                throw geo::InputError("solver must be krylov, iterate or direct");
+            const passes::QuadMapOptions o{
+                .weights = weights == "chord" ? passes::QuadWeights::Chord : passes::QuadWeights::Floater,
+                .start = start == "flat" ? passes::QuadStart::Flat : passes::QuadStart::Dijkstra,
+                .solver = solver == "iterate"  ? passes::QuadSolver::Iterate
+                          : solver == "direct" ? passes::QuadSolver::Direct
+                                               : passes::QuadSolver::Krylov};
+            passes::QuadRegion region;
+            passes::QuadMap map;
+            {
+                py::gil_scoped_release release;
+                region = passes::cut_quad_region(mesh, {corners[0], corners[1], corners[2], corners[3]});
+                map = passes::map_quad_region(device ? &device->context() : nullptr, region, o);
+            }
+            py::array_t<std::int64_t> original(py::ssize_t(region.original.size()));
+            auto og = original.mutable_unchecked<1>();
+            for (py::ssize_t i = 0; i < og.shape(0); ++i)
+                og(i) = region.original[std::size_t(i)] == passes::kInsertedNode ? -1 : region.original[std::size_t(i)];
+            py::dict d;
+            d["positions"] = positions_array(region.mesh.positions);
+            d["faces"] = faces_array(region.mesh.triangles);
+            d["uv"] = uv_array(map.uv);
+            d["original"] = original;
+            d["iterations_u"] = map.iterations_u, d["iterations_v"] = map.iterations_v;
+            d["flipped"] = map.flipped;
+            return d;
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("corners"), py::arg("weights") = "floater",
+        py::arg("start") = "dijkstra", py::arg("solver") = "krylov",
+        "A four-sided region's map onto the unit square (gimg quadmap). Returns a dict: the region's positions and "
+        "faces (inserted points included), uv, original (the mesh's vertex per region vertex, -1 for an inserted "
+        "point), iterations_u, iterations_v, flipped");
+}

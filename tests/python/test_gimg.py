@@ -1,0 +1,142 @@
+"""The Python module against the command line and analytic cases (run by ./run test through ctest)."""
+import json
+import os
+import resource
+import subprocess
+import tempfile
+
+import numpy as np
+import pytest
+
+import gimg
+
+GIMG = os.environ["GIMG_BIN"]
+DATA = os.environ["GIMG_TEST_DATA"]
+TETRA = os.path.join(DATA, "meshes", "tetra.off")
+
+
+@pytest.fixture(scope="module")
+def device():
+    return gimg.Device()
+
+
+def cli_json(*args):
+    out = subprocess.run([GIMG, "--quiet", *args, "--json", "-"], check=True, capture_output=True, text=True)
+    return json.loads(out.stdout)
+
+
+def plateau():
+    """A 9 x 9 vertex grid of the unit square with a raised middle: a disk."""
+    n = 9
+    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
+    z = 0.2 * np.exp(-20 * ((x - 0.5) ** 2 + (y - 0.5) ** 2))
+    positions = np.stack([x.ravel(), y.ravel(), z.ravel()], axis=1)
+    faces = []
+    for j in range(n - 1):
+        for i in range(n - 1):
+            a = j * n + i
+            faces += [[a, a + 1, a + n + 1], [a, a + n + 1, a + n]]
+    return positions, np.array(faces)
+
+
+def test_load_mesh_and_info_match_the_command_line():
+    positions, faces = gimg.load_mesh(TETRA)
+    assert positions.shape == (4, 3) and faces.shape == (4, 3)
+    assert positions.dtype == np.float64 and faces.dtype == np.int64
+    info = gimg.info(positions, faces)
+    cli = cli_json("info", TETRA)
+    for key in ("vertices", "faces", "edges", "components", "boundary_loops"):
+        assert info[key] == cli[key], key
+    assert info["genus"] == [0]
+
+
+def test_save_then_load_round_trips(tmp_path):
+    positions, faces = plateau()
+    path = str(tmp_path / "plateau.ply")
+    gimg.save_mesh(path, positions, faces.astype(np.int32))  # int32 faces are taken too
+    back_p, back_f = gimg.load_mesh(path)
+    assert np.array_equal(back_f, faces)
+    assert np.allclose(back_p, positions, atol=1e-6)  # PLY stores float32
+
+
+def test_cylinder_matches_the_command_line(device):
+    positions, faces = gimg.load_mesh(TETRA)
+    distance, mask, frame = gimg.cylinder(device, positions, faces, width=32, height=16)
+    cli = cli_json("cylinder", TETRA, "--size", "32x16", "--out", tempfile.mkdtemp())
+    assert distance.shape == (16, 32)
+    assert int(mask.sum()) == cli["covered_pixels"]
+    assert frame["scale"] == pytest.approx(cli["scale"], rel=1e-15)
+    assert np.isnan(distance[~mask]).all() and np.isfinite(distance[mask]).all()
+
+
+def test_a_planar_square_maps_to_itself(device):
+    n = 7
+    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
+    positions = np.stack([x.ravel(), y.ravel(), np.zeros(n * n)], axis=1)
+    faces = np.array([[j * n + i, j * n + i + 1, (j + 1) * n + i + 1] for j in range(n - 1) for i in range(n - 1)] +
+                     [[j * n + i, (j + 1) * n + i + 1, (j + 1) * n + i] for j in range(n - 1) for i in range(n - 1)])
+    for dev in (None, device):
+        result = gimg.gim(dev, positions, faces, size=9, variant="floater")
+        assert np.abs(result["uv"] - positions[:, :2]).max() < 1e-7
+        assert result["flipped"] == 0 and result["covered"].all()
+
+
+def test_gim_and_quadmap_match_the_command_line(device, tmp_path):
+    positions, faces = plateau()
+    path = str(tmp_path / "plateau.obj")
+    gimg.save_mesh(path, positions, faces)
+    positions, faces = gimg.load_mesh(path)  # the same float32-rounded input the command line reads
+    result = gimg.gim(device, positions, faces, size=17, variant="density")
+    cli = cli_json("gim", path, "--size", "17", "--variant", "density", "--samples", "20000", "--out",
+                   str(tmp_path / "gim"))
+    assert result["iterations"] == len(cli["iterations"]) - 1
+    assert len(result["faces"]) == cli["reconstruction_faces"]
+    quad = gimg.quadmap(device, positions, faces, [0, 8, 80, 72], solver="iterate")
+    qcli = cli_json("quadmap", path, "--corners", "0,8,80,72", "--solver", "iterate", "--out", str(tmp_path / "q"))
+    assert (quad["iterations_u"], quad["iterations_v"]) == (qcli["iterations_u"], qcli["iterations_v"])
+    assert len(quad["positions"]) == qcli["region_vertices"] and quad["flipped"] == 0
+    assert (quad["uv"] >= 0).all() and (quad["uv"] <= 1).all()
+
+
+@pytest.mark.parametrize("positions, faces, message", [
+    (np.zeros((4, 2)), [[0, 1, 2]], "N x 3"),
+    ([[0, 0, 0], [1, 0, 0], [np.nan, 1, 0]], [[0, 1, 2]], "not finite"),
+    ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 3]], "names vertex 3"),
+    ([[0, 0, 0], [1, 0, 0], [0, 1, 0]], np.zeros((0, 3)), "no faces"),
+])
+def test_bad_arrays_raise_value_error(positions, faces, message):
+    with pytest.raises(ValueError, match=message):
+        gimg.info(np.asarray(positions, dtype=float), np.asarray(faces))
+
+
+def test_refusals_and_the_device_error_type(device):
+    positions, faces = gimg.load_mesh(TETRA)
+    with pytest.raises(ValueError, match="this mesh is closed"):
+        gimg.gim(device, positions, faces)
+    assert issubclass(gimg.DeviceError, RuntimeError)
+    with pytest.raises(gimg.DeviceError):
+        gimg.Device("no device is called this")
+
+
+def test_a_thousand_calls_do_not_grow_memory():
+    positions, faces = plateau()
+    for _ in range(100):
+        gimg.info(positions, faces)
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    for _ in range(1000):
+        gimg.info(positions, faces)
+    assert resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before < 10_000  # kilobytes
+
+
+def test_the_example_in_docs_python_md_runs(capsys):
+    root = os.path.dirname(os.path.dirname(DATA.rstrip("/")))  # tests/data -> the checkout
+    text = open(os.path.join(root, "docs", "python.md")).read()
+    block = text.split("<!-- python-example -->")[1].split("<!-- /python-example -->")[0]
+    code = block.split("```python\n")[1].split("```")[0]
+    cwd = os.getcwd()
+    os.chdir(root)
+    try:
+        exec(compile(code, "docs/python.md", "exec"), {})
+    finally:
+        os.chdir(cwd)
+    assert "[0]" in capsys.readouterr().out
