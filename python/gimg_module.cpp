@@ -6,11 +6,15 @@
 #include "gimg/engine/error.h"
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/io.h"
+#include "gimg/geometry/surface_distance.h"
 #include "gimg/geometry/topology.h"
 #include "gimg/passes/cylinder.h"
 #include "gimg/passes/parameterize.h"
 #include "gimg/passes/quad_region.h"
 #include "gimg/passes/reconstruct.h"
+#include "gimg/passes/render.h"
+#include "gimg/passes/sample.h"
+#include "gimg/passes/sphere.h"
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -78,6 +82,55 @@ py::array_t<double> uv_array(const std::vector<glm::dvec2>& uv) {
     auto o = out.mutable_unchecked<2>();
     for (py::ssize_t i = 0; i < o.shape(0); ++i) o(i, 0) = uv[std::size_t(i)].x, o(i, 1) = uv[std::size_t(i)].y;
     return out;
+}
+
+py::dict position_image_dict(const passes::PositionImage& image) {
+    py::array_t<float> xyz({py::ssize_t(image.height), py::ssize_t(image.width), py::ssize_t(3)});
+    py::array_t<bool> covered({py::ssize_t(image.height), py::ssize_t(image.width)});
+    auto x = xyz.mutable_unchecked<3>();
+    auto c = covered.mutable_unchecked<2>();
+    for (std::uint32_t b = 0; b < image.height; ++b)
+        for (std::uint32_t a = 0; a < image.width; ++a) {
+            const std::size_t o = image.index(a, b);
+            for (int k = 0; k < 3; ++k) x(b, a, k) = image.xyz[3 * o + std::size_t(k)];
+            c(b, a) = image.covered[o] != 0;
+        }
+    py::dict d;
+    d["image"] = xyz;
+    d["covered"] = covered;
+    return d;
+}
+
+// The mesh's own parameters for `sample`: N x 2 in [0, 1]^2.
+std::vector<glm::dvec2> to_uv(const py::array_t<double, py::array::c_style | py::array::forcecast>& uv, std::size_t n) {
+    if (uv.ndim() != 2 || uv.shape(1) != 2 || std::size_t(uv.shape(0)) != n)
+        throw geo::InputError("texture coordinates must be an N x 2 array, one row per vertex");
+    const auto a = uv.unchecked<2>();
+    std::vector<glm::dvec2> out(n);
+    for (std::size_t i = 0; i < n; ++i) {
+        out[i] = {a(py::ssize_t(i), 0), a(py::ssize_t(i), 1)};
+        if (!std::isfinite(out[i].x) || !std::isfinite(out[i].y))
+            throw geo::InputError("texture coordinate " + std::to_string(i) + " is not finite");
+    }
+    return out;
+}
+
+// The vertex-per-pixel position image of an H x W x 3 array and an H x W mask.
+passes::PositionImage to_position_image(const py::array_t<float, py::array::c_style | py::array::forcecast>& xyz,
+                                        const py::array_t<bool, py::array::c_style | py::array::forcecast>& covered) {
+    if (xyz.ndim() != 3 || xyz.shape(2) != 3) throw geo::InputError("image must be an H x W x 3 array");
+    if (covered.ndim() != 2 || covered.shape(0) != xyz.shape(0) || covered.shape(1) != xyz.shape(1))
+        throw geo::InputError("covered must be an H x W array matching the image");
+    passes::PositionImage image(std::uint32_t(xyz.shape(1)), std::uint32_t(xyz.shape(0)));
+    const auto x = xyz.unchecked<3>();
+    const auto c = covered.unchecked<2>();
+    for (std::uint32_t b = 0; b < image.height; ++b)
+        for (std::uint32_t a = 0; a < image.width; ++a) {
+            const std::size_t o = image.index(a, b);
+            image.covered[o] = c(b, a) ? 1 : 0;
+            for (int k = 0; k < 3; ++k) image.xyz[3 * o + std::size_t(k)] = x(b, a, k);
+        }
+    return image;
 }
 
 // The Vulkan device, made once and reused by every call given it.
@@ -264,4 +317,106 @@ PYBIND11_MODULE(gimg, m) {
         "A four-sided region's map onto the unit square (gimg quadmap). Returns a dict: the region's positions and "
         "faces (inserted points included), uv, original (the mesh's vertex per region vertex, -1 for an inserted "
         "point), iterations_u, iterations_v, flipped");
+    m.def(
+        "compare",
+        [](const Positions& pa, const Faces& fa, const Positions& pb, const Faces& fb, std::uint64_t samples) {
+            const geo::Mesh a = to_mesh(pa, fa), b = to_mesh(pb, fb);
+            geo::SurfaceDistance d;
+            {
+                py::gil_scoped_release release;
+                geo::SurfaceDistanceOptions o;
+                if (samples) o.sampling.sample_count = samples;
+                d = geo::surface_distance(a, b, o);
+            }
+            auto stats = [](const geo::DistanceStats& s) {
+                py::dict x;
+                x["mean"] = s.mean, x["rms"] = s.rms, x["max"] = s.max;
+                return x;
+            };
+            py::dict out;
+            out["a_to_b"] = stats(d.a_to_b), out["b_to_a"] = stats(d.b_to_a), out["symmetric"] = stats(d.symmetric);
+            out["bbox_diagonal"] = d.bbox_diagonal;
+            return out;
+        },
+        py::arg("positions_a"), py::arg("faces_a"), py::arg("positions_b"), py::arg("faces_b"), py::arg("samples") = 0,
+        "Metro-style surface distance each way and symmetric (gimg compare); samples 0: max(1M, 10 per face)");
+    m.def(
+        "render",
+        [](Device& device, const Positions& positions, const Faces& faces, std::uint32_t width, std::uint32_t height,
+           double azimuth, double elevation, bool wireframe) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            geo::RgbaImage picture;
+            {
+                py::gil_scoped_release release;
+                passes::RenderOptions o;
+                o.width = width, o.height = height, o.wireframe = wireframe;
+                o.view.azimuth_deg = azimuth, o.view.elevation_deg = elevation;
+                picture = passes::render_mesh(device.context(), mesh, o);
+            }
+            py::array_t<std::uint8_t> out({py::ssize_t(height), py::ssize_t(width), py::ssize_t(4)});
+            std::copy(picture.pixels.begin(), picture.pixels.end(), out.mutable_data());
+            return out;
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("width") = 640, py::arg("height") = 480,
+        py::arg("azimuth") = 35.0, py::arg("elevation") = 20.0, py::arg("wireframe") = false,
+        "A picture of the mesh (gimg render): H x W x 4 uint8, alpha the covered share of each pixel");
+    m.def(
+        "sample",
+        [](Device* device, const Positions& positions, const Faces& faces,
+           const py::array_t<double, py::array::c_style | py::array::forcecast>& uv, std::uint32_t size) {
+            geo::Mesh mesh = to_mesh(positions, faces);
+            mesh.texcoords = to_uv(uv, mesh.vertex_count());
+            passes::PositionImage image;
+            {
+                py::gil_scoped_release release;
+                image = device ? passes::sample_gpu(device->context(), mesh, size) : passes::sample_cpu(mesh, size);
+            }
+            return position_image_dict(image);
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("uv"), py::arg("size") = 256,
+        "A mesh sampled through its texture coordinates into a size x size position image (gimg sample); device "
+        "None: the CPU reference. Returns a dict: image (H x W x 3), covered");
+    m.def(
+        "reconstruct",
+        [](Device* device, const py::array_t<float, py::array::c_style | py::array::forcecast>& image,
+           const py::array_t<bool, py::array::c_style | py::array::forcecast>& covered) {
+            const passes::PositionImage pi = to_position_image(image, covered);
+            geo::Mesh back;
+            {
+                py::gil_scoped_release release;
+                back = device ? passes::reconstruct_gpu(device->context(), pi) : passes::reconstruct_cpu(pi);
+            }
+            return py::make_tuple(positions_array(back.positions), faces_array(back.triangles));
+        },
+        py::arg("device"), py::arg("image"), py::arg("covered"),
+        "A position geometry image back to a mesh, each 2 x 2 block split along its shorter diagonal (gimg "
+        "reconstruct); device None: the CPU reference");
+    m.def(
+        "sphere",
+        [](Device* device, const Positions& positions, const Faces& faces, const std::string& method) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            if (method != "harmonic" && method != "kanai" && method != "gu" && method != "linear")
+                throw geo::InputError("method must be harmonic, kanai, gu or linear");
+            if (method == "harmonic" && !device) throw geo::InputError("the harmonic method runs on a device");
+            passes::SphereResult r;
+            passes::SphereMetrics metrics;
+            {
+                py::gil_scoped_release release;
+                passes::check_sphere_input(mesh);
+                r = method == "harmonic" ? passes::sphere_harmonic(device->context(), mesh)
+                    : method == "kanai"  ? passes::sphere_kanai(mesh)
+                    : method == "gu"     ? passes::sphere_gu(mesh)
+                                         : passes::sphere_linear(mesh);
+                metrics = passes::sphere_metrics(mesh, r.positions);
+            }
+            py::dict m2;
+            m2["flips"] = metrics.flips, m2["conformal_energy"] = metrics.conformal_energy;
+            m2["conformal_ratio"] = metrics.conformal_ratio, m2["area_distortion"] = metrics.area_distortion;
+            m2["angle_distortion_mean_deg"] = metrics.angle_distortion_deg.mean;
+            m2["angle_distortion_max_deg"] = metrics.angle_distortion_deg.max;
+            m2["converged"] = r.converged;
+            return py::make_tuple(positions_array(r.positions), m2);
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("method") = "harmonic",
+        "A conformal map of a closed genus-0 mesh onto the unit sphere (gimg sphere): (points N x 3, metrics)");
 }

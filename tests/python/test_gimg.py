@@ -140,3 +140,41 @@ def test_the_example_in_docs_python_md_runs(capsys):
     finally:
         os.chdir(cwd)
     assert "[0]" in capsys.readouterr().out
+
+
+def test_compare_and_sphere_match_the_command_line():
+    cube = os.path.join(DATA, "meshes", "cube_quads.obj")
+    a, b = gimg.load_mesh(TETRA), gimg.load_mesh(cube)
+    d = gimg.compare(*a, *b, samples=5000)
+    cli = cli_json("compare", TETRA, cube, "--samples", "5000")
+    for side in ("a_to_b", "b_to_a"):
+        for key in ("mean", "rms", "max"):
+            assert d[side][key] == cli[side][key], (side, key)
+    points, metrics = gimg.sphere(None, *b, method="linear")
+    scli = cli_json("sphere", cube, "--method", "linear", "--out", tempfile.mkdtemp())
+    assert np.allclose(np.linalg.norm(points, axis=1), 1.0)
+    assert metrics["flips"] == scli["flips"]
+    assert metrics["conformal_energy"] == pytest.approx(scli["conformal_energy"], rel=1e-12)
+
+
+def test_sample_reconstruct_and_render(device):
+    # A planar grid with identity parameters: pixel (i, j) holds ((i + 0.5) / N, 1 - (j + 0.5) / N, 0).
+    n = 6
+    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
+    positions = np.stack([x.ravel(), y.ravel(), np.zeros(n * n)], axis=1)
+    faces = np.array([[j * n + i, j * n + i + 1, (j + 1) * n + i + 1] for j in range(n - 1) for i in range(n - 1)] +
+                     [[j * n + i, (j + 1) * n + i + 1, (j + 1) * n + i] for j in range(n - 1) for i in range(n - 1)])
+    size = 16
+    for dev in (None, device):
+        s = gimg.sample(dev, positions, faces, positions[:, :2], size=size)
+        assert s["covered"].all()
+        centres = (np.arange(size) + 0.5) / size
+        assert np.abs(s["image"][:, :, 0] - centres[None, :]).max() < 1e-6
+        assert np.abs(s["image"][:, :, 1] - (1 - centres)[:, None]).max() < 1e-6
+        back_p, back_f = gimg.reconstruct(dev, s["image"], s["covered"])
+        assert back_p.shape == (size * size, 3) and back_f.shape == (2 * (size - 1) ** 2, 3)
+    picture = gimg.render(device, positions, faces, width=64, height=48)
+    assert picture.shape == (48, 64, 4) and picture.dtype == np.uint8
+    assert (picture[:, :, 3] > 0).any() and (picture[:, :, 3] == 0).any()
+    with pytest.raises(ValueError, match="N x 2"):
+        gimg.sample(None, positions, faces, positions, size=size)
