@@ -20,6 +20,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 #include <string>
@@ -234,6 +236,28 @@ PYBIND11_MODULE(gimg, m) {
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("width") = 256, py::arg("height") = 128,
         "The cylindrical geometry image on the GPU (gimg cylinder): (distance H x W, NaN where empty; mask; frame)");
+    m.def(
+        "_cylinder_ms_in_cpp",
+        [](Device& device, const Positions& positions, const Faces& faces, std::uint32_t width, std::uint32_t height,
+           std::uint32_t runs) {
+            // The body of cylinder() timed inside C++ (no Python crossing, no arrays): what the
+            // call-overhead figure of docs/python.md compares the Python call with.
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            std::vector<double> ms;
+            py::gil_scoped_release release;
+            for (std::uint32_t r = 0; r < runs; ++r) {
+                const auto t = std::chrono::steady_clock::now();
+                const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh);
+                passes::CylinderZBuffer zbuffer(device.context(), width, height);
+                const passes::CylinderImage image =
+                    zbuffer.project(zbuffer.add_mesh(passes::make_cylinder_mesh(mesh, frame)));
+                ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count());
+            }
+            std::sort(ms.begin(), ms.end());
+            return ms.empty() ? 0.0 : ms[ms.size() / 2];
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("width"), py::arg("height"),
+        py::arg("runs"));
     m.def(
         "gim",
         [](Device* device, const Positions& positions, const Faces& faces, std::uint32_t size,
