@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <memory>
 #include <string>
 
@@ -40,25 +41,25 @@ geo::Mesh to_mesh(const Positions& positions, const Faces& faces) {
     if (faces.ndim() != 2 || faces.shape(1) != 3)
         throw geo::InputError("faces must be an M x 3 array of vertex indices");
     geo::Mesh m;
-    const auto p = positions.unchecked<2>();
-    for (py::ssize_t i = 0; i < p.shape(0); ++i) {
-        const glm::dvec3 v{p(i, 0), p(i, 1), p(i, 2)};
-        if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z))
+    // Both arrays are C-contiguous (forcecast): read them as flat runs.
+    static_assert(sizeof(glm::dvec3) == 3 * sizeof(double));
+    const auto n = std::size_t(positions.shape(0));
+    m.positions.resize(n);
+    if (n) std::memcpy(m.positions.data(), positions.data(), n * sizeof(glm::dvec3));
+    for (std::size_t i = 0; i < n; ++i)
+        if (!std::isfinite(m.positions[i].x) || !std::isfinite(m.positions[i].y) || !std::isfinite(m.positions[i].z))
             throw geo::InputError("position " + std::to_string(i) + " is not finite");
-        m.positions.push_back(v);
-    }
-    const auto f = faces.unchecked<2>();
-    for (py::ssize_t i = 0; i < f.shape(0); ++i) {
-        glm::uvec3 t;
+    const std::int64_t* f = faces.data();
+    const auto count = std::size_t(faces.shape(0));
+    m.triangles.resize(count);
+    for (std::size_t i = 0; i < count; ++i)
         for (int k = 0; k < 3; ++k) {
-            const std::int64_t id = f(i, k);
-            if (id < 0 || id >= py::ssize_t(m.positions.size()))
+            const std::int64_t id = f[3 * i + std::size_t(k)];
+            if (id < 0 || std::uint64_t(id) >= n)
                 throw geo::InputError("face " + std::to_string(i) + " names vertex " + std::to_string(id) + " of " +
-                                      std::to_string(m.positions.size()));
-            t[k] = std::uint32_t(id);
+                                      std::to_string(n));
+            m.triangles[i][k] = std::uint32_t(id);
         }
-        m.triangles.push_back(t);
-    }
     if (m.triangles.empty()) throw geo::InputError("the mesh has no faces");
     return m;
 }
