@@ -444,4 +444,79 @@ PYBIND11_MODULE(gimg, m) {
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("method") = "harmonic",
         "A conformal map of a closed genus-0 mesh onto the unit sphere (gimg sphere): (points N x 3, metrics)");
+    m.def(
+        "reconstruct_cylinder",
+        [](Device* device, const py::array_t<float, py::array::c_style | py::array::forcecast>& distance,
+           const py::dict& frame, bool fill_caps) {
+            if (distance.ndim() != 2) throw geo::InputError("distance must be an H x W array (NaN where empty)");
+            passes::CylinderImage image(std::uint32_t(distance.shape(1)), std::uint32_t(distance.shape(0)));
+            const auto d = distance.unchecked<2>();
+            for (std::uint32_t v = 0; v < image.height; ++v)
+                for (std::uint32_t u = 0; u < image.width; ++u) {
+                    const float x = d(v, u);
+                    image.covered[image.index(u, v)] = std::isnan(x) ? 0 : 1;
+                    image.distance[image.index(u, v)] = std::isnan(x) ? 0.0f : x;
+                }
+            passes::CylinderFrame f;
+            const auto r = py::cast<py::array_t<double, py::array::c_style | py::array::forcecast>>(frame["rotation"]);
+            if (r.ndim() != 2 || r.shape(0) != 3 || r.shape(1) != 3) throw geo::InputError("frame rotation: 3 x 3");
+            for (int i = 0; i < 3; ++i)
+                for (int j = 0; j < 3; ++j) f.rotation[j][i] = r.at(i, j);
+            const auto t = py::cast<std::vector<double>>(frame["translation"]);
+            if (t.size() != 3) throw geo::InputError("frame translation: three numbers");
+            f.translation = {t[0], t[1], t[2]};
+            f.scale = py::cast<double>(frame["scale"]);
+            geo::Mesh back;
+            {
+                py::gil_scoped_release release;
+                passes::ReconstructOptions o;
+                o.fill_caps = fill_caps;
+                back = device ? passes::reconstruct_gpu(device->context(), image, f, o)
+                              : passes::reconstruct_cpu(image, f, o);
+            }
+            return py::make_tuple(positions_array(back.positions), faces_array(back.triangles));
+        },
+        py::arg("device"), py::arg("distance"), py::arg("frame"), py::arg("fill_caps") = false,
+        "A cylindrical image (cylinder()'s distance and frame) back to a mesh in the model's coordinates (gimg "
+        "reconstruct); device None: the CPU reference");
+    m.def(
+        "deform",
+        [](Device* device, const Positions& positions, const Faces& faces, std::vector<std::uint32_t> corners,
+           const py::object& offsets, double paste_height) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            if (corners.size() != 4) throw geo::InputError("corners: four vertex indices, counter-clockwise");
+            const bool lattice = !offsets.is_none();
+            passes::OffsetLattice l;
+            if (lattice) {
+                const auto o = py::cast<py::array_t<double, py::array::c_style | py::array::forcecast>>(offsets);
+                if (o.ndim() != 3 || o.shape(2) != 3)
+                    throw geo::InputError(
+                        "offsets must be a Q x P x 3 array (rows in v, columns in u), in model units");
+                l.rows = std::uint32_t(o.shape(0)), l.columns = std::uint32_t(o.shape(1));
+                const auto a = o.unchecked<3>();
+                for (py::ssize_t q = 0; q < a.shape(0); ++q)
+                    for (py::ssize_t p = 0; p < a.shape(1); ++p)
+                        l.offsets.push_back({a(q, p, 0), a(q, p, 1), a(q, p, 2)});
+            } else if (paste_height == 0.0) {
+                throw geo::InputError("deform takes offsets (a lattice) or paste_height (the built-in bump)");
+            }
+            geo::Mesh out;
+            {
+                py::gil_scoped_release release;
+                const passes::QuadRegion region =
+                    passes::cut_quad_region(mesh, {corners[0], corners[1], corners[2], corners[3]});
+                Context* ctx = device ? &device->context() : nullptr;
+                const passes::QuadMap map = passes::map_quad_region(ctx, region);
+                const passes::PastedFeature bump{.scale = paste_height};
+                out = lattice ? (ctx ? passes::deform_by_lattice_gpu(*ctx, mesh, region, map.uv, l)
+                                     : passes::deform_by_lattice(mesh, region, map.uv, l))
+                              : (ctx ? passes::paste_feature_gpu(*ctx, mesh, region, map.uv, bump)
+                                     : passes::paste_feature(mesh, region, map.uv, bump));
+            }
+            return positions_array(out.positions);
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("corners"), py::arg("offsets") = py::none(),
+        py::arg("paste_height") = 0.0,
+        "The mesh's positions deformed through a quad region's map (gimg deform): a lattice of offsets (Q x P x 3, "
+        "model units, the outer three rows and columns fixed) or the built-in bump of paste_height diagonals");
 }

@@ -178,3 +178,24 @@ def test_sample_reconstruct_and_render(device):
     assert (picture[:, :, 3] > 0).any() and (picture[:, :, 3] == 0).any()
     with pytest.raises(ValueError, match="N x 2"):
         gimg.sample(None, positions, faces, positions, size=size)
+
+
+def test_cylinder_reconstruction_and_deform(device):
+    positions, faces = gimg.load_mesh(os.path.join(DATA, "meshes", "cube_quads.obj"))
+    distance, mask, frame = gimg.cylinder(device, positions, faces, width=64, height=32)
+    gpu_p, gpu_f = gimg.reconstruct_cylinder(device, distance, frame)
+    cpu_p, cpu_f = gimg.reconstruct_cylinder(None, distance, frame)
+    assert np.array_equal(gpu_f, cpu_f) and np.abs(gpu_p - cpu_p).max() < 1e-5
+    # The rebuilt points lie on the cube [0, 1]^3's surface (the model's own coordinates): each has a
+    # coordinate at 0 or 1, within the reconstruction's flattening of the edges.
+    assert (np.minimum(np.abs(cpu_p), np.abs(cpu_p - 1)).min(axis=1) < 0.02).mean() > 0.95
+    assert (cpu_p > -0.05).all() and (cpu_p < 1.05).all()
+    grid, tris = plateau()
+    bumped = gimg.deform(None, grid, tris, [0, 8, 80, 72], paste_height=0.05)
+    assert bumped.shape == grid.shape
+    moved = np.linalg.norm(bumped - grid, axis=1)
+    border = (grid[:, 0] == 0) | (grid[:, 0] == 1) | (grid[:, 1] == 0) | (grid[:, 1] == 1)
+    assert moved[border].max() == 0.0 and moved.max() > 0.01
+    assert np.abs(gimg.deform(device, grid, tris, [0, 8, 80, 72], paste_height=0.05) - bumped).max() < 1e-12
+    zero = gimg.deform(device, grid, tris, [0, 8, 80, 72], offsets=np.zeros((8, 8, 3)))
+    assert np.array_equal(zero, grid)
