@@ -89,11 +89,13 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         for (std::size_t i = 0; i < n; ++i) uv[i] = {r.x[2 * i], r.x[2 * i + 1]};
         return uv;
     };
-    // Measures of an iterate; returns its L2 stretch's per-face squares for the stretch variant.
+    // Measures of an iterate; returns its L2 stretch's per-face squares for the stretch variant and
+    // keeps its 2D one-ring areas for the next reweighting.
+    std::vector<double> ring_area_2d;
     auto measure = [&](const std::vector<glm::dvec2>& uv, IterationReport& report) {
         const std::vector<double> uv_faces = detail::uv_face_areas(mesh, uv);
-        report.area_spread =
-            detail::area_spread(detail::equalised_areas(in, detail::ring_areas(adj, uv_faces)), in.interior);
+        ring_area_2d = detail::ring_areas(adj, uv_faces);
+        report.area_spread = detail::area_spread(detail::equalised_areas(in, ring_area_2d), in.interior);
         std::vector<double> stretch = detail::face_stretch_squared(mesh, uv, in.face_area_3d);
         report.l2_stretch = detail::l2_stretch(stretch, in.face_area_3d);
         report.flipped = 0;
@@ -122,10 +124,9 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         started = Clock::now();
         IterationReport report;
         report.iteration = t;
-        report.sigma_error =
-            options.variant == ParameterizeVariant::Stretch
-                ? detail::reweigh_by_stretch(in, stretch, weights)
-                : detail::reweigh_by_density(in, detail::ring_areas(adj, detail::uv_face_areas(mesh, uv)), weights);
+        report.sigma_error = options.variant == ParameterizeVariant::Stretch
+                                 ? detail::reweigh_by_stretch(in, stretch, weights)
+                                 : detail::reweigh_by_density(in, ring_area_2d, weights);
         uv = solve(uv, report);
         stretch = measure(uv, report);
         finish(uv, report, started);

@@ -21,6 +21,28 @@ double uv_area(const std::vector<glm::dvec2>& uv, const glm::uvec3& t) {
     return 0.5 * (a.x * b.y - a.y * b.x);
 }
 
+// Lets `update(i, j, w)` change the weight w of every slot (i, j) of the interior rows and return
+// its |sigma - 1|^2 term, normalises each row to sum 1, and returns the mean of the terms (E_sigma).
+template <class Update>
+double reweigh_rows(const ReweightingInput& in, std::vector<double>& weights, Update&& update) {
+    const geo::MeshAdjacency& adj = *in.adjacency;
+    double error = 0.0;
+    std::size_t slots = 0;
+    for (std::size_t i = 0; i < adj.vertex_count(); ++i) {
+        if (!in.interior[i]) continue;
+        const auto nb = adj.neighbors(i);
+        const std::size_t base = adj.vertex_vertex_offsets[i];
+        double row = 0.0;
+        for (std::size_t k = 0; k < nb.size(); ++k) {
+            error += update(i, nb[k], weights[base + k]);
+            row += weights[base + k];
+            ++slots;
+        }
+        for (std::size_t k = 0; k < nb.size(); ++k) weights[base + k] /= row;
+    }
+    return slots ? error / double(slots) : 0.0;
+}
+
 }  // namespace
 
 std::vector<double> ring_areas(const geo::MeshAdjacency& adj, const std::vector<double>& face_area) {
@@ -69,24 +91,11 @@ double reweigh_by_density(const ReweightingInput& in, const std::vector<double>&
     // they take the factors only when asked (boundary_factors_on_ratio).
     if (in.variant == ParameterizeVariant::Density || in.boundary_factors_on_ratio)
         for (std::size_t v = 0; v < a.size(); ++v) a[v] *= in.corner[v] ? 4.0 : in.interior[v] ? 1.0 : 2.0;
-    const geo::MeshAdjacency& adj = *in.adjacency;
-    double error = 0.0;
-    std::size_t slots = 0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        if (!in.interior[i]) continue;
-        const auto nb = adj.neighbors(i);
-        const std::size_t base = adj.vertex_vertex_offsets[i];
-        double row = 0.0;
-        for (std::size_t k = 0; k < nb.size(); ++k) {
-            const double sigma = std::sqrt((a[i] + a[nb[k]]) / (2.0 * a[i]));  // (6.8)
-            weights[base + k] *= sigma;
-            row += weights[base + k];
-            error += (sigma - 1.0) * (sigma - 1.0);
-            ++slots;
-        }
-        for (std::size_t k = 0; k < nb.size(); ++k) weights[base + k] /= row;
-    }
-    return slots ? error / double(slots) : 0.0;
+    return reweigh_rows(in, weights, [&](std::size_t i, std::uint32_t j, double& w) {
+        const double sigma = std::sqrt((a[i] + a[j]) / (2.0 * a[i]));  // (6.8)
+        w *= sigma;
+        return (sigma - 1.0) * (sigma - 1.0);
+    });
 }
 
 std::vector<double> face_stretch_squared(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv,
@@ -135,23 +144,11 @@ double reweigh_by_stretch(const ReweightingInput& in, const std::vector<double>&
                 sum += in.face_area_3d[f] * stretch_squared[f], area += in.face_area_3d[f];
         vertex[v] = area > 0.0 ? std::sqrt(sum / area) : 1.0;
     }
-    double error = 0.0;
-    std::size_t slots = 0;
-    for (std::size_t i = 0; i < vertex.size(); ++i) {
-        if (!in.interior[i]) continue;
-        const auto nb = adj.neighbors(i);
-        const std::size_t base = adj.vertex_vertex_offsets[i];
-        double row = 0.0;
-        for (std::size_t k = 0; k < nb.size(); ++k) {
-            weights[base + k] /= vertex[nb[k]];
-            row += weights[base + k];
-            const double factor = vertex[i] / vertex[nb[k]];
-            error += (factor - 1.0) * (factor - 1.0);
-            ++slots;
-        }
-        for (std::size_t k = 0; k < nb.size(); ++k) weights[base + k] /= row;
-    }
-    return slots ? error / double(slots) : 0.0;
+    return reweigh_rows(in, weights, [&](std::size_t i, std::uint32_t j, double& w) {
+        w /= vertex[j];
+        const double factor = vertex[i] / vertex[j];
+        return (factor - 1.0) * (factor - 1.0);
+    });
 }
 
 }  // namespace gimg::passes::detail

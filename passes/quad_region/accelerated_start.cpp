@@ -81,10 +81,10 @@ glm::dvec2 bilinear_inverse(glm::dvec2 st, double s0, double t0, double s1, doub
     return best;
 }
 
-std::size_t dijkstra_start(const QuadRegion& region, const std::vector<glm::dvec2>& boundary_uv, double k, double tau,
+std::size_t dijkstra_start(const QuadRegion& region, const geo::MeshAdjacency& adj,
+                           const std::vector<glm::dvec2>& boundary_uv, double k, double tau,
                            std::vector<glm::dvec2>& uv) {
     const geo::Mesh& mesh = region.mesh;
-    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
     const std::size_t n = mesh.vertex_count();
     // Sides: 1 = W1 -> W2 (v = 0), 2 = W2 -> W3 (u = 1), 3 = W3 -> W4 (v = 1), 4 = W4 -> W1 (u = 0).
     std::vector<std::uint8_t> u0(n, 0), v0(n, 0);

@@ -1,5 +1,6 @@
 // Deformations through the region's map (sec. 5): P'_i = P_i + F(u_i, v_i), F a lattice of offsets
 // on clamped cubic B-splines (the outer layers fixed at zero) or a height along the normal.
+#include "gimg/engine/upload.h"
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/normals.h"
 #include "gimg/passes/quad_region.h"
@@ -192,22 +193,17 @@ namespace {
 geo::Mesh deform_gpu(Context& ctx, const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
                      QuadDeformation what, const std::vector<double>& offsets, const std::vector<float>& heights) {
     check_map(mesh, region, uv);
-    auto upload = [&](const void* data, std::size_t bytes, const char* name) {
-        Buffer b = ctx.create_buffer({std::max<std::size_t>(bytes, 16), name});
-        if (bytes) ctx.upload(b, data, bytes);
-        return b;
-    };
     std::vector<double> positions(3 * mesh.vertex_count()), normals;
     for (std::size_t v = 0; v < mesh.vertex_count(); ++v)
         for (int k = 0; k < 3; ++k) positions[3 * v + std::size_t(k)] = mesh.positions[v][k];
     if (what.kind != QuadDeformation::Kind::Lattice)
         for (const glm::dvec3& n : paste_normals(mesh)) normals.insert(normals.end(), {n.x, n.y, n.z});
-    Buffer pos = upload(positions.data(), positions.size() * 8, "deform positions");
-    Buffer nrm = upload(normals.data(), normals.size() * 8, "deform normals");
-    Buffer org = upload(region.original.data(), region.original.size() * 4, "deform original");
-    Buffer par = upload(uv.data(), uv.size() * 16, "deform uv");
-    Buffer off = upload(offsets.data(), offsets.size() * 8, "deform offsets");
-    Buffer hgt = upload(heights.data(), heights.size() * 4, "deform heights");
+    Buffer pos = upload_buffer(ctx, positions, "deform positions");
+    Buffer nrm = upload_buffer(ctx, normals, "deform normals");
+    Buffer org = upload_buffer(ctx, region.original, "deform original");
+    Buffer par = upload_buffer(ctx, uv, "deform uv");
+    Buffer off = upload_buffer(ctx, offsets, "deform offsets");
+    Buffer hgt = upload_buffer(ctx, heights, "deform heights");
     what.region_vertices = std::uint32_t(uv.size());
     Graph g(ctx);
     auto pos_h = g.import_buffer(pos);

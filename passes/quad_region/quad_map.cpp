@@ -84,7 +84,7 @@ QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOpt
     t = Clock::now();
     out.start = fixed;  // flat: 0.5 on every free vertex
     if (o.start == QuadStart::Dijkstra)
-        out.start_sweeps = dijkstra_start(region, fixed, o.relaxation, o.tau, out.start);
+        out.start_sweeps = dijkstra_start(region, adj, fixed, o.relaxation, o.tau, out.start);
     if (warm.size() == n)
         for (std::size_t i = 0; i < n; ++i)
             if (interior[i] && !std::isnan(warm[i].x)) out.start[i] = warm[i];

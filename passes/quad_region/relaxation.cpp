@@ -4,6 +4,7 @@
 #include "quad_region/relaxation.h"
 
 #include "gimg/engine/graph.h"
+#include "gimg/engine/upload.h"
 #include "gimg/geometry/error.h"
 
 #include "quad_region/relax_comp.h"
@@ -93,16 +94,11 @@ std::size_t relax_cpu(const ColouredRows& rows, double k, double tau, std::size_
 std::size_t relax_gpu(Context& ctx, const ColouredRows& rows, double k, double tau, std::size_t max_sweeps,
                       std::vector<glm::dvec2>& uv, int field) {
     if (rows.vertex.empty()) return 1;
-    auto upload = [&](const void* data, std::size_t bytes, const char* name) {
-        Buffer b = ctx.create_buffer({std::max<std::size_t>(bytes, 16), name});
-        ctx.upload(b, data, bytes);
-        return b;
-    };
-    Buffer vertex_buf = upload(rows.vertex.data(), rows.vertex.size() * 4, "relax rows");
-    Buffer offset_buf = upload(rows.offsets.data(), rows.offsets.size() * 4, "relax offsets");
-    Buffer column_buf = upload(rows.columns.data(), rows.columns.size() * 4, "relax columns");
-    Buffer weight_buf = upload(rows.weights.data(), rows.weights.size() * 8, "relax weights");
-    Buffer uv_buf = upload(uv.data(), uv.size() * 16, "relax uv");
+    Buffer vertex_buf = upload_buffer(ctx, rows.vertex, "relax rows");
+    Buffer offset_buf = upload_buffer(ctx, rows.offsets, "relax offsets");
+    Buffer column_buf = upload_buffer(ctx, rows.columns, "relax columns");
+    Buffer weight_buf = upload_buffer(ctx, rows.weights, "relax weights");
+    Buffer uv_buf = upload_buffer(ctx, uv, "relax uv");
     Buffer slot_buf = ctx.create_buffer({kSweepsPerCheck * 4, "relax worst corrections"});
 
     Graph g(ctx);

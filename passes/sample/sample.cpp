@@ -1,6 +1,7 @@
 #include "gimg/passes/sample.h"
 
 #include "gimg/engine/graph.h"
+#include "gimg/engine/upload.h"
 #include "gimg/geometry/error.h"
 
 #include "sample/sample_frag.h"
@@ -53,14 +54,9 @@ PositionImage sample_gpu(Context& ctx, const geo::Mesh& mesh, std::uint32_t size
         params[2 * i] = float(mesh.texcoords[i].x);
         params[2 * i + 1] = float(mesh.texcoords[i].y);
     }
-    auto upload = [&](const void* data, std::size_t bytes, const char* name) {
-        Buffer b = ctx.create_buffer({bytes, name});
-        ctx.upload(b, data, bytes);
-        return b;
-    };
-    Buffer pos_buf = upload(positions.data(), positions.size() * 4, "positions");
-    Buffer par_buf = upload(params.data(), params.size() * 4, "parameters");
-    Buffer tri_buf = upload(mesh.triangles.data(), mesh.triangles.size() * 12, "triangles");
+    Buffer pos_buf = upload_buffer(ctx, positions, "positions");
+    Buffer par_buf = upload_buffer(ctx, params, "parameters");
+    Buffer tri_buf = upload_buffer(ctx, mesh.triangles, "triangles");
     Graph g(ctx);
     const ImageHandle image = add_sample(g, g.import_buffer(pos_buf), g.import_buffer(par_buf),
                                          g.import_buffer(tri_buf), std::uint32_t(mesh.face_count()), size);

@@ -25,11 +25,10 @@ def cli_json(*args):
     return json.loads(out.stdout)
 
 
-def plateau():
-    """A 9 x 9 vertex grid of the unit square with a raised middle: a disk."""
-    n = 9
+def grid(n, bump=0.0):
+    """An n x n vertex grid of the unit square (two triangles a square), its middle raised by `bump`."""
     x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
-    z = 0.2 * np.exp(-20 * ((x - 0.5) ** 2 + (y - 0.5) ** 2))
+    z = bump * np.exp(-20 * ((x - 0.5) ** 2 + (y - 0.5) ** 2))
     positions = np.stack([x.ravel(), y.ravel(), z.ravel()], axis=1)
     faces = []
     for j in range(n - 1):
@@ -37,6 +36,11 @@ def plateau():
             a = j * n + i
             faces += [[a, a + 1, a + n + 1], [a, a + n + 1, a + n]]
     return positions, np.array(faces)
+
+
+def plateau():
+    """A 9 x 9 vertex grid with a raised middle: a disk."""
+    return grid(9, bump=0.2)
 
 
 def test_load_mesh_and_info_match_the_command_line():
@@ -70,11 +74,7 @@ def test_cylinder_matches_the_command_line(device):
 
 
 def test_a_planar_square_maps_to_itself(device):
-    n = 7
-    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
-    positions = np.stack([x.ravel(), y.ravel(), np.zeros(n * n)], axis=1)
-    faces = np.array([[j * n + i, j * n + i + 1, (j + 1) * n + i + 1] for j in range(n - 1) for i in range(n - 1)] +
-                     [[j * n + i, (j + 1) * n + i + 1, (j + 1) * n + i] for j in range(n - 1) for i in range(n - 1)])
+    positions, faces = grid(7)
     for dev in (None, device):
         result = gimg.gim(dev, positions, faces, size=9, variant="floater")
         assert np.abs(result["uv"] - positions[:, :2]).max() < 1e-7
@@ -159,11 +159,7 @@ def test_compare_and_sphere_match_the_command_line():
 
 def test_sample_reconstruct_and_render(device):
     # A planar grid with identity parameters: pixel (i, j) holds ((i + 0.5) / N, 1 - (j + 0.5) / N, 0).
-    n = 6
-    x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
-    positions = np.stack([x.ravel(), y.ravel(), np.zeros(n * n)], axis=1)
-    faces = np.array([[j * n + i, j * n + i + 1, (j + 1) * n + i + 1] for j in range(n - 1) for i in range(n - 1)] +
-                     [[j * n + i, (j + 1) * n + i + 1, (j + 1) * n + i] for j in range(n - 1) for i in range(n - 1)])
+    positions, faces = grid(6)
     size = 16
     for dev in (None, device):
         s = gimg.sample(dev, positions, faces, positions[:, :2], size=size)

@@ -102,9 +102,11 @@ std::vector<glm::dvec3> barycentric_map(Context* ctx, const QuadRegion& triangle
 std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency);
 
 // The accelerated start (sec. 3): Dijkstra distances s, t from the u = 0 and v = 0 sides, eq. (3)
-// inverted in closed form, then at most 3 sweeps of eq. (4). Returns the sweeps used.
-std::size_t dijkstra_start(const QuadRegion& region, const std::vector<glm::dvec2>& boundary_uv, double relaxation,
-                           double tau, std::vector<glm::dvec2>& uv);
+// inverted in closed form, then at most 3 sweeps of eq. (4). `adjacency` is the region mesh's.
+// Returns the sweeps used.
+std::size_t dijkstra_start(const QuadRegion& region, const geo::MeshAdjacency& adjacency,
+                           const std::vector<glm::dvec2>& boundary_uv, double relaxation, double tau,
+                           std::vector<glm::dvec2>& uv);
 // Eq. (3): (s, t) from (u, v), and its inverse (the stable root; the fold-free case is
 // s1 / s0 + t1 / t0 > 1, otherwise the root nearest (s / s0, t / t0) in the square, and `folded`).
 glm::dvec2 bilinear_forward(glm::dvec2 uv, double s0, double t0, double s1, double t1);
