@@ -47,6 +47,8 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global);
 void add_gim_command(CLI::App& app, const GlobalOptions& global);
 // gimg quadmap / deform MESH --corners A,B,C,D --out DIR (cmd_quadmap.cpp)
 void add_quadmap_commands(CLI::App& app, const GlobalOptions& global);
+// gimg maps MESH --levels J --out DIR [--base N] [--k K] [--compress R] (cmd_maps.cpp)
+void add_maps_command(CLI::App& app, const GlobalOptions& global);
 // gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
 void add_info_command(CLI::App& app, const GlobalOptions& global);
 

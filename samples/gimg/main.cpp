@@ -57,6 +57,7 @@ int main(int argc, char** argv) {
     add_roundtrip_command(app, global);
     add_gim_command(app, global);
     add_quadmap_commands(app, global);
+    add_maps_command(app, global);
     add_sphere_command(app, global);
     add_sample_command(app, global);
     add_retrieval_commands(app, global);
