@@ -180,7 +180,9 @@ private:
             for (std::size_t j = i + 2; j < k; ++j)
                 if ((j + 1) % k != i && level_.has_edge(r.ring[i], r.ring[j]))
                     forbidden[i * k + j] = forbidden[j * k + i] = 1;
-        if (!flatten_ring(level_.positions(), c, r, options_.polar) || !triangulate_ring(r, forbidden)) return false;
+        if (!flatten_ring(level_.positions(), c, r, options_.flattening == RingFlattening::Polar, options_.max_cone) ||
+            !triangulate_ring(r, forbidden))
+            return false;
         const auto& p = level_.positions();
         for (const glm::uvec3& t : r.triangles) {
             const glm::dvec3 a = p[r.ring[t[0]]], b = p[r.ring[t[1]]], d = p[r.ring[t[2]]];
@@ -304,6 +306,8 @@ BaseDomain build_base_domain(const geo::Mesh& mesh, const MapsOptions& options) 
     check_input(mesh, genus);
     if (!(options.lambda >= 0.0 && options.lambda <= 1.0)) throw geo::InputError("lambda must lie in [0, 1]");
     if (options.max_valence < 3) throw geo::InputError("the valence cap must be at least 3");
+    if (!(options.max_cone == 0.0 || options.max_cone >= 1.0))
+        throw geo::InputError("the cone limit must be 0 (none) or at least 1");
     const std::uint32_t target = options.base_vertices ? options.base_vertices : 50u * (1u + genus);
     Hierarchy h(mesh, options);
     return h.run(target);

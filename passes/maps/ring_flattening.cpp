@@ -68,7 +68,8 @@ glm::dvec3 barycentric_2d(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b, glm::dvec2 c
     return {u, v, 1.0 - u - v};
 }
 
-bool flatten_ring(const std::vector<glm::dvec3>& positions, std::uint32_t centre, Ring& r, bool polar) {
+bool flatten_ring(const std::vector<glm::dvec3>& positions, std::uint32_t centre, Ring& r, bool polar,
+                  double max_cone) {
     const std::size_t k = r.ring.size();
     if (k < 3) return false;
     const glm::dvec3 o = positions[centre];
@@ -82,6 +83,7 @@ bool flatten_ring(const std::vector<glm::dvec3>& positions, std::uint32_t centre
     }
     if (!(total > 0.0) || !(longest > 0.0)) return false;
     const double a = 2.0 * std::numbers::pi / total;
+    if (max_cone > 0.0 && (a > max_cone || a * max_cone < 1.0)) return false;
     // z^a's sector angles; a sector it would open to pi or more (the old triangle would turn over
     // and the chart stop being one-to-one) is capped and the others share the excess.
     std::vector<double> sector(k);

@@ -28,7 +28,9 @@ double corner_angle(glm::dvec3 apex, glm::dvec3 a, glm::dvec3 b);
 // would open to 0.9 pi or more is held there and the other sectors share the rest of 2 pi, so the
 // fan stays one-to-one and its polygon star-shaped about the centre. False for a degenerate corner.
 // `polar`: radii r_k / max r (angles still scaled by a), which does not shrink cone tips as r^a.
-bool flatten_ring(const std::vector<glm::dvec3>& positions, std::uint32_t centre, Ring& r, bool polar = false);
+// `max_cone` > 0: false when a > max_cone or a < 1 / max_cone (a cone tip or a deep saddle).
+bool flatten_ring(const std::vector<glm::dvec3>& positions, std::uint32_t centre, Ring& r, bool polar = false,
+                  double max_cone = 0.0);
 
 // Ear clipping, then Lawson flips until every diagonal is locally Delaunay: K - 2 triangles with
 // edges between ring vertices only. `forbidden` (K x K, or empty) marks diagonals that may not be

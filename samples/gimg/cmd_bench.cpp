@@ -327,6 +327,7 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
     add_bench_hierarchy_command(*bench, global);
     add_bench_gim_command(*bench, global);
     add_bench_quadmap_command(*bench, global);
+    add_bench_maps_command(*bench, global);
     add_bench_retrieval_command(*bench, global);
 }
 

@@ -22,8 +22,9 @@ struct MapsCommandOptions {
     std::string mesh, out, json, k = "1";
     std::uint32_t levels = 4, base = 0, picture = 480, smooth = 0;
     std::uint64_t samples = 0;
-    double lambda = 0.5, compress = 0.0;
-    bool cpu = false, polar = false;
+    double lambda = 0.5, compress = 0.0, max_cone = 2.0;
+    std::string flattening = "polar";
+    bool cpu = false;
 };
 
 void run_maps(const MapsCommandOptions& o, const GlobalOptions& global) {
@@ -32,7 +33,8 @@ void run_maps(const MapsCommandOptions& o, const GlobalOptions& global) {
     passes::MapsOptions mo;
     mo.lambda = o.lambda;
     mo.base_vertices = o.base;
-    mo.polar = o.polar;
+    mo.flattening = o.flattening == "za" ? passes::RingFlattening::Za : passes::RingFlattening::Polar;
+    mo.max_cone = o.max_cone;
     mo.smoothing = o.smooth;
     std::unique_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
     Context* gpu = o.cpu ? nullptr : ctx.get();
@@ -82,8 +84,12 @@ void add_maps_command(CLI::App& app, const GlobalOptions& global) {
         ->check(CLI::IsMember({"lazy", "0", "1", "2"}));
     add_number_option(cmd, "--lambda", o->lambda, 0.0, 1.0,
                       "Weight of the one-ring area against the curvature in the removal priority (default 0.5)");
-    cmd->add_flag("--polar", o->polar,
-                  "Flatten rings with radii r instead of z^a's r^a (shrinks protrusions less; not the paper's)");
+    cmd->add_option("--flattening", o->flattening,
+                    "Ring flattening radii: polar (r, default) or za (the paper's z^a, r^a; undersamples protrusions)")
+        ->check(CLI::IsMember({"polar", "za"}));
+    add_number_option(cmd, "--max-cone", o->max_cone, 0.0, 1e6,
+                      "Keep vertices whose flattening scales angles by more than this or less than its inverse "
+                      "(cone tips; default 2, 0 for none, else at least 1)");
     add_count_option(cmd, "--smooth", o->smooth, 0, 1000,
                      "Smoothing iterations of the remesh points inside base triangles (default 0: none)");
     add_number_option(cmd, "--compress", o->compress, 0.0, 1.0,

@@ -31,6 +31,8 @@ void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global);
 void add_bench_gim_command(CLI::App& bench, const GlobalOptions& global);
 // gimg bench quadmap [--region MESH:SIDE]... (cmd_bench_quadmap.cpp), under `bench`
 void add_bench_quadmap_command(CLI::App& bench, const GlobalOptions& global);
+// gimg bench maps [--mesh PATH]... [--levels J] (cmd_bench_maps.cpp), under `bench`
+void add_bench_maps_command(CLI::App& bench, const GlobalOptions& global);
 // gimg bench retrieval [--models N] (cmd_bench_retrieval.cpp), under `bench`
 void add_bench_retrieval_command(CLI::App& bench, const GlobalOptions& global);
 void add_reconstruct_command(CLI::App& app, const GlobalOptions& global);

@@ -143,6 +143,19 @@ TEST(MapsFlattening, AFlatRingIsRigidAndAConeIsScaled) {
         turned += std::atan2(u.x * w.y - u.y * w.x, glm::dot(u, w));
     }
     EXPECT_NEAR(turned, 2.0 * std::numbers::pi, 1e-12);  // scaled angles sum to 2 pi
+    // Polar radii: the same angles, the radii kept (up to the chart's scale).
+    gp::Ring polar;
+    polar.ring = r.ring;
+    ASSERT_TRUE(gp::flatten_ring(p, 0, polar, true));
+    for (int k = 0; k < 6; ++k) {
+        EXPECT_NEAR(glm::length(polar.mu[std::size_t(k)]), glm::distance(p[0], p[std::size_t(k + 1)]) / longest, 1e-12);
+        const glm::dvec2 u = polar.mu[std::size_t(k)], w = r.mu[std::size_t(k)];
+        EXPECT_NEAR(u.x * w.y - u.y * w.x, 0.0, 1e-12);  // same direction as z^a's
+    }
+    // The cone guard: a tip whose total angle is below 2 pi / max_cone stays.
+    p[0].z = 3.0;
+    EXPECT_TRUE(gp::flatten_ring(p, 0, polar, true, 0.0));
+    EXPECT_FALSE(gp::flatten_ring(p, 0, polar, true, 2.0));
 }
 
 TEST(MapsFlattening, TheRefillIsADelaunayTriangulationOfThePolygon) {

@@ -22,15 +22,21 @@ namespace gimg::passes {
 
 // ---- Base domain and parameter tracking (sec. 2.2-2.3) ----
 
+enum class RingFlattening { Polar, Za };
+
 struct MapsOptions {
     double lambda = 0.5;              // weight of the ring area against the curvature in the priority
     std::uint32_t base_vertices = 0;  // stop at this many vertices; 0: 50 (1 + genus)
     std::uint32_t max_valence = 12;   // vertices of higher valence are never removed
     bool check_tracking = false;      // assert the tracking invariants after every removal (tests)
     bool keep_levels = false;         // keep every level's triangles in BaseDomain::level_faces
-    // Ring flattening radii: false r^a (the paper's z^a, conformal), true r (angles still scaled
-    // by a; cone tips are not shrunk as r^a, which undersamples protrusions level after level).
-    bool polar = false;
+    // The ring flattening's radii: Polar r_k (the default), or the paper's z^a, r_k^a. Both scale
+    // the angles by a = 2 pi / total angle. z^a shrinks the ring of a cone tip as r^a, and the
+    // shrinking compounds level after level: protrusions end up undersampled (docs/maps.md).
+    RingFlattening flattening = RingFlattening::Polar;
+    // A vertex whose a exceeds this, or falls below its inverse, is not removed: a cone tip
+    // (total angle below 2 pi / max_cone) stays, so long protrusions keep base vertices. 0: none.
+    double max_cone = 2.0;
     // Remesh smoothing (an extension; the paper has none): iterations moving every point inside a
     // base triangle halfway to the 3D-edge-length-weighted mean of its neighbours there, each
     // followed by a new evaluation of the points; the points on base edges stay.
