@@ -66,8 +66,8 @@ void run_maps(const MapsCommandOptions& o, const GlobalOptions& global) {
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
     if (!global.quiet)
-        std::printf("wrote %s/{base.obj, remesh_1..%u.obj, coarse_%u.obj, wavelets.bin, base.png, remesh.png}\n",
-                    o.out.c_str(), o.levels, o.levels - 1);
+        std::printf("wrote %s/{base.obj, remesh_1..%u.obj, coarse_%u.obj, wavelets.bin, base.png, remesh.png%s}\n",
+                    o.out.c_str(), o.levels, o.levels - 1, o.compress > 0.0 ? ", compressed.obj" : "");
 }
 
 }  // namespace
