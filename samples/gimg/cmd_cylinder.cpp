@@ -43,7 +43,7 @@ void run_hierarchy(const CylinderOptions& o, const GlobalOptions& global) {
         .size = n,
         .reach = o.reach,
         .miss = o.misses == "empty" ? passes::HierarchyMiss::Invalid : passes::HierarchyMiss::Surface};
-    std::unique_ptr<Context> ctx;
+    std::shared_ptr<Context> ctx;
     if (!o.cpu) ctx = open_context(global);
     const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, frame);
     const passes::CylinderHierarchy h =
@@ -81,7 +81,7 @@ void run_cylinder(const CylinderOptions& o, const GlobalOptions& global) {
     const auto size = asked ? *asked : passes::auto_cylinder_size(mesh.face_count());
 
     passes::CylinderImage image;
-    std::unique_ptr<Context> ctx;
+    std::shared_ptr<Context> ctx;
     double gpu_ms = 0.0;
     if (o.method == "zbuffer") {
         ctx = open_context(global);

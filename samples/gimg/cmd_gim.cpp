@@ -51,7 +51,7 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
         if (o.corners.size() != 4) throw geo::InputError("--corners takes four boundary vertex indices");
         po.corners = std::array<std::uint32_t, 4>{o.corners[0], o.corners[1], o.corners[2], o.corners[3]};
     }
-    std::unique_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
+    std::shared_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
     auto report = [&](const passes::IterationReport& r) {
         if (global.quiet) return;
         std::printf(

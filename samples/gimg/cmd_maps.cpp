@@ -36,7 +36,7 @@ void run_maps(const MapsCommandOptions& o, const GlobalOptions& global) {
     mo.flattening = o.flattening == "za" ? passes::RingFlattening::Za : passes::RingFlattening::Polar;
     mo.max_cone = o.max_cone;
     mo.smoothing = o.smooth;
-    std::unique_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
+    std::shared_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
     Context* gpu = o.cpu ? nullptr : ctx.get();
     if (!global.quiet)
         std::printf("%s: %zu vertices, %zu faces; MAPS to level %u, wavelets k = %s, on the %s\n", o.mesh.c_str(),

@@ -51,7 +51,7 @@ void run_hierarchy_reconstruct(const ReconstructCliOptions& o, const GlobalOptio
     if (o.lod >= levels)
         throw geo::InputError("--lod " + std::to_string(o.lod) + ": the hierarchy has " + std::to_string(levels) +
                               " levels");
-    std::unique_ptr<Context> ctx;
+    std::shared_ptr<Context> ctx;
     if (!o.cpu) ctx = open_context(global);
     geo::Mesh mesh;
     passes::HierarchyGrid grid;
@@ -93,7 +93,7 @@ void run_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global
     const geo::FloatImage probe = geo::read_exr(image_path);
     if (probe.channels.count("t") != 0) return run_hierarchy_reconstruct(o, global);
     const bool cylindrical = probe.channels.count("d") != 0;
-    std::unique_ptr<Context> ctx;
+    std::shared_ptr<Context> ctx;
     if (!o.cpu) ctx = open_context(global);
     passes::ReconstructStats stats;
     geo::Mesh mesh;

@@ -29,7 +29,7 @@ void add_sample_command(CLI::App& app, const GlobalOptions& global) {
         check_command_files({o->mesh}, {{"--out", o->out, {".exr"}}, json_output(o->json)});
         geo::OutputSet files;
         const geo::Mesh mesh = geo::load_mesh(o->mesh);
-        std::unique_ptr<Context> ctx;
+        std::shared_ptr<Context> ctx;
         if (!o->cpu) ctx = open_context(global);
         passes::PositionImage image;
         const double ms = time_ms(

@@ -77,7 +77,7 @@ void run_sphere(const SphereCliOptions& o, const GlobalOptions& global) {
                       seconds);
         };
     // The CPU methods run without a Vulkan device; the pictures need one.
-    std::unique_ptr<Context> ctx;
+    std::shared_ptr<Context> ctx;
     if (o.method == "harmonic") {
         ctx = open_context(global);
     } else {

@@ -16,6 +16,11 @@ struct GlobalOptions {
     bool quiet = false;
 };
 
+// Every command below on `app` (main.cpp); `gimg batch` builds an app of them per model.
+void add_commands(CLI::App& app, GlobalOptions& global);
+// gimg batch COMMAND --inputs DIR|LIST --out DIR [--shard K/N] [--resume] [-- OPTIONS], and
+// gimg batch merge DIR... (cmd_batch.cpp)
+void add_batch_commands(CLI::App& app, const GlobalOptions& global);
 void add_devices_command(CLI::App& app, const GlobalOptions& global);
 void add_demo_command(CLI::App& app, const GlobalOptions& global);
 // gimg compare A B [--json FILE] [--samples N] [--seed S]  (cmd_compare.cpp)

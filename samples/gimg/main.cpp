@@ -34,20 +34,9 @@ int finish(int code) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-    using namespace gimg::cli;
-    gimg::geo::remove_outputs_on_signals();
-    CLI::App app{
-        "gimg: triangle meshes to geometry images and parameterizations, and back, on a "
-        "Vulkan render graph"};
-    app.require_subcommand(1);
-    app.set_help_all_flag("--help-all", "Print help for every command");
-    // Global options also after the command (`gimg sphere m.off --out d --quiet`): the
-    // commands, made after this, inherit it and pass options they do not know up here.
-    app.fallthrough();
-    GlobalOptions global;
-    app.add_flag("-v,--verbose", global.verbose, "Print the chosen Vulkan device and progress");
-    app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
+namespace gimg::cli {
+
+void add_commands(CLI::App& app, GlobalOptions& global) {
     add_demo_command(app, global);
     add_info_command(app, global);
     add_compare_command(app, global);
@@ -63,6 +52,26 @@ int main(int argc, char** argv) {
     add_retrieval_commands(app, global);
     add_bench_command(app, global);
     add_devices_command(app, global);
+    add_batch_commands(app, global);
+}
+
+}  // namespace gimg::cli
+
+int main(int argc, char** argv) {
+    using namespace gimg::cli;
+    gimg::geo::remove_outputs_on_signals();
+    CLI::App app{
+        "gimg: triangle meshes to geometry images and parameterizations, and back, on a "
+        "Vulkan render graph"};
+    app.require_subcommand(1);
+    app.set_help_all_flag("--help-all", "Print help for every command");
+    // Global options also after the command (`gimg sphere m.off --out d --quiet`): the
+    // commands, made after this, inherit it and pass options they do not know up here.
+    app.fallthrough();
+    GlobalOptions global;
+    app.add_flag("-v,--verbose", global.verbose, "Print the chosen Vulkan device and progress");
+    app.add_flag("-q,--quiet", global.quiet, "Print nothing but errors");
+    add_commands(app, global);
 
     // `--json -` writes the figures to standard output, so nothing else goes there.
     for (int i = 1; i + 1 < argc; ++i)

@@ -181,6 +181,59 @@ strict_numbers)
   run 1 "cannot write to standard output" sh -c "'$GIMG' info '$W/m.off' >/dev/full"
   absent "$W/s" "$W/x.ply"
   ;;
+batch_shards_cover_once)
+  # Twelve models in nested folders, one of them broken: every shard count covers each model once,
+  # the broken one recorded with its message, and the shards merge into the single run's results.
+  mkdir -p "$W/coll/a" "$W/coll/b"
+  for i in 1 2 3 4 5 6; do "$MAKE" scaled "$i" "$W/coll/a/m$i.off"; "$MAKE" scaled "$i" "$W/coll/b/m$i.off"; done
+  printf 'OFF\n3 1 0\n0 0 0\n1 0\n' >"$W/coll/b/broken.off"
+  run 0 "" "$GIMG" batch info --inputs "$W/coll" --out "$W/one" --quiet
+  [ "$(wc -l <"$W/one/results.jsonl")" -eq 13 ] || fail "the single run has $(wc -l <"$W/one/results.jsonl") lines, not 13"
+  grep -q '"model":"broken","result":null,"seconds".*"status":"failed"' "$W/one/results.jsonl" ||
+    grep -q '"error":"[^"]*broken.off: the OFF header' "$W/one/results.jsonl" || fail "the broken model is not recorded"
+  [ "$(grep -c '"status":"ok"' "$W/one/results.jsonl")" -eq 12 ] || fail "not 12 models ok"
+  for n in 1 2 3 4 5 6 7; do
+    for k in $(seq 0 $((n - 1))); do
+      run 0 "" "$GIMG" batch info --inputs "$W/coll" --out "$W/shards$n" --shard "$k/$n" --quiet
+    done
+    run 0 "" "$GIMG" batch merge "$W/shards$n" --out "$W/merged$n.jsonl" --quiet
+    diff <(grep -o '"model":"[^"]*"' "$W/merged$n.jsonl" | sort) <(grep -o '"model":"[^"]*"' "$W/one/results.jsonl" | sort) >/dev/null ||
+      fail "$n shards do not cover the collection once"
+  done
+  # The merged results equal the single run's, timings aside.
+  strip() { sed -E 's/"seconds":[^,}]*//g' "$1" | sort; }
+  [ "$(strip "$W/merged3.jsonl")" = "$(strip "$W/one/results.jsonl")" ] || fail "3 merged shards differ from one run"
+  run 2 "is in both" "$GIMG" batch merge "$W/shards2" "$W/one" --out "$W/bad.jsonl"
+  rm "$W/shards2/results-1-of-2.jsonl"
+  run 2 "shard 1 of 2 is missing" "$GIMG" batch merge "$W/shards2" --out "$W/bad.jsonl"
+  run 2 "--shard takes K/N" "$GIMG" batch info --inputs "$W/coll" --out "$W/x" --shard 3/3
+  run 2 "holds an earlier run" "$GIMG" batch info --inputs "$W/coll" --out "$W/one"
+  absent "$W/bad.jsonl" "$W/x"
+  ;;
+batch_resume_after_kill)
+  # A batch killed (SIGKILL) mid-run, then resumed: every model once, none redone, nothing partial.
+  mkdir -p "$W/coll"
+  for i in $(seq 1 24); do "$MAKE" scaled "$i" "$W/coll/m$i.off"; done
+  "$GIMG" batch cylinder --inputs "$W/coll" --out "$W/run" --quiet -- --size 512x256 >/dev/null 2>&1 &
+  pid=$!
+  for _ in $(seq 200); do
+    [ -f "$W/run/results.jsonl" ] && [ "$(wc -l <"$W/run/results.jsonl")" -ge 3 ] && break
+    sleep 0.02
+  done
+  kill -KILL "$pid"
+  wait "$pid" 2>/dev/null
+  before=$(wc -l <"$W/run/results.jsonl")
+  [ "$before" -ge 3 ] && [ "$before" -lt 24 ] || fail "the kill came at $before of 24 models, not mid-run"
+  first=$(grep -o '"model":"[^"]*"' "$W/run/results.jsonl" | head -1 | cut -d'"' -f4)
+  stamp=$(stat -c %Y.%N "$W/run/$first/frame.json" 2>/dev/null)
+  run 2 "holds an earlier run" "$GIMG" batch cylinder --inputs "$W/coll" --out "$W/run" -- --size 512x256
+  run 0 "" "$GIMG" batch cylinder --inputs "$W/coll" --out "$W/run" --resume --quiet -- --size 512x256
+  [ "$(wc -l <"$W/run/results.jsonl")" -eq 24 ] || fail "$(wc -l <"$W/run/results.jsonl") lines after the resume, not 24"
+  [ "$(grep -c '"status":"ok"' "$W/run/results.jsonl")" -eq 24 ] || fail "not every model ok after the resume"
+  [ "$(grep -o '"model":"[^"]*"' "$W/run/results.jsonl" | sort -u | wc -l)" -eq 24 ] || fail "a model twice"
+  [ "$(stat -c %Y.%N "$W/run/$first/frame.json")" = "$stamp" ] || fail "$first was redone"
+  for i in $(seq 1 24); do exists "$W/run/m$i/distance.exr" "$W/run/m$i/frame.json" "$W/run/m$i/result.json"; done
+  ;;
 *)
   echo "unknown case $case_name"
   exit 2 ;;
