@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <set>
 
 namespace gimg::cli {
 
@@ -71,5 +72,49 @@ Shard parse_shard(const std::string& text) {
 }
 
 std::uint32_t shard_of(const Model& model, std::uint32_t count) { return std::uint32_t(fnv1a(model.relative) % count); }
+
+// The lines of a results file that parse, by model (a later line replaces an earlier one).
+std::map<std::string, nlohmann::json> read_results(const std::filesystem::path& file) {
+    std::map<std::string, nlohmann::json> out;
+    std::ifstream in(file);
+    std::string text;
+    while (std::getline(in, text)) {
+        nlohmann::json line = nlohmann::json::parse(text, nullptr, false);
+        if (!line.is_object() || !line.contains("model") || !line["model"].is_string()) continue;
+        const std::string model = line["model"].get<std::string>();
+        out[model] = std::move(line);
+    }
+    return out;
+}
+
+std::map<std::string, nlohmann::json> read_batch_results(const std::vector<std::string>& folders) {
+    if (folders.empty()) throw geo::InputError("give the folders of the shards' runs");
+    std::map<std::string, nlohmann::json> merged;
+    std::map<std::string, std::string> from;
+    std::map<int, std::set<int>> shards;  // N -> the K seen
+    for (const std::string& folder : folders) {
+        if (!std::filesystem::is_directory(folder)) throw geo::InputError(folder + ": not a folder");
+        for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+            const std::string name = entry.path().filename().string();
+            int k = 0, n = 1;
+            if (name != "results.jsonl" && std::sscanf(name.c_str(), "results-%d-of-%d.jsonl", &k, &n) != 2) continue;
+            shards[n].insert(k);
+            for (auto& [model, line] : read_results(entry.path())) {
+                if (from.count(model))
+                    throw geo::InputError("model " + model + " is in both " + from[model] + " and " +
+                                          entry.path().string() + ": shards of different runs?");
+                merged[model] = line;
+                from[model] = entry.path().string();
+            }
+        }
+    }
+    if (merged.empty())
+        throw geo::InputError("no results files (results.jsonl, results-K-of-N.jsonl) in those folders");
+    for (const auto& [n, ks] : shards)
+        for (int k = 0; k < n; ++k)
+            if (n > 1 && !ks.count(k))
+                throw geo::InputError("shard " + std::to_string(k) + " of " + std::to_string(n) + " is missing");
+    return merged;
+}
 
 }  // namespace gimg::cli

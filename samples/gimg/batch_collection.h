@@ -1,7 +1,10 @@
 #pragma once
 // The models of a `gimg batch` collection and their shards.
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -25,5 +28,12 @@ struct Shard {
 Shard parse_shard(const std::string& text);
 // The shard a model belongs to: FNV-1a of `relative` modulo N, the same on every machine.
 std::uint32_t shard_of(const Model& model, std::uint32_t count);
+
+// The lines of one results file that parse, by model (a later line replaces an earlier one).
+std::map<std::string, nlohmann::json> read_results(const std::filesystem::path& file);
+
+// Every results.jsonl and results-K-of-N.jsonl in the folders, by model. Throws geo::InputError for
+// no folder or results, a shard K of N missing, or a model in two files (shards of different runs).
+std::map<std::string, nlohmann::json> read_batch_results(const std::vector<std::string>& folders);
 
 }  // namespace gimg::cli

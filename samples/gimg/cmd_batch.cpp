@@ -34,7 +34,7 @@ struct BatchOptions {
     bool resume = false;
 };
 
-// The per-model commands: they read one mesh and write a folder (info: only its JSON).
+// The per-model commands: they read one mesh and write a folder (info and features: only JSON).
 const std::set<std::string> kFolderCommands{"cylinder", "sphere", "gim", "maps", "quadmap", "deform", "roundtrip"};
 
 // One JSON line appended with a single write and synced, so a killed run leaves whole lines (a
@@ -47,20 +47,6 @@ void append_line(const std::filesystem::path& file, const nlohmann::json& line) 
     const int synced = ::fsync(fd);
     ::close(fd);
     if (n != ssize_t(text.size()) || synced != 0) throw geo::EnvironmentError(file.string() + ": cannot append");
-}
-
-// The lines of a results file that parse, by model (a later line replaces an earlier one).
-std::map<std::string, nlohmann::json> read_results(const std::filesystem::path& file) {
-    std::map<std::string, nlohmann::json> out;
-    std::ifstream in(file);
-    std::string text;
-    while (std::getline(in, text)) {
-        nlohmann::json line = nlohmann::json::parse(text, nullptr, false);
-        if (!line.is_object() || !line.contains("model") || !line["model"].is_string()) continue;
-        const std::string model = line["model"].get<std::string>();
-        out[model] = std::move(line);
-    }
-    return out;
 }
 
 nlohmann::json read_json_file(const std::filesystem::path& file) {
@@ -103,10 +89,10 @@ std::string run_one(const BatchOptions& o, const Model& model, const std::filesy
 void run_batch(const BatchOptions& o, const GlobalOptions& global) {
     if (o.inputs.empty() || o.out.empty()) throw geo::InputError("batch needs --inputs and --out");
     if (o.command == "batch") throw geo::InputError("batch cannot run batch");
-    if (!kFolderCommands.count(o.command) && o.command != "info")
+    if (!kFolderCommands.count(o.command) && o.command != "info" && o.command != "features")
         throw geo::InputError(
-            "batch runs the per-model commands: info, cylinder, sphere, gim, maps, quadmap, deform, "
-            "roundtrip; not '" +
+            "batch runs the per-model commands: info, features, cylinder, sphere, gim, maps, "
+            "quadmap, deform, roundtrip; not '" +
             o.command + "'");
     const Shard shard = parse_shard(o.shard);
     const std::vector<Model> all = collect_models(o.inputs);
@@ -186,32 +172,7 @@ void run_batch(const BatchOptions& o, const GlobalOptions& global) {
 
 // Every results file in the folders, joined: each model once (its last line in its shard's file).
 void run_merge(const BatchOptions& o, const GlobalOptions& global) {
-    if (o.rest.empty()) throw geo::InputError("batch merge takes the folders of the shards' runs");
-    std::map<std::string, nlohmann::json> merged;
-    std::map<std::string, std::string> from;
-    std::map<int, std::set<int>> shards;  // N -> the K seen
-    for (const std::string& folder : o.rest) {
-        if (!std::filesystem::is_directory(folder)) throw geo::InputError(folder + ": not a folder");
-        for (const auto& entry : std::filesystem::directory_iterator(folder)) {
-            const std::string name = entry.path().filename().string();
-            int k = 0, n = 1;
-            if (name != "results.jsonl" && std::sscanf(name.c_str(), "results-%d-of-%d.jsonl", &k, &n) != 2) continue;
-            shards[n].insert(k);
-            for (auto& [model, line] : read_results(entry.path())) {
-                if (from.count(model))
-                    throw geo::InputError("model " + model + " is in both " + from[model] + " and " +
-                                          entry.path().string() + ": shards of different runs?");
-                merged[model] = line;
-                from[model] = entry.path().string();
-            }
-        }
-    }
-    if (merged.empty())
-        throw geo::InputError("no results files (results.jsonl, results-K-of-N.jsonl) in those folders");
-    for (const auto& [n, ks] : shards)
-        for (int k = 0; k < n; ++k)
-            if (n > 1 && !ks.count(k))
-                throw geo::InputError("shard " + std::to_string(k) + " of " + std::to_string(n) + " is missing");
+    const std::map<std::string, nlohmann::json> merged = read_batch_results(o.rest);
     const std::filesystem::path target =
         o.out.empty() ? std::filesystem::path(o.rest.front()) / "results.jsonl" : std::filesystem::path(o.out);
     std::string text;

@@ -2,6 +2,7 @@
 // gimg search DB.json MESH [--k N] [--pose aligned|best-of-four] [--json FILE]
 // gimg eval DB.json [--pose aligned|best-of-four] [--json FILE]
 // Retrieval from cylindrical images (the thesis's chapter 5; docs/retrieval.md).
+#include "batch_collection.h"
 #include "command_files.h"
 #include "commands.h"
 #include "gpu_context.h"
@@ -83,10 +84,12 @@ passes::PoseHandling pose_of(const std::string& text) {
 
 struct IndexOptions {
     std::string source, out, json, descriptor = "image";
+    std::vector<std::string> shards;  // --from-shards: folders of `gimg batch features` runs
     passes::RetrievalOptions retrieval;
 };
 
-void run_index(IndexOptions o, const GlobalOptions& global) {
+// The feature options as given (descriptor by name), checked.
+void resolve_feature_options(IndexOptions& o) {
     o.retrieval.descriptor = o.descriptor == "spectrum"           ? passes::RetrievalDescriptor::ThetaSpectrum
                              : o.descriptor == "spectrum2d"       ? passes::RetrievalDescriptor::Spectrum2D
                              : o.descriptor == "spectrum2d-slope" ? passes::RetrievalDescriptor::Spectrum2DSlope
@@ -94,6 +97,71 @@ void run_index(IndexOptions o, const GlobalOptions& global) {
     if (o.retrieval.cylinders == 2) throw geo::InputError("--cylinders takes 1 or 3");
     if (o.retrieval.reduced % 2 != 0 || o.retrieval.size % o.retrieval.reduced != 0)
         throw geo::InputError("--size must be a multiple of --reduced, and --reduced even");
+}
+
+// One model's retrieval feature (before the PCA), as `gimg batch features` computes it per shard.
+void run_features(IndexOptions o, const GlobalOptions& global) {
+    resolve_feature_options(o);
+    const geo::Mesh mesh = geo::load_mesh(o.source);
+    auto ctx = open_context(global);
+    const std::vector<float> feature = passes::cylinder_features(*ctx, {mesh}, o.retrieval).front();
+    if (!global.quiet) std::printf("%s: a feature of %zu values\n", o.source.c_str(), feature.size());
+    write_json(o.json, {{"mesh", fs::path(o.source).lexically_normal().string()},
+                        {"label", fs::path(o.source).parent_path().filename().string()},
+                        {"size", o.retrieval.size},
+                        {"reduced", o.retrieval.reduced},
+                        {"descriptor", o.descriptor},
+                        {"cylinders", o.retrieval.cylinders},
+                        {"feature", feature}});
+}
+
+// One PCA over the features `gimg batch features` wrote per shard: the same database as `gimg
+// index` of the whole collection, the models in the same (path) order.
+void run_index_from_shards(IndexOptions o, const GlobalOptions& global) {
+    std::vector<nlohmann::json> results;
+    for (auto& [model, line] : read_batch_results(o.shards))
+        if (line.value("status", "") == "ok" && line["result"].is_object() && line["result"].contains("feature"))
+            results.push_back(line["result"]);
+    if (results.empty())
+        throw geo::InputError("--from-shards: no model's features in those folders (gimg batch features)");
+    std::sort(results.begin(), results.end(), [](const nlohmann::json& a, const nlohmann::json& b) {
+        return a["mesh"].get<std::string>() < b["mesh"].get<std::string>();
+    });
+    const nlohmann::json& first = results.front();
+    o.retrieval.size = first["size"].get<std::uint32_t>();
+    o.retrieval.reduced = first["reduced"].get<std::uint32_t>();
+    o.retrieval.cylinders = first["cylinders"].get<std::uint32_t>();
+    o.descriptor = first["descriptor"].get<std::string>();
+    resolve_feature_options(o);
+    std::map<std::string, std::string> labels;  // from classes.tsv beside the models, when there is one
+    std::vector<std::vector<float>> features;
+    std::vector<std::string> paths, names;
+    for (const nlohmann::json& r : results) {
+        for (const char* key : {"size", "reduced", "cylinders", "descriptor"})
+            if (r[key] != first[key])
+                throw geo::InputError("--from-shards: " + r["mesh"].get<std::string>() + " has another --" + key +
+                                      " than " + first["mesh"].get<std::string>());
+        features.push_back(r["feature"].get<std::vector<float>>());
+        paths.push_back(r["mesh"].get<std::string>());
+        names.push_back(r["label"].get<std::string>());
+    }
+    if (!o.source.empty())
+        for (const Model& m : models_of(o.source)) labels[m.path] = m.label;
+    for (std::size_t i = 0; i < paths.size(); ++i)
+        if (auto it = labels.find(paths[i]); it != labels.end()) names[i] = it->second;
+    passes::ShapeDatabase db;
+    const double pca_ms = time_ms([&] { db = passes::build_shape_database(features, paths, names, o.retrieval); });
+    passes::write_shape_database(o.out, db);
+    if (!global.quiet)
+        std::printf("%s: %zu models from the shards, k = %u components holding %.1f %% of the variance (PCA %.0f ms)\n",
+                    o.out.c_str(), db.size(), db.k, 100.0 * db.variance_kept, pca_ms);
+    write_json(o.json, {{"models", db.size()}, {"k", db.k}, {"variance_kept", db.variance_kept}, {"pca_ms", pca_ms}});
+}
+
+void run_index(IndexOptions o, const GlobalOptions& global) {
+    if (!o.shards.empty()) return run_index_from_shards(std::move(o), global);
+    if (o.source.empty()) throw geo::InputError("index takes a folder or list of models, or --from-shards");
+    resolve_feature_options(o);
     const std::vector<Model> models = models_of(o.source);
     auto ctx = open_context(global);
     std::vector<geo::Mesh> meshes;
@@ -343,8 +411,9 @@ void add_pose_option(CLI::App* cmd, std::string& pose) {
 void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
     auto io = std::make_shared<IndexOptions>();
     auto* index = app.add_subcommand("index", "Index a folder of models for retrieval by cylindrical images");
-    index->add_option("source", io->source, "A folder (labels from its classes.tsv or sub-folders) or a list file")
-        ->required();
+    index->add_option("source", io->source,
+                      "A folder (labels from its classes.tsv or sub-folders) or a list file; with --from-shards, "
+                      "optional: the labels");
     index->add_option("--out", io->out, "The database (.json)")->required();
     add_count_option(index, "--size", io->retrieval.size, 8, 4096, "Cylindrical image side (default 144)");
     add_count_option(index, "--reduced", io->retrieval.reduced, 2, 512, "Reduced side (default 48)");
@@ -360,10 +429,25 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
         ->check(CLI::IsMember({"image", "spectrum", "spectrum2d", "spectrum2d-slope"}));
     add_count_option(index, "--cylinders", io->retrieval.cylinders, 1, 3,
                      "1: the cylinder around the main axis (the thesis; default); 3: one around each principal axis");
+    index->add_option("--from-shards", io->shards,
+                      "Folders of `gimg batch features` runs: one PCA over their features (docs/cluster.md)");
     index->add_option("--json", io->json, "Write the figures as JSON");
     index->callback([io, &global] {
         run_writing({}, {{"--out", io->out, {".json"}}, json_output(io->json)}, [&] { run_index(*io, global); });
     });
+
+    auto fo = std::make_shared<IndexOptions>();
+    auto* features = app.add_subcommand("features", "One model's retrieval feature, as JSON (for gimg batch)");
+    features->add_option("mesh", fo->source, "The mesh")->required();
+    features->add_option("--json", fo->json, "The feature and its options (.json, or - for standard output)")
+        ->required();
+    add_count_option(features, "--size", fo->retrieval.size, 8, 4096, "Cylindrical image side (default 144)");
+    add_count_option(features, "--reduced", fo->retrieval.reduced, 2, 512, "Reduced side (default 48)");
+    features->add_option("--descriptor", fo->descriptor, "As for index")
+        ->check(CLI::IsMember({"image", "spectrum", "spectrum2d", "spectrum2d-slope"}));
+    add_count_option(features, "--cylinders", fo->retrieval.cylinders, 1, 3, "As for index");
+    features->callback(
+        [fo, &global] { run_writing({fo->source}, {json_output(fo->json)}, [&] { run_features(*fo, global); }); });
 
     auto so = std::make_shared<SearchOptions>();
     auto* search = app.add_subcommand("search", "The models of a database most like a query mesh");

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Careless and hostile use of the gimg command line, one case per run: ./hostile.sh CASE
-# Environment: GIMG (the binary), MAKE (make_hostile_files), WORK (a scratch folder of its own).
+# Environment: GIMG (the binary), MAKE (make_hostile_files), WORK (a scratch folder of its own),
+# DATA (tests/data/meshes).
 # Every case asserts the exit code, the one-line message and which files exist afterwards; ctest
 # gives each 10 seconds.
 set -uo pipefail
@@ -209,6 +210,20 @@ batch_shards_cover_once)
   run 2 "--shard takes K/N" "$GIMG" batch info --inputs "$W/coll" --out "$W/x" --shard 3/3
   run 2 "holds an earlier run" "$GIMG" batch info --inputs "$W/coll" --out "$W/one"
   absent "$W/bad.jsonl" "$W/x"
+  ;;
+batch_index_from_shards)
+  # Features per shard, one PCA at the end: the same database as indexing the collection at once.
+  mkdir -p "$W/coll"
+  cp "$DATA"/*.obj "$DATA"/*.off "$DATA"/*.ply "$W/coll/"
+  "$MAKE" scaled 1 "$W/coll/sphere.off"
+  "$MAKE" stray "$W/coll/stray.off"
+  run 0 "" "$GIMG" index "$W/coll" --out "$W/direct.json" --quiet
+  for k in 0 1 2; do run 0 "" "$GIMG" batch features --inputs "$W/coll" --out "$W/f" --shard "$k/3" --quiet; done
+  run 0 "" "$GIMG" index "$W/coll" --from-shards "$W/f" --out "$W/shards.json" --quiet
+  cmp -s "$W/direct.json" "$W/shards.json" || fail "the index from 3 shards differs from the direct index"
+  rm "$W/f/results-1-of-3.jsonl"
+  run 2 "shard 1 of 3 is missing" "$GIMG" index "$W/coll" --from-shards "$W/f" --out "$W/bad.json"
+  absent "$W/bad.json"
   ;;
 batch_resume_after_kill)
   # A batch killed (SIGKILL) mid-run, then resumed: every model once, none redone, nothing partial.
