@@ -9,6 +9,7 @@
 #include "gimg/geometry/surface_distance.h"
 #include "gimg/geometry/topology.h"
 #include "gimg/passes/cylinder.h"
+#include "gimg/passes/maps.h"
 #include "gimg/passes/parameterize.h"
 #include "gimg/passes/quad_region.h"
 #include "gimg/passes/reconstruct.h"
@@ -342,6 +343,50 @@ PYBIND11_MODULE(gimg, m) {
         "A four-sided region's map onto the unit square (gimg quadmap). Returns a dict: the region's positions and "
         "faces (inserted points included), uv, original (the mesh's vertex per region vertex, -1 for an inserted "
         "point), iterations_u, iterations_v, flipped");
+    m.def(
+        "maps",
+        [](Device* device, const Positions& positions, const Faces& faces, std::uint32_t levels, std::uint32_t base,
+           const std::string& k, const std::string& flattening, double max_cone) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            if (levels < 1 || levels > 7) throw geo::InputError("levels must be 1 to 7");
+            if (k != "lazy" && k != "0" && k != "1" && k != "2") throw geo::InputError("k must be lazy, 0, 1 or 2");
+            if (flattening != "polar" && flattening != "za") throw geo::InputError("flattening must be polar or za");
+            passes::MapsOptions o;
+            o.base_vertices = base;
+            o.flattening = flattening == "za" ? passes::RingFlattening::Za : passes::RingFlattening::Polar;
+            o.max_cone = max_cone;
+            passes::MapsRemesh r;
+            std::vector<glm::dvec3> coefficients, coarse;
+            {
+                py::gil_scoped_release release;
+                Context* ctx = device ? &device->context() : nullptr;
+                r = passes::maps_remesh(ctx, mesh, o, levels);
+                const passes::WaveletFilters filters = passes::wavelet_filters(r.remesh, k == "lazy" ? -1 : k[0] - '0');
+                coefficients = coarse = r.remesh.positions;
+                passes::wavelet_analysis(r.remesh, filters, coefficients);
+                passes::wavelet_analysis(r.remesh, filters, coarse, levels - 1);
+                coarse.resize(r.remesh.vertex_count[levels - 1]);
+            }
+            py::list meshes;
+            for (std::uint32_t j = 0; j <= levels; ++j) {
+                const geo::Mesh level = r.remesh.level_mesh(j);
+                meshes.append(py::make_tuple(positions_array(level.positions), faces_array(level.triangles)));
+            }
+            py::dict d;
+            d["base"] = py::make_tuple(positions_array(r.domain.base.positions), faces_array(r.domain.base.triangles));
+            d["levels"] = meshes;
+            d["coefficients"] = positions_array(coefficients);
+            d["coarse"] = py::make_tuple(positions_array(coarse), faces_array(r.remesh.faces[levels - 1]));
+            d["hierarchy_levels"] = r.domain.levels.size();
+            d["fallbacks"] = r.fallbacks, d["unplaced"] = r.map.unplaced;
+            return d;
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("levels") = 4, py::arg("base") = 0,
+        py::arg("k") = "1", py::arg("flattening") = "polar", py::arg("max_cone") = 2.0,
+        "MAPS remesh of a closed mesh (gimg maps): points mapped on the device (None: the CPU twin), wavelets on the "
+        "CPU. Returns a dict: base (positions, faces), levels (a (positions, faces) per level 0..J; level 0 is the "
+        "base), coefficients (c^0 then every level's details, one row per vertex of level J), coarse (level J-1 one "
+        "level down through the wavelets), hierarchy_levels, fallbacks, unplaced");
     m.def(
         "compare",
         [](const Positions& pa, const Faces& fa, const Positions& pb, const Faces& fb, std::uint64_t samples) {

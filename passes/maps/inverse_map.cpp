@@ -1,6 +1,7 @@
 // Pi^{-1} (sec. 2.4): the original triangles' images placed in planar charts of the base domain
 // and bucketed, so that any point of a base triangle finds the original triangle over it.
 #include "gimg/engine/upload.h"
+#include "gimg/geometry/bvh.h"
 #include "gimg/geometry/error.h"
 #include "gimg/passes/maps.h"
 #include "maps/ring_flattening.h"
@@ -74,6 +75,8 @@ VertexChart vertex_chart(const geo::Mesh& base, const std::vector<std::vector<st
     return c;
 }
 
+constexpr std::uint32_t kNoFace = 0xffffffffu;
+
 struct Placed {
     std::uint32_t chart, face;
     std::array<glm::dvec2, 3> coords;
@@ -116,6 +119,22 @@ void search_chart(const InverseMap& m, std::uint32_t chart, glm::dvec2 p, bool w
     test_items(m, m.cell_offsets[cell], m.cell_offsets[cell + 1], p, best);
 }
 
+// Points in no chart's triangle (a base face all of whose images were too large to chart): the
+// flat point of the base triangle between its corners' original vertices, projected onto the
+// original surface. Rare; on the CPU after the pass.
+void place_unfound(const geo::Mesh& mesh, const InverseMap& m, const std::vector<SurfacePoint>& points,
+                   const std::vector<std::size_t>& unfound, std::vector<glm::dvec3>& out) {
+    if (unfound.empty()) return;
+    const geo::TriangleBvh bvh(mesh);
+    for (std::size_t i : unfound) {
+        const SurfacePoint& q = points[i];
+        const std::uint32_t* corner = &m.face_charts[8 * std::size_t(q.face) + 4];
+        const glm::dvec3 flat = q.bary.x * mesh.positions[corner[0]] + q.bary.y * mesh.positions[corner[1]] +
+                                q.bary.z * mesh.positions[corner[2]];
+        out[i] = bvh.closest_point(flat).point;
+    }
+}
+
 }  // namespace
 
 InverseMap build_inverse_map(const geo::Mesh& mesh, const BaseDomain& domain) {
@@ -144,10 +163,21 @@ InverseMap build_inverse_map(const geo::Mesh& mesh, const BaseDomain& domain) {
     for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
         const glm::uvec3 t = mesh.triangles[f];
         const std::array<const Support*, 3> s{&support[t[0]], &support[t[1]], &support[t[2]]};
-        // One base face holding all three: its barycentric plane.
-        const glm::uvec3 home = base.triangles[domain.param[t[0]].face];
-        if (within(home, *s[0]) && within(home, *s[1]) && within(home, *s[2])) {
-            Placed p{domain.param[t[0]].face, f, {}};
+        // One base face holding all three: its barycentric plane. A corner on a base edge or vertex
+        // lies in every face there, so all of those are tried, not only its own.
+        std::uint32_t home_face = kNoFace;
+        const std::uint32_t own = domain.param[t[0]].face;
+        if (within(base.triangles[own], *s[1]) && within(base.triangles[own], *s[2])) home_face = own;
+        for (int i = 0; i < s[0]->count && home_face == kNoFace; ++i)
+            for (std::uint32_t g : vertex_faces[s[0]->vertex[std::size_t(i)]])
+                if (within(base.triangles[g], *s[0]) && within(base.triangles[g], *s[1]) &&
+                    within(base.triangles[g], *s[2])) {
+                    home_face = g;
+                    break;
+                }
+        if (home_face != kNoFace) {
+            const glm::uvec3 home = base.triangles[home_face];
+            Placed p{home_face, f, {}};
             for (int k = 0; k < 3; ++k) {
                 glm::dvec3 w(0.0);
                 for (int i = 0; i < s[k]->count; ++i)
@@ -239,6 +269,7 @@ std::vector<glm::dvec3> evaluate_inverse_map(const geo::Mesh& mesh, const Invers
                                              const std::vector<SurfacePoint>& points, std::size_t* fallbacks) {
     std::vector<glm::dvec3> out(points.size());
     std::size_t missed = 0;
+    std::vector<std::size_t> unfound;
     for (std::size_t i = 0; i < points.size(); ++i) {
         const SurfacePoint& q = points[i];
         if (std::size_t(q.face) * 8 >= m.face_charts.size()) throw geo::InputError("a point names no base face");
@@ -263,8 +294,10 @@ std::vector<glm::dvec3> evaluate_inverse_map(const geo::Mesh& mesh, const Invers
             out[i] = mesh.positions[m.face_charts[8 * q.face + 4 + std::uint32_t(c)]];
             continue;
         }
-        if (best.triangle == 0xffffffffu)
-            throw std::logic_error("MAPS inverse map: a base triangle has no image triangle");
+        if (best.triangle == 0xffffffffu) {
+            unfound.push_back(i);
+            continue;
+        }
         if (best.margin < -1e-9) ++missed;
         glm::dvec3 w = glm::max(best.bary, glm::dvec3(0.0));
         const double sum = w.x + w.y + w.z;
@@ -272,7 +305,8 @@ std::vector<glm::dvec3> evaluate_inverse_map(const geo::Mesh& mesh, const Invers
         const glm::uvec3 t = mesh.triangles[m.triangle_face[best.triangle]];
         out[i] = w.x * mesh.positions[t[0]] + w.y * mesh.positions[t[1]] + w.z * mesh.positions[t[2]];
     }
-    if (fallbacks) *fallbacks = missed;
+    place_unfound(mesh, m, points, unfound, out);
+    if (fallbacks) *fallbacks = missed + unfound.size();
     return out;
 }
 
@@ -357,11 +391,14 @@ std::vector<glm::dvec3> evaluate_inverse_map_gpu(Context& ctx, const geo::Mesh& 
     }
     std::vector<glm::dvec3> result(points.size());
     std::size_t missed = 0;
+    std::vector<std::size_t> unfound;
     for (std::size_t i = 0; i < points.size(); ++i) {
         result[i] = {raw[4 * i], raw[4 * i + 1], raw[4 * i + 2]};
-        if (raw[4 * i + 3] < 0.0) throw std::logic_error("MAPS inverse map: a base triangle has no image triangle");
+        if (raw[4 * i + 3] < 0.0) unfound.push_back(i);
         if (raw[4 * i + 3] > 0.5) ++missed;
     }
+    place_unfound(mesh, m, points, unfound, result);
+    missed += unfound.size();
     if (fallbacks) *fallbacks = missed;
     return result;
 }

@@ -195,3 +195,28 @@ def test_cylinder_reconstruction_and_deform(device):
     assert np.abs(gimg.deform(device, grid, tris, [0, 8, 80, 72], paste_height=0.05) - bumped).max() < 1e-12
     zero = gimg.deform(device, grid, tris, [0, 8, 80, 72], offsets=np.zeros((8, 8, 3)))
     assert np.array_equal(zero, grid)
+
+
+def test_maps_remeshes_a_closed_mesh_on_its_surface(device):
+    positions, faces = gimg.load_mesh(os.path.join(DATA, "meshes", "tetra.off"))
+    gpu = gimg.maps(device, positions, faces, levels=2)
+    cpu = gimg.maps(None, positions, faces, levels=2)
+    base_positions, base_faces = gpu["base"]
+    assert len(base_faces) == 4  # a tetrahedron is its own base domain
+    for j, (p, f) in enumerate(gpu["levels"]):
+        assert len(f) == 4 * 4**j
+    finest, finest_faces = gpu["levels"][2]
+    np.testing.assert_allclose(finest, cpu["levels"][2][0], atol=1e-12)
+    # Every remesh point lies on a face of the tetrahedron: on one of its four planes, inside.
+    on_plane = np.zeros(len(finest), dtype=bool)
+    for t in faces:
+        a, b, c = positions[t]
+        n = np.cross(b - a, c - a)
+        on_plane |= np.abs((finest - a) @ n) <= 1e-12 * np.linalg.norm(n)
+    assert on_plane.all()
+    assert gpu["fallbacks"] == 0
+    assert gpu["coefficients"].shape == finest.shape
+    np.testing.assert_allclose(gpu["coefficients"][:4], base_positions, atol=1e-12)  # a linear subdivision: c^0 = base
+    with pytest.raises(ValueError, match="closed 2-manifold"):
+        grid_positions, grid_faces = gimg.load_mesh(os.path.join(DATA, "meshes", "quad_uv.obj"))
+        gimg.maps(None, grid_positions, grid_faces)

@@ -115,7 +115,9 @@ struct InverseMap {
 InverseMap build_inverse_map(const geo::Mesh& mesh, const BaseDomain& domain);
 
 // Positions on the original surface of the given base points (CPU). `fallbacks`, when given,
-// counts the points found in no image triangle, placed in the nearest one instead.
+// counts the points found in no image triangle: placed in the nearest one instead, or, where a
+// base triangle's charts hold none, at the original surface's point nearest the flat point
+// between the base triangle's corners.
 std::vector<glm::dvec3> evaluate_inverse_map(const geo::Mesh& mesh, const InverseMap& map,
                                              const std::vector<SurfacePoint>& points, std::size_t* fallbacks = nullptr);
 
