@@ -239,6 +239,24 @@ TEST(MapsRemesh, PointsLieOnTheOriginalAndTheErrorFallsWithTheLevel) {
     EXPECT_LT(previous / diagonal, 2e-3);
 }
 
+TEST(MapsRemesh, AMeshThatIsItsOwnBaseRemeshesToItsLinearSubdivision) {
+    // A tetrahedron (under the base size, and valence 3, where a vertex chart holds the whole
+    // surface): every remesh point is the flat point of its base triangle, those on base edges too.
+    geo::Mesh tetra;
+    tetra.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    tetra.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    const gp::MapsRemesh r = gp::maps_remesh(nullptr, tetra, {}, 3);  // the CPU twin
+    ASSERT_EQ(r.domain.levels.size(), 0u);
+    EXPECT_EQ(r.fallbacks, 0u);
+    for (std::size_t i = 0; i < r.remesh.positions.size(); ++i) {
+        const gp::SurfacePoint& q = r.remesh.base_point[i];
+        const glm::uvec3 t = r.domain.base.triangles[q.face];
+        const glm::dvec3 flat = q.bary.x * r.domain.base.positions[t[0]] + q.bary.y * r.domain.base.positions[t[1]] +
+                                q.bary.z * r.domain.base.positions[t[2]];
+        EXPECT_LE(glm::distance(r.remesh.positions[i], flat), 1e-12) << "point " << i;
+    }
+}
+
 TEST(MapsRemesh, HigherGenusKeepsItsTopology) {
     const geo::Mesh torus = geo::make_torus(1.0, 0.35, 80, 32);
     const gp::MapsRemesh r = gp::maps_remesh(nullptr, torus, {}, 3);
