@@ -13,6 +13,7 @@
 #include "gimg/passes/parameterize.h"
 #include "gimg/passes/quad_region.h"
 #include "gimg/passes/reconstruct.h"
+#include "gimg/passes/retrieval.h"
 #include "gimg/passes/render.h"
 #include "gimg/passes/sample.h"
 #include "gimg/passes/sphere.h"
@@ -138,6 +139,41 @@ passes::PositionImage to_position_image(const py::array_t<float, py::array::c_st
 }
 
 // The Vulkan device, made once and reused by every call given it.
+// A cylindrical image and its frame as cylinder() returns them: (distance H x W, NaN where empty;
+// mask; frame dict).
+py::tuple cylinder_result(const passes::CylinderImage& image, const passes::CylinderFrame& frame) {
+    const py::ssize_t height = image.height, width = image.width;
+    py::array_t<float> distance({height, width});
+    py::array_t<bool> mask({height, width});
+    auto d = distance.mutable_unchecked<2>();
+    auto k = mask.mutable_unchecked<2>();
+    for (std::uint32_t v = 0; v < image.height; ++v)
+        for (std::uint32_t u = 0; u < image.width; ++u) {
+            d(v, u) = image.covered[image.index(u, v)] ? image.distance[image.index(u, v)] : NAN;
+            k(v, u) = image.covered[image.index(u, v)] != 0;
+        }
+    py::array_t<double> rotation({3, 3});
+    auto r = rotation.mutable_unchecked<2>();
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) r(i, j) = frame.rotation[j][i];  // row i, column j
+    py::dict f;
+    f["rotation"] = rotation;
+    f["translation"] = py::make_tuple(frame.translation.x, frame.translation.y, frame.translation.z);
+    f["scale"] = frame.scale;
+    return py::make_tuple(distance, mask, f);
+}
+
+// A list of (positions, faces) pairs as meshes, each checked as to_mesh checks one.
+std::vector<geo::Mesh> to_meshes(const py::list& meshes) {
+    std::vector<geo::Mesh> out;
+    for (const py::handle item : meshes) {
+        const auto pair = item.cast<py::tuple>();
+        if (pair.size() != 2) throw geo::InputError("meshes: a list of (positions, faces) pairs");
+        out.push_back(to_mesh(pair[0].cast<Positions>(), pair[1].cast<Faces>()));
+    }
+    return out;
+}
+
 class Device {
 public:
     explicit Device(const std::string& name) {
@@ -217,27 +253,116 @@ PYBIND11_MODULE(gimg, m) {
                 passes::CylinderZBuffer zbuffer(device.context(), width, height);
                 image = zbuffer.project(zbuffer.add_mesh(passes::make_cylinder_mesh(mesh, frame)));
             }
-            py::array_t<float> distance({py::ssize_t(height), py::ssize_t(width)});
-            py::array_t<bool> mask({py::ssize_t(height), py::ssize_t(width)});
-            auto d = distance.mutable_unchecked<2>();
-            auto k = mask.mutable_unchecked<2>();
-            for (std::uint32_t v = 0; v < height; ++v)
-                for (std::uint32_t u = 0; u < width; ++u) {
-                    d(v, u) = image.covered[image.index(u, v)] ? image.distance[image.index(u, v)] : NAN;
-                    k(v, u) = image.covered[image.index(u, v)] != 0;
-                }
-            py::array_t<double> rotation({3, 3});
-            auto r = rotation.mutable_unchecked<2>();
-            for (int i = 0; i < 3; ++i)
-                for (int j = 0; j < 3; ++j) r(i, j) = frame.rotation[j][i];  // row i, column j
-            py::dict f;
-            f["rotation"] = rotation;
-            f["translation"] = py::make_tuple(frame.translation.x, frame.translation.y, frame.translation.z);
-            f["scale"] = frame.scale;
-            return py::make_tuple(distance, mask, f);
+            return cylinder_result(image, frame);
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("width") = 256, py::arg("height") = 128,
         "The cylindrical geometry image on the GPU (gimg cylinder): (distance H x W, NaN where empty; mask; frame)");
+    m.def(
+        "cylinder_batch",
+        [](Device& device, const py::list& meshes, std::uint32_t width, std::uint32_t height) {
+            const std::vector<geo::Mesh> ms = to_meshes(meshes);
+            std::vector<passes::CylinderFrame> frames;
+            std::vector<passes::CylinderImage> images;
+            {
+                py::gil_scoped_release release;
+                passes::CylinderZBuffer zbuffer(device.context(), width, height);
+                std::vector<passes::CylinderZBuffer::Job> jobs;
+                for (const geo::Mesh& mesh : ms) {
+                    frames.push_back(passes::fit_cylinder_frame(mesh));
+                    jobs.push_back({zbuffer.add_mesh(passes::make_cylinder_mesh(mesh, frames.back()))});
+                }
+                images = zbuffer.project(jobs);
+            }
+            py::list out;
+            for (std::size_t i = 0; i < images.size(); ++i) out.append(cylinder_result(images[i], frames[i]));
+            return out;
+        },
+        py::arg("device"), py::arg("meshes"), py::arg("width") = 256, py::arg("height") = 128,
+        "cylinder() for a list of (positions, faces), projected in batches in one go: a list of its tuples");
+    m.def(
+        "roundtrip",
+        [](Device& device, const Positions& positions, const Faces& faces, std::uint32_t width, std::uint32_t height,
+           std::uint64_t samples) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            geo::Mesh back;
+            geo::SurfaceDistance d;
+            {
+                py::gil_scoped_release release;
+                const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh);
+                passes::CylinderZBuffer zbuffer(device.context(), width, height);
+                const passes::CylinderImage image =
+                    zbuffer.project(zbuffer.add_mesh(passes::make_cylinder_mesh(mesh, frame)));
+                back = passes::reconstruct_gpu(device.context(), image, frame);
+                if (back.face_count() == 0) throw geo::InputError("the cylindrical image rebuilds no face");
+                geo::SurfaceDistanceOptions o;
+                if (samples) o.sampling.sample_count = samples;
+                d = geo::surface_distance(mesh, back, o);
+            }
+            py::dict out;
+            out["positions"] = positions_array(back.positions);
+            out["faces"] = faces_array(back.triangles);
+            out["rms_to_reconstruction"] = d.relative(d.a_to_b).rms;
+            out["rms_back"] = d.relative(d.b_to_a).rms;
+            out["hausdorff"] = d.relative(d.symmetric).max;
+            out["bbox_diagonal"] = d.bbox_diagonal;
+            return out;
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("width") = 256, py::arg("height") = 128,
+        py::arg("samples") = 0,
+        "Cylinder, reconstruction and their distance (gimg roundtrip): a dict with the reconstruction's positions and "
+        "faces, rms_to_reconstruction, rms_back and hausdorff (relative to the diagonal), bbox_diagonal");
+    py::class_<passes::ShapeDatabase>(m, "ShapeDatabase", "A retrieval index (gimg index)")
+        .def_property_readonly("size", &passes::ShapeDatabase::size)
+        .def_readonly("k", &passes::ShapeDatabase::k)
+        .def_readonly("variance_kept", &passes::ShapeDatabase::variance_kept)
+        .def_readonly("labels", &passes::ShapeDatabase::labels)
+        .def("save",
+             [](const passes::ShapeDatabase& db, const std::string& path) { passes::write_shape_database(path, db); })
+        .def(
+            "search",
+            [](const passes::ShapeDatabase& db, Device& device, const Positions& positions, const Faces& faces,
+               std::size_t k, const std::string& pose) {
+                if (pose != "best-of-four" && pose != "aligned") throw geo::InputError("pose: best-of-four or aligned");
+                const geo::Mesh mesh = to_mesh(positions, faces);
+                std::vector<passes::ShapeMatch> matches;
+                {
+                    py::gil_scoped_release release;
+                    const auto feature = passes::cylinder_features(device.context(), {mesh}, db.options).front();
+                    matches = passes::search_shapes(
+                        db, feature,
+                        pose == "aligned" ? passes::PoseHandling::AsAligned : passes::PoseHandling::BestOfFour);
+                }
+                py::list out;
+                for (std::size_t i = 0; i < matches.size() && i < k; ++i)
+                    out.append(py::make_tuple(matches[i].model, matches[i].distance));
+                return out;
+            },
+            py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("k") = 10,
+            py::arg("pose") = "best-of-four",
+            "The k models most like the mesh (gimg search): a list of (model index, distance), nearest first");
+    m.def(
+        "load_database", [](const std::string& path) { return passes::read_shape_database(path); }, py::arg("path"),
+        "A database written by gimg index or ShapeDatabase.save");
+    m.def(
+        "index",
+        [](Device& device, const py::list& meshes, std::vector<std::string> labels, std::uint32_t size,
+           std::uint32_t reduced, double variance) {
+            const std::vector<geo::Mesh> ms = to_meshes(meshes);
+            if (!labels.empty() && labels.size() != ms.size()) throw geo::InputError("labels: one per mesh, or none");
+            labels.resize(ms.size());
+            std::vector<std::string> names(ms.size());
+            for (std::size_t i = 0; i < ms.size(); ++i) names[i] = "model " + std::to_string(i);
+            passes::RetrievalOptions o;
+            o.size = size, o.reduced = reduced, o.variance = variance;
+            if (o.reduced % 2 != 0 || o.size % o.reduced != 0)
+                throw geo::InputError("size must be a multiple of reduced, and reduced even");
+            py::gil_scoped_release release;
+            return passes::build_shape_database(passes::cylinder_features(device.context(), ms, o), names, labels, o);
+        },
+        py::arg("device"), py::arg("meshes"), py::arg("labels") = std::vector<std::string>{}, py::arg("size") = 144,
+        py::arg("reduced") = 48, py::arg("variance") = 0.95,
+        "A retrieval index of a list of (positions, faces) (gimg index, the reduced-image descriptor): a "
+        "ShapeDatabase");
     m.def(
         "_cylinder_ms_in_cpp",
         [](Device& device, const Positions& positions, const Faces& faces, std::uint32_t width, std::uint32_t height,

@@ -220,3 +220,37 @@ def test_maps_remeshes_a_closed_mesh_on_its_surface(device):
     with pytest.raises(ValueError, match="closed 2-manifold"):
         grid_positions, grid_faces = gimg.load_mesh(os.path.join(DATA, "meshes", "quad_uv.obj"))
         gimg.maps(None, grid_positions, grid_faces)
+
+
+def test_roundtrip_batches_and_retrieval_match_the_command_line(device, tmp_path):
+    positions, faces = gimg.load_mesh(TETRA)
+    r = gimg.roundtrip(device, positions, faces, width=64, height=32, samples=20000)
+    cli = cli_json("roundtrip", TETRA, "--size", "64x32", "--samples", "20000", "--out", str(tmp_path / "rt"))
+    assert len(r["faces"]) == cli["reconstruction_faces"]
+    assert r["rms_to_reconstruction"] == pytest.approx(cli["a_to_b"]["rms"] / cli["bbox_diagonal"], rel=1e-12)
+    assert r["rms_back"] == pytest.approx(cli["b_to_a"]["rms"] / cli["bbox_diagonal"], rel=1e-12)
+
+    # A list in one call gives what one call per mesh gives, bit for bit.
+    names = ["cube_quads.obj", "quad_uv.obj", "tetra.off", "tetra_colors.off"]
+    meshes = [gimg.load_mesh(os.path.join(DATA, "meshes", n)) for n in names]
+    for (p, f), (d, m, fr) in zip(meshes, gimg.cylinder_batch(device, meshes, width=32, height=16)):
+        d1, m1, fr1 = gimg.cylinder(device, p, f, width=32, height=16)
+        np.testing.assert_array_equal(m, m1)
+        np.testing.assert_array_equal(d[m], d1[m1])
+        assert fr["scale"] == fr1["scale"]
+
+    # The index of the same models ranks a query as gimg index + gimg search do.
+    folder = tmp_path / "models"
+    folder.mkdir()
+    for n in names:
+        (folder / n).write_bytes(open(os.path.join(DATA, "meshes", n), "rb").read())
+    subprocess.run([GIMG, "--quiet", "index", str(folder), "--out", str(tmp_path / "db.json"), "--size", "32",
+                    "--reduced", "8"], check=True)
+    found = cli_json("search", str(tmp_path / "db.json"), os.path.join(DATA, "meshes", "cube_quads.obj"))["results"]
+    db = gimg.index(device, meshes, size=32, reduced=8)
+    assert db.size == len(names)
+    ours = db.search(device, *meshes[0], k=len(names))
+    assert [names[i] for i, _ in ours] == [os.path.basename(x["path"]) for x in found]
+    assert [d for _, d in ours] == pytest.approx([x["distance"] for x in found], rel=1e-6, abs=1e-9)
+    db.save(str(tmp_path / "py.json"))
+    assert gimg.load_database(str(tmp_path / "py.json")).k == db.k
