@@ -254,3 +254,18 @@ def test_roundtrip_batches_and_retrieval_match_the_command_line(device, tmp_path
     assert [d for _, d in ours] == pytest.approx([x["distance"] for x in found], rel=1e-6, abs=1e-9)
     db.save(str(tmp_path / "py.json"))
     assert gimg.load_database(str(tmp_path / "py.json")).k == db.k
+
+
+def test_the_walkthrough_in_docs_python_md_draws_its_pictures(capsys, tmp_path, monkeypatch):
+    pytest.importorskip("matplotlib")
+    root = os.path.dirname(os.path.dirname(DATA.rstrip("/")))
+    text = open(os.path.join(root, "docs", "python.md")).read()
+    block = text.split("<!-- python-walkthrough -->")[1].split("<!-- /python-walkthrough -->")[0]
+    code = block.split("```python\n")[1].split("```")[0]
+    monkeypatch.setenv("GIMG_WALKTHROUGH_OUT", str(tmp_path))
+    exec(compile(code, "docs/python.md", "exec"), {})
+    printed = capsys.readouterr().out
+    assert "[0]" in printed and "0 flipped triangles" in printed
+    for name in ("cylinder.png", "sphere.png"):
+        picture = tmp_path / name
+        assert picture.stat().st_size > 10000  # a real plot, not an empty canvas
