@@ -48,6 +48,10 @@ std::vector<Model> collect_models(const std::filesystem::path& inputs) {
     }
     if (models.empty()) throw geo::InputError("--inputs " + inputs.string() + ": no meshes (.obj, .off, .ply, .stl)");
     std::sort(models.begin(), models.end(), [](const Model& a, const Model& b) { return a.relative < b.relative; });
+    // A list naming a model twice runs it once.
+    models.erase(std::unique(models.begin(), models.end(),
+                             [](const Model& a, const Model& b) { return a.relative == b.relative; }),
+                 models.end());
     std::map<std::string, int> stems;
     for (const Model& m : models) ++stems[m.path.stem().string()];
     for (Model& m : models) {

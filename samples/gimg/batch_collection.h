@@ -18,7 +18,7 @@ struct Model {
 
 // A folder searched recursively for .obj, .off, .ply and .stl files, or a text file listing one
 // path a line (relative to the list's folder; blank lines and lines starting with # skipped).
-// Sorted by `relative`. Throws geo::InputError when there is nothing to run.
+// Sorted by `relative`, each once. Throws geo::InputError when there is nothing to run.
 std::vector<Model> collect_models(const std::filesystem::path& inputs);
 
 struct Shard {

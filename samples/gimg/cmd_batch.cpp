@@ -29,7 +29,7 @@ namespace gimg::cli {
 namespace {
 
 struct BatchOptions {
-    std::string command, inputs, out, shard, json;
+    std::string command, inputs, out, shard;
     std::vector<std::string> rest;  // after the command: merge's folders, or the command's options
     bool resume = false;
 };
