@@ -3,11 +3,11 @@
 // Kanai & Kishinami, after Lee et al., "MAPS", SIGGRAPH 1998; docs/maps.md). A closed mesh is
 // simplified level by level (a maximal independent set of vertices removed in order of the
 // priority w = lambda a/max a + (1 - lambda) kappa/max kappa, each hole re-triangulated in the
-// removed vertex's z^a flattening) down to a base domain, every original vertex tracked as
-// (triangle, barycentric) on each level; the base is then subdivided 4-to-1 and every new point
-// mapped back onto the original surface. The remesh is analysed by piecewise-linear k-disk
-// wavelets (Lounsbery, DeRose & Warren 1997): predict by edge midpoints, update by the local
-// orthogonalisation weights s_{i,m}.
+// removed vertex's flattened ring, angles scaled as z^a scales them) down to a base domain, every
+// original vertex tracked as (triangle, barycentric) on each level; the base is then subdivided
+// 4-to-1 and every new point mapped back onto the original surface. The remesh is analysed by
+// piecewise-linear k-disk wavelets (Lounsbery, DeRose & Warren 1997): predict by edge midpoints,
+// update by the local orthogonalisation weights s_{i,m}.
 
 #include "gimg/engine/context.h"
 #include "gimg/engine/graph.h"
@@ -54,7 +54,7 @@ struct MapsLevel {
     std::uint32_t vertices = 0;    // |P^l| after the level
     std::uint32_t removed = 0;     // vertices removed by the level
     std::uint32_t candidates = 0;  // independent vertices considered
-    std::uint32_t skipped = 0;     // of them, refused by a guard (angle >= pi, duplicate edge, valence)
+    std::uint32_t skipped = 0;     // of them, refused: a cone tip, a refill degenerate or duplicating an edge, valence
     double seconds = 0.0;
 };
 
