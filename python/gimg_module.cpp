@@ -9,6 +9,7 @@
 #include "gimg/geometry/surface_distance.h"
 #include "gimg/geometry/topology.h"
 #include "gimg/passes/cylinder.h"
+#include "gimg/passes/cylinder_hierarchy.h"
 #include "gimg/passes/maps.h"
 #include "gimg/passes/parameterize.h"
 #include "gimg/passes/quad_region.h"
@@ -139,6 +140,19 @@ passes::PositionImage to_position_image(const py::array_t<float, py::array::c_st
 }
 
 // The Vulkan device, made once and reused by every call given it.
+// A cylinder frame as a dict: rotation (3 x 3), translation, scale.
+py::dict frame_dict(const passes::CylinderFrame& frame) {
+    py::array_t<double> rotation({3, 3});
+    auto r = rotation.mutable_unchecked<2>();
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) r(i, j) = frame.rotation[j][i];  // row i, column j
+    py::dict f;
+    f["rotation"] = rotation;
+    f["translation"] = py::make_tuple(frame.translation.x, frame.translation.y, frame.translation.z);
+    f["scale"] = frame.scale;
+    return f;
+}
+
 // A cylindrical image and its frame as cylinder() returns them: (distance H x W, NaN where empty;
 // mask; frame dict).
 py::tuple cylinder_result(const passes::CylinderImage& image, const passes::CylinderFrame& frame) {
@@ -152,15 +166,7 @@ py::tuple cylinder_result(const passes::CylinderImage& image, const passes::Cyli
             d(v, u) = image.covered[image.index(u, v)] ? image.distance[image.index(u, v)] : NAN;
             k(v, u) = image.covered[image.index(u, v)] != 0;
         }
-    py::array_t<double> rotation({3, 3});
-    auto r = rotation.mutable_unchecked<2>();
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) r(i, j) = frame.rotation[j][i];  // row i, column j
-    py::dict f;
-    f["rotation"] = rotation;
-    f["translation"] = py::make_tuple(frame.translation.x, frame.translation.y, frame.translation.z);
-    f["scale"] = frame.scale;
-    return py::make_tuple(distance, mask, f);
+    return py::make_tuple(distance, mask, frame_dict(frame));
 }
 
 // A list of (positions, faces) pairs as meshes, each checked as to_mesh checks one.
@@ -257,6 +263,41 @@ PYBIND11_MODULE(gimg, m) {
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("width") = 256, py::arg("height") = 128,
         "The cylindrical geometry image on the GPU (gimg cylinder): (distance H x W, NaN where empty; mask; frame)");
+    m.def(
+        "cylinder_hierarchy",
+        [](Device* device, const Positions& positions, const Faces& faces, std::uint32_t size, std::uint32_t base,
+           double reach) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            passes::check_hierarchy_sizes(base, size);
+            if (!(reach >= 0.0)) throw geo::InputError("reach must be 0 (no limit) or more");
+            passes::CylinderHierarchy h;
+            passes::CylinderFrame frame;
+            geo::Mesh finest;
+            {
+                py::gil_scoped_release release;
+                frame = passes::fit_cylinder_frame(mesh);
+                const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, frame);
+                const passes::CylinderHierarchyOptions o{.base = base, .size = size, .reach = reach};
+                h = device ? passes::cylinder_hierarchy_gpu(device->context(), cyl, o)
+                           : passes::cylinder_hierarchy_cpu(cyl, o);
+                finest = passes::hierarchy_mesh(passes::decode_cylinder_hierarchy(h, h.levels()), frame);
+            }
+            py::array_t<float> t({py::ssize_t(size), py::ssize_t(size)});
+            py::array_t<std::uint8_t> valid({py::ssize_t(size), py::ssize_t(size)});
+            std::memcpy(t.mutable_data(), h.t.data(), h.t.size() * sizeof(float));
+            std::memcpy(valid.mutable_data(), h.valid.data(), h.valid.size());
+            py::dict d;
+            d["t"] = t, d["valid"] = valid, d["levels"] = h.levels();
+            d["positions"] = positions_array(finest.positions);
+            d["faces"] = faces_array(finest.triangles);
+            d["frame"] = frame_dict(frame);
+            return d;
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 256, py::arg("base") = 32,
+        py::arg("reach") = 2.0,
+        "The thesis's hierarchical cylindrical image (gimg cylinder --method hierarchical), rays on the device (None: "
+        "the CPU, the same hierarchy): a dict with t and valid (size x size: 0 empty, 1 hit, 2 a miss kept on the "
+        "surface), levels, the finest level's mesh (positions, faces) and the frame");
     m.def(
         "cylinder_batch",
         [](Device& device, const py::list& meshes, std::uint32_t width, std::uint32_t height) {

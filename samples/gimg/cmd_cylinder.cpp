@@ -49,7 +49,7 @@ void run_hierarchy(const CylinderOptions& o, const GlobalOptions& global) {
     const passes::CylinderHierarchy h =
         ctx ? passes::cylinder_hierarchy_gpu(*ctx, cyl, options) : passes::cylinder_hierarchy_cpu(cyl, options);
     std::size_t valid = 0;
-    for (auto v : h.valid) valid += v;
+    for (auto v : h.valid) valid += v != passes::kHierarchyEmpty;  // a hit or a miss kept on the surface
     if (valid == 0)
         throw geo::InputError(o.mesh + ": the hierarchy's first level covers no pixel; try a larger --base");
     passes::write_hierarchy_files(o.out, h, frame, {o.mesh, "hierarchical"});

@@ -269,3 +269,16 @@ def test_the_walkthrough_in_docs_python_md_draws_its_pictures(capsys, tmp_path, 
     for name in ("cylinder.png", "sphere.png"):
         picture = tmp_path / name
         assert picture.stat().st_size > 10000  # a real plot, not an empty canvas
+
+
+def test_hierarchical_images_match_on_the_device_and_the_command_line(device, tmp_path):
+    positions, faces = gimg.load_mesh(os.path.join(DATA, "meshes", "cube_quads.obj"))
+    gpu = gimg.cylinder_hierarchy(device, positions, faces, size=32, base=8)
+    cpu = gimg.cylinder_hierarchy(None, positions, faces, size=32, base=8)
+    np.testing.assert_array_equal(gpu["t"], cpu["t"])  # the GPU rays give the CPU's hierarchy bit for bit
+    np.testing.assert_array_equal(gpu["valid"], cpu["valid"])
+    assert gpu["levels"] == 3 and len(gpu["faces"]) > 0
+    cli = cli_json("cylinder", os.path.join(DATA, "meshes", "cube_quads.obj"), "--method", "hierarchical",
+                   "--size", "32", "--base", "8", "--out", str(tmp_path / "h"))
+    assert int(np.count_nonzero(gpu["valid"])) == cli["valid_samples"]
+    assert gpu["frame"]["scale"] == cli["scale"]
