@@ -27,6 +27,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <string>
 
@@ -380,7 +381,47 @@ PYBIND11_MODULE(gimg, m) {
             },
             py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("k") = 10,
             py::arg("pose") = "best-of-four",
-            "The k models most like the mesh (gimg search): a list of (model index, distance), nearest first");
+            "The k models most like the mesh (gimg search): a list of (model index, distance), nearest first")
+        .def(
+            "evaluate",
+            [](const passes::ShapeDatabase& db, Device& device, const py::list& meshes, const std::string& pose) {
+                if (pose != "best-of-four" && pose != "aligned") throw geo::InputError("pose: best-of-four or aligned");
+                const std::vector<geo::Mesh> ms = to_meshes(meshes);
+                if (ms.size() != db.size()) throw geo::InputError("evaluate: the database's meshes, in its order");
+                std::map<std::string, std::size_t> class_size;
+                for (const auto& l : db.labels) ++class_size[l];
+                passes::RetrievalScores total;
+                std::size_t queries = 0;
+                {
+                    py::gil_scoped_release release;
+                    const auto features = passes::cylinder_features(device.context(), ms, db.options);
+                    for (std::size_t q = 0; q < ms.size(); ++q) {
+                        const std::size_t relevant = class_size[db.labels[q]] - 1;
+                        if (relevant == 0) continue;  // nothing to find
+                        std::vector<std::string> ranked;
+                        for (const auto& match : passes::search_shapes(
+                                 db, features[q],
+                                 pose == "aligned" ? passes::PoseHandling::AsAligned : passes::PoseHandling::BestOfFour,
+                                 q))
+                            ranked.push_back(db.labels[match.model]);
+                        const passes::RetrievalScores r = passes::score_ranking(ranked, db.labels[q], relevant);
+                        total.nearest_neighbour += r.nearest_neighbour, total.first_tier += r.first_tier;
+                        total.second_tier += r.second_tier, total.dcg += r.dcg;
+                        total.average_precision += r.average_precision;
+                        ++queries;
+                    }
+                }
+                if (queries == 0) throw geo::InputError("evaluate: no class has two models");
+                py::dict d;
+                d["nn"] = total.nearest_neighbour / double(queries),
+                d["first_tier"] = total.first_tier / double(queries);
+                d["second_tier"] = total.second_tier / double(queries), d["dcg"] = total.dcg / double(queries);
+                d["map"] = total.average_precision / double(queries), d["queries"] = queries;
+                return d;
+            },
+            py::arg("device"), py::arg("meshes"), py::arg("pose") = "best-of-four",
+            "Leave-one-out scores over the database's own models (gimg eval): a dict with nn, first_tier, "
+            "second_tier, dcg, map (means over the queries) and queries");
     m.def(
         "load_database", [](const std::string& path) { return passes::read_shape_database(path); }, py::arg("path"),
         "A database written by gimg index or ShapeDatabase.save");

@@ -282,3 +282,23 @@ def test_hierarchical_images_match_on_the_device_and_the_command_line(device, tm
                    "--size", "32", "--base", "8", "--out", str(tmp_path / "h"))
     assert int(np.count_nonzero(gpu["valid"])) == cli["valid_samples"]
     assert gpu["frame"]["scale"] == cli["scale"]
+
+
+def test_evaluate_gives_the_command_line_scores(device, tmp_path):
+    # Two classes of two models each, in folders named for them: leave-one-out as gimg eval scores it.
+    shapes = {"box": ["cube_quads.obj", "tetra_ascii.ply"], "flat": ["quad_uv.obj", "tetra.off"]}
+    paths = []
+    for label, names in shapes.items():
+        (tmp_path / "models" / label).mkdir(parents=True)
+        for n in names:
+            (tmp_path / "models" / label / n).write_bytes(open(os.path.join(DATA, "meshes", n), "rb").read())
+            paths.append((str(tmp_path / "models" / label / n), label))
+    paths.sort()
+    subprocess.run([GIMG, "--quiet", "index", str(tmp_path / "models"), "--out", str(tmp_path / "db.json"),
+                    "--size", "32", "--reduced", "8"], check=True)
+    cli = cli_json("eval", str(tmp_path / "db.json"))
+    db = gimg.index(device, [gimg.load_mesh(p) for p, _ in paths], labels=[l for _, l in paths], size=32, reduced=8)
+    ours = db.evaluate(device, [gimg.load_mesh(p) for p, _ in paths])
+    assert ours["queries"] == 4
+    for key in ("nn", "first_tier", "second_tier", "dcg", "map"):
+        assert ours[key] == pytest.approx(cli["overall"][key], abs=1e-12), key
