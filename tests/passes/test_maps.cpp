@@ -18,6 +18,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <random>
 #include <set>
@@ -237,6 +238,49 @@ TEST(MapsRemesh, PointsLieOnTheOriginalAndTheErrorFallsWithTheLevel) {
         previous = d.symmetric.rms;
     }
     EXPECT_LT(previous / diagonal, 2e-3);
+}
+
+TEST(MapsRemesh, TheImagesCoverEveryBaseTriangleWithoutInversion) {
+    // Bijectivity of Pi as far as the charts allow: no image is inverted, and random points of every
+    // base triangle each lie strictly inside the image of at least one original triangle (searched
+    // in the triangle's chart and its corners' charts). Where two base vertices' charts disagree
+    // near a base edge, a point can lie in two images; their share is printed, not asserted.
+    const geo::Mesh mesh = jittered_sphere(3);
+    const gp::BaseDomain d = gp::build_base_domain(mesh);
+    const gp::InverseMap m = gp::build_inverse_map(mesh, d);
+    EXPECT_EQ(m.inverted, 0u);
+    EXPECT_EQ(m.unplaced, 0u);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    std::size_t once = 0, none = 0, samples = 0;
+    for (std::uint32_t f = 0; f < d.base.face_count(); ++f)
+        for (int s = 0; s < 200; ++s) {
+            double a = u(rng), b = u(rng);
+            if (a + b > 1.0) a = 1.0 - a, b = 1.0 - b;
+            const glm::dvec3 q(1.0 - a - b, a, b);
+            std::set<std::uint32_t> holders;
+            for (int c = 0; c < 4; ++c) {
+                const std::uint32_t chart = m.face_charts[8 * f + std::uint32_t(c)];
+                glm::dvec2 x(q.y, q.z);
+                if (c > 0) {
+                    const glm::dvec2* k = &m.corner_coords[9 * std::size_t(f) + 3 * std::size_t(c - 1)];
+                    x = q.x * k[0] + q.y * k[1] + q.z * k[2];
+                }
+                const glm::uvec4 grid = m.chart_grid[chart];
+                for (std::uint32_t i = m.cell_offsets[grid.z]; i < m.cell_offsets[grid.z + grid.x * grid.y]; ++i) {
+                    const std::uint32_t t = m.cell_items[i];
+                    const glm::dvec3 w = gp::barycentric_2d(x, m.triangle_coords[3 * t], m.triangle_coords[3 * t + 1],
+                                                            m.triangle_coords[3 * t + 2]);
+                    if (std::min({w.x, w.y, w.z}) > 1e-9) holders.insert(m.triangle_face[t]);
+                }
+            }
+            ++samples;
+            once += holders.size() == 1;
+            none += holders.empty();
+        }
+    EXPECT_EQ(none, 0u) << "points of the base domain in no original triangle's image";
+    std::printf("%zu of %zu samples in exactly one image, %zu in two or more (charts disagreeing)\n", once, samples,
+                samples - once - none);
 }
 
 TEST(MapsRemesh, AMeshThatIsItsOwnBaseRemeshesToItsLinearSubdivision) {
