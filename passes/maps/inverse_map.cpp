@@ -363,6 +363,13 @@ void add_inverse_map(Graph& graph, InverseMapBuffers& map, BufferHandle points, 
 
 std::vector<glm::dvec3> evaluate_inverse_map_gpu(Context& ctx, const geo::Mesh& mesh, const InverseMap& m,
                                                  const std::vector<SurfacePoint>& points, std::size_t* fallbacks) {
+    InverseMapBuffers buffers = upload_inverse_map(ctx, mesh, m);
+    return evaluate_inverse_map_gpu(ctx, buffers, mesh, m, points, fallbacks);
+}
+
+std::vector<glm::dvec3> evaluate_inverse_map_gpu(Context& ctx, InverseMapBuffers& buffers, const geo::Mesh& mesh,
+                                                 const InverseMap& m, const std::vector<SurfacePoint>& points,
+                                                 std::size_t* fallbacks) {
     std::vector<std::uint32_t> faces(points.size());
     std::vector<double> bary(3 * points.size());
     for (std::size_t i = 0; i < points.size(); ++i) {
@@ -371,7 +378,6 @@ std::vector<glm::dvec3> evaluate_inverse_map_gpu(Context& ctx, const geo::Mesh& 
         faces[i] = points[i].face;
         for (int k = 0; k < 3; ++k) bary[3 * i + std::size_t(k)] = points[i].bary[k];
     }
-    InverseMapBuffers buffers = upload_inverse_map(ctx, mesh, m);
     // Batches keep every binding within maxStorageBufferRange (128 MiB on lavapipe).
     constexpr std::size_t kBatch = std::size_t(1) << 21;
     std::vector<double> raw(4 * points.size());

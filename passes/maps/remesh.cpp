@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include <chrono>
+#include <optional>
 
 namespace gimg::passes {
 
@@ -38,6 +39,8 @@ void relax_remesh(Context* ctx, const geo::Mesh& mesh, MapsRemesh& r, std::uint3
         const glm::dvec3 b = s.base_point[i].bary;
         inside[i] = b.x > 0.0 && b.y > 0.0 && b.z > 0.0;
     }
+    std::optional<InverseMapBuffers> uploaded;  // the map goes to the device once for all iterations
+    if (ctx) uploaded = upload_inverse_map(*ctx, mesh, r.map);
     for (std::uint32_t it = 0; it < iterations; ++it) {
         std::vector<SurfacePoint> next = s.base_point;
         for (std::size_t i = 0; i < n; ++i) {
@@ -53,7 +56,7 @@ void relax_remesh(Context* ctx, const geo::Mesh& mesh, MapsRemesh& r, std::uint3
             if (weight > 0.0) next[i].bary = 0.5 * s.base_point[i].bary + 0.5 * sum / weight;
         }
         s.base_point = next;
-        s.positions = ctx ? evaluate_inverse_map_gpu(*ctx, mesh, r.map, s.base_point, &r.fallbacks)
+        s.positions = ctx ? evaluate_inverse_map_gpu(*ctx, *uploaded, mesh, r.map, s.base_point, &r.fallbacks)
                           : evaluate_inverse_map(mesh, r.map, s.base_point, &r.fallbacks);
     }
 }

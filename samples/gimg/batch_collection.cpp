@@ -20,19 +20,19 @@ std::uint64_t fnv1a(const std::string& text) {
     return h;
 }
 
-bool is_mesh(const std::filesystem::path& p) {
+}  // namespace
+
+bool is_mesh_file(const std::filesystem::path& p) {
     std::string ext = p.extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
     return ext == ".obj" || ext == ".off" || ext == ".ply" || ext == ".stl";
 }
 
-}  // namespace
-
 std::vector<Model> collect_models(const std::filesystem::path& inputs) {
     std::vector<Model> models;
     if (std::filesystem::is_directory(inputs)) {
         for (const auto& e : std::filesystem::recursive_directory_iterator(inputs))
-            if (e.is_regular_file() && is_mesh(e.path()))
+            if (e.is_regular_file() && is_mesh_file(e.path()))
                 models.push_back({e.path(), std::filesystem::relative(e.path(), inputs).generic_string(), {}});
     } else if (std::filesystem::is_regular_file(inputs)) {
         std::ifstream in(inputs);

@@ -16,6 +16,9 @@ struct Model {
     std::string name;            // its output folder: the file's stem, made unique with a hash of `relative`
 };
 
+// A file the loaders read by its extension: .obj, .off, .ply or .stl (any case).
+bool is_mesh_file(const std::filesystem::path& path);
+
 // A folder searched recursively for .obj, .off, .ply and .stl files, or a text file listing one
 // path a line (relative to the list's folder; blank lines and lines starting with # skipped).
 // Sorted by `relative`, each once. Throws geo::InputError when there is nothing to run.

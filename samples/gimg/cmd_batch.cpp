@@ -57,12 +57,14 @@ nlohmann::json read_json_file(const std::filesystem::path& file) {
 
 // Runs `gimg COMMAND INPUT --out DIR --json DIR/result.json OPTIONS` in this process; the message
 // of what stopped it, or empty. Options the command does not take stop the whole batch.
-std::string run_one(const BatchOptions& o, const Model& model, const std::filesystem::path& dir) {
+std::string run_one(const BatchOptions& o, const Model& model, const std::filesystem::path& dir,
+                    const std::shared_ptr<Context>& context) {
     CLI::App app;
     app.require_subcommand(1);
     app.fallthrough();
     GlobalOptions inner;
     inner.quiet = true;
+    inner.context = context;
     add_commands(app, inner);
     std::vector<std::string> args{o.command, model.path.string()};
     if (kFolderCommands.count(o.command)) args.insert(args.end(), {"--out", dir.string()});
@@ -130,17 +132,18 @@ void run_batch(const BatchOptions& o, const GlobalOptions& global) {
         geo::write_file_atomically(results, text);
     }
 
-    if (o.command != "info") shared_batch_context() = open_context(global);  // info needs no device
+    std::shared_ptr<Context> context;
+    if (o.command != "info") context = open_context(global);  // info needs no device
     ProgressLine progress(global.quiet);
     const auto start = std::chrono::steady_clock::now();
     std::size_t ran = 0, failed = 0;
-    const std::size_t todo = mine.size() - done.size();
+    const std::size_t pending = mine.size() - done.size();
     for (const Model& m : mine) {
         if (done.count(m.name)) continue;
         const std::filesystem::path dir = out / m.name;
         if (!kFolderCommands.count(o.command)) std::filesystem::create_directories(dir);
         const auto t0 = std::chrono::steady_clock::now();
-        const std::string error = run_one(o, m, dir);
+        const std::string error = run_one(o, m, dir, context);
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         if (!error.empty()) {
             ++failed;
@@ -156,11 +159,10 @@ void run_batch(const BatchOptions& o, const GlobalOptions& global) {
         ++ran;
         const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         const double rate = elapsed > 0.0 ? double(ran) / elapsed : 0.0;
-        progress.show("batch %s: %zu/%zu models (%zu failed), %.1f models/s, %.0f s left", o.command.c_str(), ran, todo,
-                      failed, rate, rate > 0.0 ? double(todo - ran) / rate : 0.0);
+        progress.show("batch %s: %zu/%zu models (%zu failed), %.1f models/s, %.0f s left", o.command.c_str(), ran,
+                      pending, failed, rate, rate > 0.0 ? double(pending - ran) / rate : 0.0);
     }
     progress.finish();
-    shared_batch_context().reset();
     const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!global.quiet)
         std::printf(

@@ -147,7 +147,8 @@ void add_gim_command(CLI::App& app, const GlobalOptions& global) {
     add_count_option(cmd, "--iterations", o->iterations, 1, 1000, "Most reweighting iterations (default 50)");
     add_number_option(cmd, "--stop", o->stop, 0.0, 1.0,
                       "Stop when E_sigma (stretch: the L2 stretch) falls by less than this fraction (default 0.01)");
-    add_number_option(cmd, "--root", o->root, 1.0, 16.0, "N in the curvature measure (k1^2 + k2^2)^(1/N) (default 6; the thesis: 3 to 4)");
+    add_number_option(cmd, "--root", o->root, 1.0, 16.0,
+                      "N in the curvature measure (k1^2 + k2^2)^(1/N) (default 6; the thesis: 3 to 4)");
     cmd->add_flag("--factors-on-ratio", o->factors_on_ratio,
                   "Apply the corner x4 and boundary x2 factors to uniform3d's and curvature's ratios too (as printed)");
     add_count_option(cmd, "--picture", o->picture, 64, 4096,

@@ -54,10 +54,7 @@ std::vector<Model> models_of(const std::string& source) {
             }
         }
         for (const auto& e : fs::recursive_directory_iterator(root)) {
-            if (!e.is_regular_file()) continue;
-            std::string ext = e.path().extension().string();
-            std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-            if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl") continue;
+            if (!e.is_regular_file() || !is_mesh_file(e.path())) continue;
             const std::string path = e.path().lexically_normal().string();
             const auto known = labels.find(path);
             models.push_back(

@@ -7,6 +7,7 @@
 #include "gimg/geometry/mesh.h"
 
 #include <filesystem>
+#include <memory>
 #include <vector>
 
 namespace gimg::cli {
@@ -14,6 +15,8 @@ namespace gimg::cli {
 struct GlobalOptions {
     bool verbose = false;
     bool quiet = false;
+    // Set by `gimg batch` for the commands it runs: the one device of the whole run.
+    std::shared_ptr<Context> context;
 };
 
 // Every command below on `app` (main.cpp); `gimg batch` builds an app of them per model.

@@ -1,7 +1,7 @@
 #pragma once
 // The Context every GPU command uses: device and validation from the environment (GIMG_DEVICE,
-// GIMG_VALIDATION), the chosen device printed with --verbose. Inside `gimg batch` every model's
-// command gets the batch's one Context.
+// GIMG_VALIDATION), the chosen device printed with --verbose; inside `gimg batch`, the batch's one
+// Context (GlobalOptions::context).
 
 #include "commands.h"
 
@@ -11,14 +11,8 @@
 
 namespace gimg::cli {
 
-// The Context `gimg batch` shares with the commands it runs (empty outside a batch).
-inline std::shared_ptr<Context>& shared_batch_context() {
-    static std::shared_ptr<Context> context;
-    return context;
-}
-
 inline std::shared_ptr<Context> open_context(const GlobalOptions& global) {
-    if (shared_batch_context()) return shared_batch_context();
+    if (global.context) return global.context;
     ContextOptions options = ContextOptions::from_environment();
     options.verbose = global.verbose;
     return Context::create(options);

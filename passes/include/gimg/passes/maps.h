@@ -135,6 +135,10 @@ void add_inverse_map(Graph& graph, InverseMapBuffers& map, BufferHandle points, 
 std::vector<glm::dvec3> evaluate_inverse_map_gpu(Context& ctx, const geo::Mesh& mesh, const InverseMap& map,
                                                  const std::vector<SurfacePoint>& points,
                                                  std::size_t* fallbacks = nullptr);
+// The same with the map already on the device (upload_inverse_map), for evaluating again and again.
+std::vector<glm::dvec3> evaluate_inverse_map_gpu(Context& ctx, InverseMapBuffers& buffers, const geo::Mesh& mesh,
+                                                 const InverseMap& map, const std::vector<SurfacePoint>& points,
+                                                 std::size_t* fallbacks = nullptr);
 
 // The whole remesh: base domain, `levels` 4-to-1 subdivisions, and every point of the finest
 // level mapped back onto the original (on the GPU when ctx is given, else by the CPU twin); the
