@@ -1,4 +1,4 @@
-// The Python module: Geometry images: cylindrical (plain, hierarchical, in batches), position images, and back to meshes.
+// The Python module: geometry images: cylindrical (plain, hierarchical, in batches), position images, and back to meshes.
 #include "module_support.h"
 
 #include "gimg/geometry/error.h"

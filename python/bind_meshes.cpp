@@ -1,4 +1,4 @@
-// The Python module: Meshes in and out: loading, saving, topology, distance and pictures.
+// The Python module: meshes in and out: loading, saving, topology, distance and pictures.
 #include "module_support.h"
 
 #include "gimg/geometry/io.h"

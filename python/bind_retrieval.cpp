@@ -1,4 +1,4 @@
-// The Python module: Retrieval from cylindrical images: index, search, leave-one-out scores.
+// The Python module: retrieval from cylindrical images: index, search, leave-one-out scores.
 #include "module_support.h"
 
 #include "gimg/geometry/error.h"

@@ -1,4 +1,4 @@
-// The Python module: Maps of surfaces: square geometry images, quad regions and their deformations, MAPS, spheres.
+// The Python module: maps of surfaces: square geometry images, quad regions and their deformations, MAPS, spheres.
 #include "module_support.h"
 
 #include "gimg/geometry/error.h"
