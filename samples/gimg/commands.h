@@ -59,6 +59,8 @@ void add_gim_command(CLI::App& app, const GlobalOptions& global);
 void add_quadmap_commands(CLI::App& app, const GlobalOptions& global);
 // gimg maps MESH --levels J --out DIR [--base N] [--k K] [--compress R] (cmd_maps.cpp)
 void add_maps_command(CLI::App& app, const GlobalOptions& global);
+// gimg polycube MESH --out DIR [--dz D] [--da A] [--k K] (cmd_polycube.cpp)
+void add_polycube_command(CLI::App& app, const GlobalOptions& global);
 // gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
 void add_info_command(CLI::App& app, const GlobalOptions& global);
 

@@ -47,6 +47,7 @@ void add_commands(CLI::App& app, GlobalOptions& global) {
     add_gim_command(app, global);
     add_quadmap_commands(app, global);
     add_maps_command(app, global);
+    add_polycube_command(app, global);
     add_sphere_command(app, global);
     add_sample_command(app, global);
     add_retrieval_commands(app, global);

@@ -182,6 +182,19 @@ strict_numbers)
   run 1 "cannot write to standard output" sh -c "'$GIMG' info '$W/m.off' >/dev/full"
   absent "$W/s" "$W/x.ply"
   ;;
+polycube_refusals)
+  printf 'OFF\n4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n' >"$W/tetra.off"
+  printf 'OFF\n8 8 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n5 0 0\n6 0 0\n5 1 0\n5 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 0 3 2\n3 4 6 5\n3 4 5 7\n3 5 6 7\n3 4 7 6\n' >"$W/two.off"
+  run 2 "the mesh has 2 pieces; a polycube needs one" "$GIMG" polycube "$W/two.off" --out "$W/p"
+  run 2 "--da takes a number" "$GIMG" polycube "$W/tetra.off" --out "$W/p" --da 0
+  run 2 "--dz takes a number" "$GIMG" polycube "$W/tetra.off" --out "$W/p" --dz -1
+  run 2 "--axis" "$GIMG" polycube "$W/tetra.off" --out "$W/p" --axis w
+  run 2 "the mesh is flat in z" "$GIMG" polycube "$DATA/quad_uv.obj" --out "$W/p"
+  absent "$W/p/polycube.obj" "$W/p/mapped.ply"
+  run 0 "" "$GIMG" polycube "$W/tetra.off" --out "$W/t" --axis y
+  exists "$W/t/polycube.obj" "$W/t/mapped.ply" "$W/t/checker.png" "$W/t/polycube.png"
+  no_temps
+  ;;
 batch_shards_cover_once)
   # Twelve models in nested folders, one of them broken: every shard count covers each model once,
   # the broken one recorded with its message, and the shards merge into the single run's results.

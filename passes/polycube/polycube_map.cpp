@@ -1,0 +1,611 @@
+// Step 3: the polycube map, piece by piece. A slab piece of the mesh and its polycube piece are
+// cut to disks along paths that start and end at matching points of their loops, each disk is
+// mapped onto the unit circle's disk by a Tutte map (positive weights: one-to-one), with the
+// boundary matched by normalised arc length from a common start on every contour; the map is the
+// first disk map followed by the inverse of the second. Every piece's system goes into one solve.
+#include "polycube_parts.h"
+
+#include "gimg/geometry/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <queue>
+#include <set>
+#include <unordered_map>
+
+namespace gimg::passes::polycube {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586;
+constexpr std::uint32_t kNone = geo::kInvalidIndex;
+
+double wrap01(double x) { return x - std::floor(x); }
+
+// Normalised arc length from a common start, counter-clockwise seen from above, per point of a
+// closed polyline: the start is where the line y = y_ref meets the loop at the largest x.
+std::vector<double> loop_parameter(const std::vector<glm::dvec3>& p, double y_ref) {
+    const std::size_t n = p.size();
+    std::vector<glm::dvec2> q(n);
+    for (std::size_t i = 0; i < n; ++i) q[i] = {p[i].x, p[i].y};
+    const bool ccw = signed_area(q) >= 0.0;
+    std::vector<std::size_t> order(n);
+    for (std::size_t i = 0; i < n; ++i) order[i] = ccw ? i : n - 1 - i;
+    std::size_t seg = 0;
+    double best = -1e300, t_best = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const glm::dvec2 a = q[order[i]], b = q[order[(i + 1) % n]];
+        if ((a.y > y_ref) == (b.y > y_ref)) continue;
+        const double t = (y_ref - a.y) / (b.y - a.y), x = a.x + t * (b.x - a.x);
+        if (x > best) best = x, seg = i, t_best = t;
+    }
+    if (best == -1e300)  // the line misses the loop: start at the vertex of largest x
+        for (std::size_t i = 0; i < n; ++i)
+            if (q[order[i]].x > best) best = q[order[i]].x, seg = i, t_best = 0.0;
+    std::vector<double> u(n, 0.0);
+    const glm::dvec3 start = p[order[seg]] + t_best * (p[order[(seg + 1) % n]] - p[order[seg]]);
+    double total = 0.0;
+    glm::dvec3 prev = start;
+    for (std::size_t k = 1; k <= n; ++k) {
+        const std::size_t i = order[(seg + k) % n];
+        total += glm::length(p[i] - prev);
+        u[i] = total;
+        prev = p[i];
+    }
+    total += glm::length(start - prev);
+    for (double& x : u) x = wrap01(x / total);
+    return u;
+}
+
+// The point of the closed polyline (with its parameters u) at parameter t.
+glm::dvec3 point_at(const std::vector<glm::dvec3>& p, const std::vector<double>& u, double t) {
+    const std::size_t n = p.size();
+    for (std::size_t i = 0; i < n; ++i) {
+        const std::size_t j = (i + 1) % n;
+        double du = u[j] - u[i];
+        if (du < -0.5) du += 1.0;
+        if (du > 0.5) du -= 1.0;
+        if (du == 0.0) continue;
+        double dt = t - u[i];
+        if (du > 0 && dt < 0) dt += 1.0;
+        if (du < 0 && dt > 0) dt -= 1.0;
+        const double s = dt / du;
+        if (s >= 0.0 && s <= 1.0) return p[i] + s * (p[j] - p[i]);
+    }
+    return p[0];
+}
+
+struct Local {
+    std::vector<glm::dvec3> pos;
+    std::vector<glm::uvec3> tri;
+    std::vector<std::uint32_t> global;      // sliced-mesh vertex (mesh side), kNone for points added
+    std::vector<std::uint32_t> origin;      // the vertex before cutting
+    std::vector<std::int32_t> contour;      // on a loop: its contour, else -1
+    std::vector<double> u;                  // on a loop: the contour parameter
+    std::vector<std::uint32_t> tri_source;  // per triangle: sliced-mesh or surface triangle
+    std::vector<glm::dvec2> disk;
+};
+
+// The boundary edge a -> b (in loop order) split at the point of parameter t.
+std::uint32_t split_boundary_edge(Local& m, std::uint32_t a, std::uint32_t b, const glm::dvec3& q, double t) {
+    const std::uint32_t id = std::uint32_t(m.pos.size());
+    m.pos.push_back(q);
+    m.global.push_back(kNone);
+    m.origin.push_back(id);
+    m.contour.push_back(m.contour[a]);
+    m.u.push_back(t);
+    for (std::size_t f = 0; f < m.tri.size(); ++f)
+        for (int k = 0; k < 3; ++k)
+            if (m.tri[f][k] == a && m.tri[f][(k + 1) % 3] == b) {
+                const std::uint32_t c = m.tri[f][(k + 2) % 3];
+                m.tri[f] = {a, id, c};
+                m.tri.push_back({id, b, c});
+                m.tri_source.push_back(m.tri_source[f]);
+                return id;
+            }
+    throw geo::InputError("internal: a loop edge of a polycube piece was not found");
+}
+
+// The vertex at parameter t on the boundary loop `loop` (a vertex already there, or one added).
+std::uint32_t vertex_at(Local& m, const std::vector<std::uint32_t>& loop, double t,
+                        const std::vector<glm::dvec3>& curve, const std::vector<double>& curve_u) {
+    for (std::uint32_t v : loop) {
+        const double d = std::abs(m.u[v] - t);
+        if (std::min(d, 1.0 - d) < 1e-9) return v;
+    }
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+        const std::uint32_t a = loop[i], b = loop[(i + 1) % loop.size()];
+        double du = m.u[b] - m.u[a];
+        if (du < -0.5) du += 1.0;
+        if (du > 0.5) du -= 1.0;
+        double dt = t - m.u[a];
+        if (dt < -0.5) dt += 1.0;
+        if (dt > 0.5) dt -= 1.0;
+        if (du != 0.0 && dt / du > 0.0 && dt / du < 1.0)
+            return split_boundary_edge(m, a, b, point_at(curve, curve_u, t), t);
+    }
+    throw geo::InputError("internal: a contour parameter was not found on a polycube loop");
+}
+
+std::vector<std::vector<std::uint32_t>> neighbours(const Local& m) {
+    std::vector<std::vector<std::uint32_t>> nb(m.pos.size());
+    for (const auto& t : m.tri)
+        for (int k = 0; k < 3; ++k) nb[t[k]].push_back(t[(k + 1) % 3]), nb[t[(k + 1) % 3]].push_back(t[k]);
+    for (auto& v : nb) {
+        std::sort(v.begin(), v.end());
+        v.erase(std::unique(v.begin(), v.end()), v.end());
+    }
+    return nb;
+}
+
+// Shortest path from any of `from` to a vertex with target[v], through vertices with free[v] only.
+std::vector<std::uint32_t> shortest_path(const Local& m, const std::vector<std::vector<std::uint32_t>>& nb,
+                                         const std::vector<std::uint32_t>& from,
+                                         const std::vector<std::uint8_t>& target,
+                                         const std::vector<std::uint8_t>& free) {
+    std::vector<double> dist(m.pos.size(), 1e300);
+    std::vector<std::uint32_t> prev(m.pos.size(), kNone);
+    std::vector<std::uint8_t> source(m.pos.size(), 0);
+    using Item = std::pair<double, std::uint32_t>;
+    std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+    for (std::uint32_t f : from) dist[f] = 0.0, source[f] = 1, queue.push({0.0, f});
+    while (!queue.empty()) {
+        const auto [d, v] = queue.top();
+        queue.pop();
+        if (d > dist[v]) continue;
+        if (target[v] && !source[v]) {
+            std::vector<std::uint32_t> path{v};
+            while (prev[path.back()] != kNone) path.push_back(prev[path.back()]);
+            std::reverse(path.begin(), path.end());
+            return path;
+        }
+        if (!source[v] && !free[v]) continue;
+        for (std::uint32_t w : nb[v]) {
+            if (!free[w] && !target[w]) continue;
+            const double nd = d + glm::length(m.pos[w] - m.pos[v]);
+            if (nd < dist[w]) dist[w] = nd, prev[w] = v, queue.push({nd, w});
+        }
+    }
+    return {};
+}
+
+// Every vertex on a cut gets one copy per wedge of triangles between cut or boundary edges.
+void cut_open(Local& m, const std::set<std::pair<std::uint32_t, std::uint32_t>>& cut) {
+    std::vector<std::vector<std::uint32_t>> faces_of(m.pos.size());
+    for (std::uint32_t f = 0; f < m.tri.size(); ++f)
+        for (int k = 0; k < 3; ++k) faces_of[m.tri[f][k]].push_back(f);
+    std::set<std::uint32_t> on_cut;
+    for (const auto& e : cut) on_cut.insert(e.first), on_cut.insert(e.second);
+    for (std::uint32_t v : on_cut) {
+        const auto& fs = faces_of[v];
+        std::vector<std::uint32_t> group(fs.size());
+        std::iota(group.begin(), group.end(), 0u);
+        const auto find = [&](std::uint32_t a) {
+            while (group[a] != a) a = group[a] = group[group[a]];
+            return a;
+        };
+        for (std::size_t i = 0; i < fs.size(); ++i)
+            for (std::size_t j = i + 1; j < fs.size(); ++j)
+                for (int a = 0; a < 3; ++a) {
+                    const std::uint32_t w = m.tri[fs[i]][a];
+                    if (w == v) continue;
+                    const bool shares = m.tri[fs[j]][0] == w || m.tri[fs[j]][1] == w || m.tri[fs[j]][2] == w;
+                    if (shares && !cut.count(std::minmax(v, w))) group[find(std::uint32_t(i))] = find(std::uint32_t(j));
+                }
+        std::map<std::uint32_t, std::uint32_t> copy;
+        for (std::size_t i = 0; i < fs.size(); ++i) {
+            const std::uint32_t g = find(std::uint32_t(i));
+            if (copy.empty()) copy[g] = v;
+            if (!copy.count(g)) {
+                copy[g] = std::uint32_t(m.pos.size());
+                m.pos.push_back(m.pos[v]);
+                m.global.push_back(m.global[v]);
+                m.origin.push_back(m.origin[v]);
+                m.contour.push_back(m.contour[v]);
+                m.u.push_back(m.u[v]);
+            }
+            for (int k = 0; k < 3; ++k)
+                if (m.tri[fs[i]][k] == v) m.tri[fs[i]][k] = copy[g];
+        }
+    }
+}
+
+// One side of a piece: its disk's boundary as segments (a loop run, or a cut), in walk order.
+struct Segment {
+    int kind = 0;  // contour id + 1 for a loop run, -(cut + 1) for a cut
+    std::vector<std::uint32_t> vertices;
+    double length = 0.0;
+};
+
+// The single boundary loop of the cut piece, split where the edge kind changes, starting with the
+// loop-0 run that leaves a copy of `start_landmark` (any run when there is no cut).
+std::vector<Segment> disk_segments(const Local& m, const std::map<std::pair<std::uint32_t, std::uint32_t>, int>& cut_of,
+                                   std::uint32_t start_landmark, int loop0_kind, bool& ok) {
+    const auto loops = boundary_loops(m.tri);
+    ok = loops.size() == 1;
+    if (!ok) return {};
+    const auto& b = loops[0];
+    const std::size_t n = b.size();
+    const auto kind = [&](std::size_t i) {
+        const std::uint32_t x = m.origin[b[i % n]], y = m.origin[b[(i + 1) % n]];
+        const auto it = cut_of.find(std::minmax(x, y));
+        return it != cut_of.end() ? -(it->second + 1) : m.contour[b[i % n]] + 1;
+    };
+    std::size_t s = 0;
+    if (!cut_of.empty()) {
+        s = n;
+        for (std::size_t i = 0; i < n; ++i)
+            if (kind(i) == loop0_kind && m.origin[b[i]] == start_landmark && kind(i + n - 1) != loop0_kind) s = i;
+        if (s == n) {
+            ok = false;
+            return {};
+        }
+    }
+    std::vector<Segment> segs;
+    for (std::size_t i = s; i < s + n; ++i) {
+        const int k = kind(i);
+        if (segs.empty() || segs.back().kind != k) segs.push_back({k, {b[i % n]}, 0.0});
+        segs.back().vertices.push_back(b[(i + 1) % n]);
+        segs.back().length += glm::length(m.pos[b[(i + 1) % n]] - m.pos[b[i % n]]);
+    }
+    return segs;
+}
+
+// Disk positions on the unit circle: each segment an arc of `span`, loop runs placed by their
+// contour parameter, cuts by arc length.
+void place_boundary(Local& m, const std::vector<Segment>& segs, const std::vector<double>& span) {
+    double theta = 0.0;
+    for (std::size_t s = 0; s < segs.size(); ++s) {
+        const auto& v = segs[s].vertices;
+        const bool whole = segs.size() == 1;
+        std::vector<double> frac(v.size(), 0.0);
+        if (segs[s].kind > 0) {
+            const double u0 = m.u[v.front()], u1 = m.u[v.back()];
+            double dir = 1.0;
+            for (std::size_t i = 1; i < v.size(); ++i) {
+                double d = m.u[v[i]] - u0;
+                d -= std::round(d);
+                if (d != 0.0) {
+                    dir = d > 0 ? 1.0 : -1.0;
+                    break;
+                }
+            }
+            double total = wrap01(dir * (u1 - u0));
+            if (total < 1e-12) total = 1.0;
+            for (std::size_t i = 1; i + 1 < v.size(); ++i)
+                frac[i] = std::min(wrap01(dir * (m.u[v[i]] - u0)) / total, 1.0);
+            if (whole) {  // one loop, no cut: the parameter itself
+                for (std::size_t i = 0; i < v.size(); ++i) frac[i] = m.u[v[i]];
+            } else {
+                frac.back() = 1.0;
+            }
+        } else {
+            double run = 0.0;
+            for (std::size_t i = 1; i < v.size(); ++i) {
+                run += glm::length(m.pos[v[i]] - m.pos[v[i - 1]]);
+                frac[i] = segs[s].length > 0 ? run / segs[s].length : double(i) / double(v.size() - 1);
+            }
+        }
+        for (std::size_t i = 0; i + 1 < v.size(); ++i) {  // the last vertex starts the next segment
+            const double a = whole ? kTwoPi * frac[i] : theta + span[s] * frac[i];
+            m.disk[v[i]] = {std::cos(a), std::sin(a)};
+        }
+        theta += span[s];
+    }
+}
+
+// A uniform grid over disk triangles, to find the one holding a point.
+struct Locator {
+    const std::vector<glm::dvec2>* uv = nullptr;
+    const std::vector<glm::uvec3>* tri = nullptr;
+    int n = 1;
+    std::vector<std::vector<std::uint32_t>> cells;
+    int cell_of(double c) const { return std::clamp(int((c + 1.0) * 0.5 * n), 0, n - 1); }
+    void build(const std::vector<glm::dvec2>& p, const std::vector<glm::uvec3>& t) {
+        uv = &p;
+        tri = &t;
+        n = std::max(1, int(std::sqrt(double(t.size()) / 2.0)));
+        cells.assign(std::size_t(n) * n, {});
+        for (std::uint32_t f = 0; f < t.size(); ++f) {
+            glm::dvec2 lo(1e300), hi(-1e300);
+            for (int k = 0; k < 3; ++k) lo = glm::min(lo, p[t[f][k]]), hi = glm::max(hi, p[t[f][k]]);
+            for (int y = cell_of(lo.y); y <= cell_of(hi.y); ++y)
+                for (int x = cell_of(lo.x); x <= cell_of(hi.x); ++x) cells[std::size_t(y) * n + x].push_back(f);
+        }
+    }
+    static glm::dvec3 bary(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 q) {
+        const double d = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+        if (d == 0.0) return {-1, -1, -1};
+        const double l1 = ((q.x - a.x) * (c.y - a.y) - (c.x - a.x) * (q.y - a.y)) / d;
+        const double l2 = ((b.x - a.x) * (q.y - a.y) - (q.x - a.x) * (b.y - a.y)) / d;
+        return {1.0 - l1 - l2, l1, l2};
+    }
+    // The triangle holding q and its barycentric coordinates; the least outside one when none does.
+    std::pair<std::uint32_t, glm::dvec3> locate(glm::dvec2 q) const {
+        std::uint32_t best = 0;
+        glm::dvec3 best_b(0.0);
+        double best_out = 1e300;
+        for (int ring = 0; ring <= n; ++ring) {
+            const int cx = cell_of(q.x), cy = cell_of(q.y);
+            for (int y = std::max(0, cy - ring); y <= std::min(n - 1, cy + ring); ++y)
+                for (int x = std::max(0, cx - ring); x <= std::min(n - 1, cx + ring); ++x) {
+                    if (std::max(std::abs(x - cx), std::abs(y - cy)) != ring) continue;
+                    for (std::uint32_t f : cells[std::size_t(y) * n + x]) {
+                        const auto& t = (*tri)[f];
+                        const glm::dvec3 b = bary((*uv)[t[0]], (*uv)[t[1]], (*uv)[t[2]], q);
+                        const double out = std::max({-b.x, -b.y, -b.z, 0.0});
+                        if (out < best_out) best_out = out, best = f, best_b = b;
+                    }
+                }
+            if (best_out <= 1e-12 && ring >= 0) break;
+            if (best_out < 1e300 && ring >= 1) break;
+        }
+        best_b = glm::max(best_b, glm::dvec3(0.0));
+        const double sum = best_b.x + best_b.y + best_b.z;
+        best_b = sum > 0 ? best_b / sum : glm::dvec3(1.0 / 3.0);
+        return {best, best_b};
+    }
+};
+
+struct PieceWork {
+    Local mesh_side, surface_side;
+    bool ok = false;
+};
+
+}  // namespace
+
+PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector<Contour>& contours,
+                       const PolycubeSurface& surface, const std::vector<std::vector<std::int32_t>>& loop_contour,
+                       const std::vector<PiecePair>& pieces, std::size_t original_faces, PolycubeStatistics& stats) {
+    PolycubeMap out;
+    const geo::Mesh& mesh = sliced.mesh;
+    // Per contour: the parameter of its mesh vertices and of its surface loop's vertices.
+    std::vector<std::int32_t> contour_of_vertex(mesh.vertex_count(), -1);
+    std::vector<std::vector<double>> mesh_u(contours.size());
+    std::vector<std::vector<glm::dvec3>> loop_points(contours.size());
+    std::vector<std::vector<double>> loop_u(contours.size());
+    std::unordered_map<std::uint32_t, std::pair<std::int32_t, double>> surface_vertex_u;
+    for (std::size_t c = 0; c < contours.size(); ++c) {
+        std::vector<glm::dvec3> p;
+        double y_ref = 0.0;
+        for (std::uint32_t v : contours[c].vertices) p.push_back(mesh.positions[v]), y_ref += mesh.positions[v].y;
+        y_ref /= double(p.size());
+        mesh_u[c] = loop_parameter(p, y_ref);
+        for (std::size_t i = 0; i < p.size(); ++i) contour_of_vertex[contours[c].vertices[i]] = std::int32_t(c);
+        for (std::size_t plane = 0; plane < surface.loops.size(); ++plane)
+            for (std::size_t l = 0; l < surface.loops[plane].size(); ++l)
+                if (loop_contour[plane][l] == std::int32_t(c)) {
+                    for (std::uint32_t v : surface.loops[plane][l]) loop_points[c].push_back(surface.mesh.positions[v]);
+                    loop_u[c] = loop_parameter(loop_points[c], y_ref);
+                    for (std::size_t i = 0; i < surface.loops[plane][l].size(); ++i)
+                        surface_vertex_u[surface.loops[plane][l][i]] = {std::int32_t(c), loop_u[c][i]};
+                }
+    }
+    const auto mesh_vertex_u = [&](std::uint32_t v) {
+        const std::int32_t c = contour_of_vertex[v];
+        const auto& vs = contours[c].vertices;
+        return mesh_u[c][std::size_t(std::find(vs.begin(), vs.end(), v) - vs.begin())];
+    };
+
+    std::vector<PieceWork> work(pieces.size());
+    for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
+        PieceWork& w = work[pi];
+        // The two sides as local meshes.
+        const auto make_local = [&](Local& m, const std::vector<std::uint32_t>& tris, const geo::Mesh& src,
+                                    bool mesh_side) {
+            std::unordered_map<std::uint32_t, std::uint32_t> id;
+            for (std::uint32_t f : tris) {
+                glm::uvec3 t;
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t g = src.triangles[f][k];
+                    const auto [it, added] = id.emplace(g, std::uint32_t(m.pos.size()));
+                    if (added) {
+                        m.pos.push_back(src.positions[g]);
+                        m.global.push_back(mesh_side ? g : kNone);
+                        m.origin.push_back(it->second);
+                        std::int32_t c = -1;
+                        double u = 0.0;
+                        if (mesh_side && contour_of_vertex[g] >= 0) c = contour_of_vertex[g], u = mesh_vertex_u(g);
+                        if (!mesh_side) {
+                            const auto s = surface_vertex_u.find(g);
+                            if (s != surface_vertex_u.end()) c = s->second.first, u = s->second.second;
+                        }
+                        m.contour.push_back(c);
+                        m.u.push_back(u);
+                    }
+                    t[k] = it->second;
+                }
+                m.tri.push_back(t);
+                m.tri_source.push_back(f);
+            }
+        };
+        make_local(w.mesh_side, pieces[pi].mesh_triangles, mesh, true);
+        make_local(w.surface_side, pieces[pi].surface_triangles, surface.mesh, false);
+        Local& S = w.mesh_side;
+        Local& T = w.surface_side;
+        auto s_loops = boundary_loops(S.tri);
+        auto t_loops = boundary_loops(T.tri);
+        if (s_loops.empty() || s_loops.size() != t_loops.size()) {
+            ++out.cut_mismatch;
+            continue;
+        }
+        std::map<std::int32_t, std::size_t> t_loop_of;
+        for (std::size_t l = 0; l < t_loops.size(); ++l) t_loop_of[T.contour[t_loops[l][0]]] = l;
+        bool ok = true;
+        for (const auto& l : s_loops) ok = ok && S.contour[l[0]] >= 0 && t_loop_of.count(S.contour[l[0]]);
+        if (!ok) {
+            ++out.cut_mismatch;
+            continue;
+        }
+        // Cuts from every other loop to loop 0, on the mesh side first; the surface side cuts
+        // between the points of the same parameters.
+        const std::int32_t c0 = S.contour[s_loops[0][0]];
+        std::map<std::pair<std::uint32_t, std::uint32_t>, int> s_cut_of, t_cut_of;
+        std::uint32_t s_start = 0, t_start = 0;
+        {
+            auto nb = neighbours(S);
+            std::vector<std::uint8_t> free(S.pos.size(), 1), target(S.pos.size(), 0);
+            for (const auto& l : s_loops)
+                for (std::uint32_t v : l) free[v] = 0;
+            for (std::uint32_t v : s_loops[0]) target[v] = 1;
+            std::vector<double> a_u, b_u;
+            for (std::size_t j = 1; j < s_loops.size() && ok; ++j) {
+                const auto path = shortest_path(S, nb, s_loops[j], target, free);
+                if (path.empty()) {
+                    ok = false;
+                    break;
+                }
+                for (std::size_t i = 0; i + 1 < path.size(); ++i)
+                    s_cut_of[std::minmax(path[i], path[i + 1])] = int(j - 1);
+                for (std::uint32_t v : path) free[v] = 0;
+                target[path.back()] = 0;
+                if (j == 1) s_start = path.back();
+                a_u.push_back(S.u[path.back()]);
+                b_u.push_back(S.u[path.front()]);
+            }
+            if (ok && s_loops.size() > 1) {
+                // The same points on the surface side, then paths between them.
+                std::vector<std::pair<std::uint32_t, std::uint32_t>> ends;
+                for (std::size_t j = 1; j < s_loops.size(); ++j) {
+                    const std::int32_t cj = S.contour[s_loops[j][0]];
+                    auto tl = boundary_loops(T.tri);
+                    const auto find_loop = [&](std::int32_t c) -> const std::vector<std::uint32_t>& {
+                        for (const auto& l : tl)
+                            if (T.contour[l[0]] == c) return l;
+                        throw geo::InputError("internal: polycube loop lost");
+                    };
+                    const std::uint32_t tb = vertex_at(T, find_loop(cj), b_u[j - 1], loop_points[cj], loop_u[cj]);
+                    tl = boundary_loops(T.tri);
+                    const std::uint32_t ta = vertex_at(T, find_loop(c0), a_u[j - 1], loop_points[c0], loop_u[c0]);
+                    ends.push_back({tb, ta});
+                }
+                auto tnb = neighbours(T);
+                std::vector<std::uint8_t> tfree(T.pos.size(), 1);
+                for (const auto& l : boundary_loops(T.tri))
+                    for (std::uint32_t v : l) tfree[v] = 0;
+                for (std::size_t j = 0; j < ends.size() && ok; ++j) {
+                    std::vector<std::uint8_t> target_t(T.pos.size(), 0);
+                    target_t[ends[j].second] = 1;
+                    const auto path = shortest_path(T, tnb, {ends[j].first}, target_t, tfree);
+                    if (path.empty()) {
+                        ok = false;
+                        break;
+                    }
+                    for (std::size_t i = 0; i + 1 < path.size(); ++i)
+                        t_cut_of[std::minmax(path[i], path[i + 1])] = int(j);
+                    for (std::uint32_t v : path) tfree[v] = 0;
+                    if (j == 0) t_start = path.back();
+                }
+            }
+        }
+        if (!ok) {
+            ++out.cut_mismatch;
+            continue;
+        }
+        std::set<std::pair<std::uint32_t, std::uint32_t>> s_cut, t_cut;
+        for (const auto& [e, j] : s_cut_of) s_cut.insert(e);
+        for (const auto& [e, j] : t_cut_of) t_cut.insert(e);
+        cut_open(S, s_cut);
+        cut_open(T, t_cut);
+        bool s_ok = false, t_ok = false;
+        const auto s_segs = disk_segments(S, s_cut_of, s_start, c0 + 1, s_ok);
+        const auto t_segs = disk_segments(T, t_cut_of, t_start, c0 + 1, t_ok);
+        ok = s_ok && t_ok && s_segs.size() == t_segs.size();
+        for (std::size_t s = 0; ok && s < s_segs.size(); ++s) ok = s_segs[s].kind == t_segs[s].kind;
+        if (!ok) {
+            ++out.cut_mismatch;
+            continue;
+        }
+        double s_total = 0.0, t_total = 0.0;
+        for (std::size_t s = 0; s < s_segs.size(); ++s) s_total += s_segs[s].length, t_total += t_segs[s].length;
+        std::vector<double> span(s_segs.size());
+        for (std::size_t s = 0; s < s_segs.size(); ++s)
+            span[s] = kTwoPi * 0.5 * (s_segs[s].length / s_total + t_segs[s].length / t_total);
+        S.disk.assign(S.pos.size(), glm::dvec2(0.0));
+        T.disk.assign(T.pos.size(), glm::dvec2(0.0));
+        place_boundary(S, s_segs, span);
+        place_boundary(T, t_segs, span);
+        w.ok = true;
+    }
+
+    // One Tutte solve for every piece's mesh side, one for every surface side.
+    for (int side = 0; side < 2; ++side) {
+        geo::Mesh all;
+        std::vector<std::uint8_t> fixed;
+        std::vector<double> values;
+        std::vector<std::uint32_t> first(pieces.size(), 0);
+        for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
+            if (!work[pi].ok) continue;
+            Local& m = side ? work[pi].surface_side : work[pi].mesh_side;
+            first[pi] = std::uint32_t(all.positions.size());
+            std::vector<std::uint8_t> on_boundary(m.pos.size(), 0);
+            for (const auto& l : boundary_loops(m.tri))
+                for (std::uint32_t v : l) on_boundary[v] = 1;
+            for (std::size_t v = 0; v < m.pos.size(); ++v) {
+                all.positions.push_back(m.pos[v]);
+                fixed.push_back(on_boundary[v]);
+                values.push_back(m.disk[v].x);
+                values.push_back(m.disk[v].y);
+            }
+            for (const auto& t : m.tri) all.triangles.push_back(t + glm::uvec3(first[pi]));
+        }
+        if (all.triangles.empty()) break;
+        const geo::MeshAdjacency adj = geo::build_adjacency(all);
+        const SolveResult r = solve(ctx, positive_laplacian(all, adj, fixed, values, 2), stats);
+        if (!r.converged) out.note = "a Tutte solve stopped at residual " + std::to_string(r.residual);
+        for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
+            if (!work[pi].ok) continue;
+            Local& m = side ? work[pi].surface_side : work[pi].mesh_side;
+            for (std::size_t v = 0; v < m.pos.size(); ++v)
+                m.disk[v] = {r.x[2 * (first[pi] + v)], r.x[2 * (first[pi] + v) + 1]};
+        }
+    }
+
+    // Compose: every mesh-side point found in the surface side's disk.
+    out.image.assign(mesh.vertex_count(), glm::dvec3(std::nan("")));
+    out.image_axis.assign(mesh.vertex_count(), 0);
+    out.surface_hole.assign(surface.mesh.face_count(), 0);
+    for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
+        if (!work[pi].ok) continue;
+        const Local& S = work[pi].mesh_side;
+        const Local& T = work[pi].surface_side;
+        Locator on_surface, on_mesh;
+        on_surface.build(T.disk, T.tri);
+        on_mesh.build(S.disk, S.tri);
+        // Both disk maps must be embeddings: every triangle turning the way the whole disk does.
+        for (const Local* m : {&S, &T}) {
+            double total = 0.0;
+            std::vector<double> area(m->tri.size());
+            for (std::size_t f = 0; f < m->tri.size(); ++f) {
+                const glm::dvec2 a = m->disk[m->tri[f][0]], b = m->disk[m->tri[f][1]], c = m->disk[m->tri[f][2]];
+                area[f] = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+                total += area[f];
+            }
+            for (double x : area)
+                if (!(x * total > 0.0)) ++out.disk_flips;
+        }
+        for (std::size_t v = 0; v < S.pos.size(); ++v) {
+            const auto [f, b] = on_surface.locate(S.disk[v]);
+            const auto& t = T.tri[f];
+            glm::dvec3 p = b.x * T.pos[t[0]] + b.y * T.pos[t[1]] + b.z * T.pos[t[2]];
+            if (S.contour[v] >= 0) {  // on a cut: the point both pieces agree on, by parameter
+                const glm::dvec3 q = point_at(loop_points[S.contour[v]], loop_u[S.contour[v]], S.u[v]);
+                out.boundary_snap = std::max(out.boundary_snap, glm::length(q - p));
+                p = q;
+            }
+            out.image[S.global[v]] = p;
+            out.image_axis[S.global[v]] = surface.axis[T.tri_source[f]];
+        }
+        for (std::size_t f = 0; f < T.tri.size(); ++f) {
+            const auto& t = T.tri[f];
+            const auto [g, b] = on_mesh.locate((T.disk[t[0]] + T.disk[t[1]] + T.disk[t[2]]) / 3.0);
+            if (sliced.source_face[S.tri_source[g]] >= original_faces) out.surface_hole[T.tri_source[f]] = 1;
+        }
+        ++out.pieces_mapped;
+    }
+    return out;
+}
+
+}  // namespace gimg::passes::polycube

@@ -1,0 +1,115 @@
+#pragma once
+// Pieces of the polycube construction shared by its files (not a public interface).
+
+#include "gimg/geometry/adjacency.h"
+#include "gimg/passes/polycube.h"
+#include "gimg/passes/solvers.h"
+
+#include <glm/vec2.hpp>
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace gimg::passes::polycube {
+
+// The Laplacian with clamped cotangent weights, max(w, floor * mean w) > 0, so the discrete maximum
+// principle holds (no spurious extrema, Tutte maps one-to-one). Rows with fixed[i] are Dirichlet
+// rows holding fixed_values (rhs_count per row).
+LinearSystem positive_laplacian(const geo::Mesh& mesh, const geo::MeshAdjacency& adj,
+                                const std::vector<std::uint8_t>& fixed, const std::vector<double>& fixed_values,
+                                std::uint32_t rhs_count);
+
+// One solve on the GPU when ctx is given, by its CPU twin otherwise; adds to the statistics.
+SolveResult solve(Context* ctx, const LinearSystem& system, PolycubeStatistics& stats);
+
+// Boundary loops of a triangle set, each in the faces' direction (interior on the left). Throws
+// geo::InputError when a vertex has more than one outgoing boundary edge.
+std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<glm::uvec3>& triangles);
+
+// The mesh cut by horizontal planes: every edge crossing a plane split there (the new vertex
+// exactly at the plane's z), every crossed triangle split in three. Vertices keep their ids;
+// new ones follow.
+struct SlicedMesh {
+    geo::Mesh mesh;
+    std::vector<std::uint32_t> source_face;  // per triangle: the face of the input it lies in
+    std::vector<std::int32_t> plane_of;      // per vertex: the plane it lies on, -1 for none
+};
+SlicedMesh slice_mesh(const geo::Mesh& mesh, const std::vector<double>& plane_z);
+
+// One contour of a plane: a closed loop of sliced-mesh vertices, and per segment (vertices[i] to
+// vertices[i + 1]) whether it crosses a cap triangle (the paper's gap between chains).
+struct Contour {
+    std::uint32_t plane = 0;
+    std::vector<std::uint32_t> vertices;
+    std::vector<std::uint8_t> gap;
+    std::vector<glm::dvec2> closed;  // the loop in the plane with every gap closed (sec. 3.1-3.2)
+};
+std::vector<Contour> plane_contours(const SlicedMesh& sliced, std::size_t plane_count, std::size_t original_faces);
+
+struct ClosureCounts {
+    std::size_t chains = 0, bezier = 0, fallback = 0, chord = 0, failed = 0;
+};
+// Fills every contour's `closed`: real segments as they are, each run of gap segments replaced by
+// the Bezier closure, else the fallback, else the chord (whichever first crosses no real segment of
+// the plane), else left as the cap's section.
+ClosureCounts close_contours(const geo::Mesh& sliced, std::vector<Contour>& contours, std::uint32_t k,
+                             double sample_length);
+
+// 2D helpers.
+double signed_area(const std::vector<glm::dvec2>& loop);
+bool point_in_loops(const std::vector<std::vector<glm::dvec2>>& loops, glm::dvec2 p);  // even-odd
+bool segments_cross(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d);           // proper or touching
+
+}  // namespace gimg::passes::polycube
+
+namespace gimg::passes::polycube {
+
+// Step 2-3: the layers stacked. Layer i is plane i's bitmap (all at one depth over one root)
+// extruded from halfway to the plane below (the mesh's lowest z for the first) to halfway to the
+// plane above (the highest z for the last).
+struct Layers {
+    Rect root;
+    std::uint32_t depth = 0;
+    std::vector<std::vector<std::uint8_t>> cells;  // per plane, (2^depth)^2
+    std::vector<double> plane_z;
+    double bottom = 0.0, top = 0.0;
+};
+// Fills cells until every edge and corner of the stack is manifold; returns how many it filled.
+std::size_t make_manifold(Layers& layers);
+
+struct PolycubeSurface {
+    geo::Mesh mesh;
+    std::vector<std::uint8_t> axis;   // per triangle, as axis_of
+    std::vector<std::uint32_t> slab;  // per triangle: 0 below plane 0, i + 1 above plane i
+    std::vector<std::vector<std::vector<std::uint32_t>>>
+        loops;  // per plane: its walls' loops at the plane, ccw from above
+    std::size_t faces = 0, corners = 0;
+};
+PolycubeSurface polycube_surface(const Layers& layers);
+
+}  // namespace gimg::passes::polycube
+
+namespace gimg::passes::polycube {
+
+// Step 3: the map. `loop_contour[p][l]`: the contour (index into `contours`) that loop l of the
+// surface at plane p stands for. `piece_pairs`: per slab piece, its triangles in the sliced mesh
+// and in the surface.
+struct PiecePair {
+    std::vector<std::uint32_t> mesh_triangles, surface_triangles;
+};
+struct PolycubeMap {
+    std::vector<glm::dvec3> image;           // per sliced-mesh vertex
+    std::vector<std::uint8_t> image_axis;    // per sliced-mesh vertex: the axis of the face it landed on
+    std::vector<std::uint8_t> surface_hole;  // per surface triangle
+    std::size_t pieces_mapped = 0, cut_mismatch = 0;
+    std::size_t disk_flips = 0;  // triangles of either disk map turned over (0 for embeddings)
+    double boundary_snap = 0.0;  // largest move of a contour vertex from its located image to its matched point
+    std::string note;
+};
+PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector<Contour>& contours,
+                       const PolycubeSurface& surface, const std::vector<std::vector<std::int32_t>>& loop_contour,
+                       const std::vector<PiecePair>& pieces, std::size_t original_faces, PolycubeStatistics& stats);
+
+}  // namespace gimg::passes::polycube
