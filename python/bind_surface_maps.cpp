@@ -1,9 +1,11 @@
-// The Python module: maps of surfaces: square geometry images, quad regions and their deformations, MAPS, spheres.
+// The Python module: maps of surfaces: square geometry images, quad regions and their deformations, MAPS,
+// polycubes, spheres.
 #include "module_support.h"
 
 #include "gimg/geometry/error.h"
 #include "gimg/passes/maps.h"
 #include "gimg/passes/parameterize.h"
+#include "gimg/passes/polycube.h"
 #include "gimg/passes/quad_region.h"
 #include "gimg/passes/sphere.h"
 
@@ -183,6 +185,43 @@ void bind_surface_maps(py::module_& m) {
         "CPU. Returns a dict: base (positions, faces), levels (a (positions, faces) per level 0..J; level 0 is the "
         "base), coefficients (c^0 then every level's details, one row per vertex of level J), coarse (level J-1 one "
         "level down through the wavelets), hierarchy_levels, fallbacks, unplaced");
+    m.def(
+        "polycube",
+        [](Device* device, const Positions& positions, const Faces& faces, double dz, double da, std::uint32_t k,
+           const std::string& axis, bool map) {
+            const geo::Mesh mesh = to_mesh(positions, faces);
+            if (axis != "x" && axis != "y" && axis != "z") throw geo::InputError("axis must be x, y or z");
+            if (k < 1) throw geo::InputError("k must be at least 1");
+            passes::PolycubeOptions o;
+            o.dz = dz, o.da = da, o.k = k, o.map = map;
+            o.axis = std::uint8_t(axis[0] - 'x');
+            passes::Polycube p;
+            {
+                py::gil_scoped_release release;
+                p = passes::build_polycube(device ? &device->context() : nullptr, mesh, o);
+            }
+            const auto& s = p.stats;
+            if (!s.polycube_valid) throw geo::InputError("the polycube is not valid (" + s.invalid_reason + ")");
+            if (map && !s.mapped) throw geo::InputError("the map could not be built: " + s.map_note);
+            py::dict d;
+            d["polycube"] = py::make_tuple(positions_array(p.surface.positions), faces_array(p.surface.triangles));
+            py::array_t<std::uint8_t> hole(py::ssize_t(p.hole.size()));
+            std::copy(p.hole.begin(), p.hole.end(), hole.mutable_data());
+            d["hole"] = hole;
+            if (map) d["mapped"] = positions_array(p.mapped);
+            d["genus"] = s.genus, d["holes"] = s.holes, d["planes"] = s.planes, d["chains"] = s.chains;
+            d["closed_by_bezier"] = s.closed_by_bezier, d["closed_by_fallback"] = s.closed_by_fallback;
+            d["polycube_faces"] = s.polycube_faces, d["polycube_corners"] = s.polycube_corners;
+            d["flips"] = s.flips, d["holes_marked"] = s.holes_marked;
+            d["area_distortion"] = s.area_distortion, d["angle_distortion"] = s.angle_distortion;
+            d["seconds"] = s.seconds;
+            return d;
+        },
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("dz") = 0.0, py::arg("da") = 0.05,
+        py::arg("k") = 2, py::arg("axis") = "z", py::arg("map") = true,
+        "Polycube of a closed or open mesh and the map onto it (gimg polycube): solves on the device (None: the CPU "
+        "twins). Returns a dict: polycube (positions, faces), hole (per polycube face: 1 where the mesh's holes map), "
+        "mapped (per mesh vertex, its point on the polycube; with map), and the statistics of docs/polycube.md");
     m.def(
         "sphere",
         [](Device* device, const Positions& positions, const Faces& faces, const std::string& method) {

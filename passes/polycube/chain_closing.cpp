@@ -158,7 +158,9 @@ ClosureCounts close_contours(const geo::Mesh& mesh, std::vector<Contour>& contou
                 Closure method = Closure::Failed;
                 if (glm::length(d0) > 0.0 && glm::length(d1) > 0.0) {
                     const auto m = ray_intersection(r0, d0, r1, d1);
-                    if (m) {
+                    // Rays meeting far beyond the gap (nearly parallel) would swing the curve far
+                    // out of the section: the fallback's case too.
+                    if (m && glm::length(*m - 0.5 * (r0 + r1)) <= 2.0 * glm::length(r1 - r0)) {
                         const double length = glm::length(*m - r0) + glm::length(r1 - *m);
                         const auto segments = std::uint32_t(std::clamp(length / sample_length, 4.0, 256.0));
                         curve = bezier_closure(r0, d0, r1, d1, segments);

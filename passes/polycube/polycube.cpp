@@ -12,6 +12,7 @@
 #include <numeric>
 #include <functional>
 #include <set>
+#include <tuple>
 
 namespace gimg::passes {
 
@@ -42,88 +43,11 @@ double clear_of_vertices(double z, const std::vector<double>& zv, double eps, do
     return best;
 }
 
-double point_polyline_distance(glm::dvec2 p, const std::vector<glm::dvec2>& loop) {
-    double best = 1e300;
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-        const glm::dvec2 a = loop[i], b = loop[(i + 1) % loop.size()];
-        const glm::dvec2 ab = b - a;
-        const double t = glm::dot(ab, ab) > 0 ? std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0) : 0.0;
-        best = std::min(best, glm::length(p - (a + t * ab)));
-    }
-    return best;
-}
-
-struct Pieces {
-    std::vector<std::vector<std::uint32_t>> triangles;
-    std::vector<std::uint32_t> slab;
-    std::vector<std::set<std::int32_t>> contours;
-    std::vector<bool> disk_like;  // genus 0: chi = 2 - loops
-};
-
-// Components of triangles of the same slab joined across edges; their contour sets.
-Pieces slab_pieces(const std::vector<glm::uvec3>& tris, const std::vector<std::uint32_t>& slab,
-                   const std::function<std::int32_t(std::uint32_t)>& contour_of) {
-    std::vector<std::uint32_t> parent(tris.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    const auto find = [&](std::uint32_t a) {
-        while (parent[a] != a) a = parent[a] = parent[parent[a]];
-        return a;
-    };
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edge;
-    for (std::uint32_t f = 0; f < tris.size(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const auto [it, added] = edge.emplace(std::minmax(tris[f][k], tris[f][(k + 1) % 3]), f);
-            if (!added && slab[it->second] == slab[f]) parent[find(f)] = find(it->second);
-        }
-    Pieces p;
-    std::map<std::uint32_t, std::size_t> index;
-    for (std::uint32_t f = 0; f < tris.size(); ++f) {
-        const auto [it, added] = index.emplace(find(f), p.triangles.size());
-        if (added) {
-            p.triangles.emplace_back();
-            p.slab.push_back(slab[f]);
-            p.contours.emplace_back();
-        }
-        p.triangles[it->second].push_back(f);
-        for (int k = 0; k < 3; ++k)
-            if (const std::int32_t c = contour_of(tris[f][k]); c >= 0) p.contours[it->second].insert(c);
-    }
-    for (const auto& t : p.triangles) {
-        std::set<std::uint32_t> vs;
-        std::set<std::pair<std::uint32_t, std::uint32_t>> es;
-        std::vector<glm::uvec3> local;
-        for (std::uint32_t f : t) {
-            local.push_back(tris[f]);
-            for (int k = 0; k < 3; ++k) vs.insert(tris[f][k]), es.insert(std::minmax(tris[f][k], tris[f][(k + 1) % 3]));
-        }
-        const long long chi = (long long)vs.size() - (long long)es.size() + (long long)t.size();
-        p.disk_like.push_back(chi == 2 - (long long)boundary_loops(local).size());
-    }
-    return p;
-}
-
-// Singular values of the linear map from triangle a to triangle b (each in its own plane).
-std::pair<double, double> singular_values(const glm::dvec3 a[3], const glm::dvec3 b[3]) {
-    const glm::dvec3 e1 = a[1] - a[0], e2 = a[2] - a[0], f1 = b[1] - b[0], f2 = b[2] - b[0];
-    const double g11 = glm::dot(e1, e1), g12 = glm::dot(e1, e2), g22 = glm::dot(e2, e2);
-    const double h11 = glm::dot(f1, f1), h12 = glm::dot(f1, f2), h22 = glm::dot(f2, f2);
-    const double det_g = g11 * g22 - g12 * g12;
-    if (!(det_g > 0.0)) return {0.0, 0.0};
-    // G^-1 H: its eigenvalues are the squared singular values.
-    const double m11 = (g22 * h11 - g12 * h12) / det_g, m12 = (g22 * h12 - g12 * h22) / det_g,
-                 m21 = (g11 * h12 - g12 * h11) / det_g, m22 = (g11 * h22 - g12 * h12) / det_g;
-    const double tr = m11 + m22, det = std::max(m11 * m22 - m12 * m21, 0.0);
-    const double disc = std::sqrt(std::max(tr * tr / 4.0 - det, 0.0));
-    return {std::sqrt(std::max(tr / 2.0 + disc, 0.0)), std::sqrt(std::max(tr / 2.0 - disc, 0.0))};
-}
-
 long long euler(const geo::MeshInfo& info) {
     long long chi = 0;
     for (const auto& c : info.component_info) chi += c.euler_characteristic;
     return chi;
 }
-
-const glm::dvec3 kAxis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
 
 // The construction with the planes normal to z.
 Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o) {
@@ -172,6 +96,7 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
     std::vector<std::vector<std::int32_t>> loop_contour;
     std::vector<PiecePair> pairs;
     bool matched = false;
+    int round = 0;
     for (;;) {
         std::vector<double> plane_z;
         for (auto& p : planes) plane_z.push_back(p.z = clear_of_vertices(p.z, zv, 1e-7 * height, 0.05 * dz));
@@ -179,111 +104,17 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         contours = plane_contours(sliced, plane_z.size(), capped.original_faces);
         const ClosureCounts closed = close_contours(sliced.mesh, contours, o.k, mean_edge);
 
-        // Step 2-2: per plane, the rectilinear region of its closed contours, over one root.
-        Rect root{{box.min.x, box.min.y}, {box.max.x, box.max.y}};
-        for (const auto& c : contours)
-            for (const auto& p : c.closed) root.min = glm::min(root.min, p), root.max = glm::max(root.max, p);
-        std::vector<std::vector<std::vector<glm::dvec2>>> loops(plane_z.size());
-        std::vector<std::vector<std::size_t>> contour_ids(plane_z.size());
-        for (std::size_t c = 0; c < contours.size(); ++c) {
-            loops[contours[c].plane].push_back(contours[c].closed);
-            contour_ids[contours[c].plane].push_back(c);
-        }
-        std::vector<RectilinearRegion> regions;
-        std::uint32_t depth = 0;
         double excess = 0.0;
-        for (const auto& l : loops) {
-            regions.push_back(rectilinear_region(l, root, o.da, o.max_level));
-            depth = std::max(depth, regions.back().depth);
-            excess += regions.back().excess();
-        }
-        Layers layers;
-        layers.root = root;
-        layers.depth = depth;
-        layers.plane_z = plane_z;
-        layers.bottom = box.min.z;
-        layers.top = box.max.z;
-        const int n = 1 << depth;
-        for (const auto& r : regions) {
-            std::vector<std::uint8_t> cells(std::size_t(n) * n);
-            const int shift = int(depth - r.depth), rn = 1 << r.depth;
-            for (int y = 0; y < n; ++y)
-                for (int x = 0; x < n; ++x)
-                    cells[std::size_t(y) * n + x] = r.cells[std::size_t(y >> shift) * rn + (x >> shift)];
-            layers.cells.push_back(std::move(cells));
-        }
+        Layers layers = stacked_regions(contours, plane_z, box, o.da, o.max_level, excess);
         st.cells_filled = make_manifold(layers);
         surface = polycube_surface(layers);
 
-        // Which contour each loop of the walls stands for: the nearest, one to one.
-        loop_contour.assign(plane_z.size(), {});
-        bool loops_match = true;
-        for (std::size_t p = 0; p < plane_z.size(); ++p) {
-            const auto& ls = surface.loops[p];
-            loop_contour[p].assign(ls.size(), -1);
-            std::vector<std::tuple<double, std::size_t, std::size_t>> cost;
-            for (std::size_t l = 0; l < ls.size(); ++l) {
-                std::vector<glm::dvec2> poly;
-                for (std::uint32_t v : ls[l])
-                    poly.push_back({surface.mesh.positions[v].x, surface.mesh.positions[v].y});
-                for (std::size_t ci = 0; ci < contour_ids[p].size(); ++ci) {
-                    const auto& cl = contours[contour_ids[p][ci]].closed;
-                    const std::size_t step = std::max<std::size_t>(1, cl.size() / 48);
-                    double d = 0.0;
-                    std::size_t count = 0;
-                    for (std::size_t i = 0; i < cl.size(); i += step, ++count)
-                        d += point_polyline_distance(cl[i], poly);
-                    cost.emplace_back(d / double(count), l, ci);
-                }
-            }
-            std::sort(cost.begin(), cost.end());
-            std::vector<bool> used(contour_ids[p].size(), false);
-            for (const auto& [d, l, ci] : cost)
-                if (loop_contour[p][l] < 0 && !used[ci])
-                    loop_contour[p][l] = std::int32_t(contour_ids[p][ci]), used[ci] = true;
-            if (ls.size() != contour_ids[p].size()) loops_match = false;
-        }
-        // The connectivity check: every slab piece of the mesh (genus 0) against the polycube's.
-        std::vector<std::int32_t> contour_of(sliced.mesh.vertex_count(), -1);
-        for (std::size_t c = 0; c < contours.size(); ++c)
-            for (std::uint32_t v : contours[c].vertices) contour_of[v] = std::int32_t(c);
-        std::vector<std::uint32_t> mesh_slab(sliced.mesh.face_count());
-        for (std::size_t f = 0; f < mesh_slab.size(); ++f) {
-            const auto& t = sliced.mesh.triangles[f];
-            const double zc =
-                (sliced.mesh.positions[t[0]].z + sliced.mesh.positions[t[1]].z + sliced.mesh.positions[t[2]].z) / 3.0;
-            mesh_slab[f] = std::uint32_t(std::upper_bound(plane_z.begin(), plane_z.end(), zc) - plane_z.begin());
-        }
-        std::map<std::uint32_t, std::int32_t> surface_contour;
-        for (std::size_t p = 0; p < plane_z.size(); ++p)
-            for (std::size_t l = 0; l < surface.loops[p].size(); ++l)
-                for (std::uint32_t v : surface.loops[p][l]) surface_contour[v] = loop_contour[p][l];
-        const Pieces ms = slab_pieces(sliced.mesh.triangles, mesh_slab, [&](std::uint32_t v) { return contour_of[v]; });
-        const Pieces ps = slab_pieces(surface.mesh.triangles, surface.slab, [&](std::uint32_t v) {
-            const auto it = surface_contour.find(v);
-            return it == surface_contour.end() ? -1 : it->second;
-        });
-        std::map<std::pair<std::uint32_t, std::set<std::int32_t>>, std::size_t> surface_piece;
-        for (std::size_t i = 0; i < ps.triangles.size(); ++i) surface_piece[{ps.slab[i], ps.contours[i]}] = i;
-        pairs.clear();
-        std::set<std::uint32_t> bad_slabs;
-        std::vector<std::size_t> mesh_pieces_in(plane_z.size() + 1, 0), surface_pieces_in(plane_z.size() + 1, 0);
-        for (std::size_t i = 0; i < ps.triangles.size(); ++i) ++surface_pieces_in[ps.slab[i]];
-        for (std::size_t i = 0; i < ms.triangles.size(); ++i) {
-            ++mesh_pieces_in[ms.slab[i]];
-            const auto it = surface_piece.find({ms.slab[i], ms.contours[i]});
-            if (it == surface_piece.end() || !ms.disk_like[i]) {
-                bad_slabs.insert(ms.slab[i]);
-                continue;
-            }
-            pairs.push_back({ms.triangles[i], ps.triangles[it->second]});
-        }
-        for (std::size_t slab = 0; slab <= plane_z.size(); ++slab)
-            if (mesh_pieces_in[slab] != surface_pieces_in[slab]) bad_slabs.insert(std::uint32_t(slab));
-        for (std::size_t p = 0; p < plane_z.size(); ++p)  // a plane whose loops and contours differ in number
-            if (surface.loops[p].size() != contour_ids[p].size())
-                bad_slabs.insert(std::uint32_t(p)), bad_slabs.insert(std::uint32_t(p + 1));
-        (void)loops_match;
+        loop_contour = match_loops(surface, contours, plane_z.size());
+        SlabCheck check = check_slabs(sliced, contours, surface, loop_contour, plane_z);
+        pairs = std::move(check.pairs);
+        if (round == 0)
+            for (std::size_t r = 0; r < std::min<std::size_t>(check.reasons.size(), 4); ++r)
+                st.repair_note += (r ? "; " : "") + check.reasons[r];
         st.planes = plane_z.size();
         st.contours = contours.size();
         st.chains = closed.chains;
@@ -291,13 +122,24 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         st.closed_by_fallback = closed.fallback;
         st.closed_by_chord = closed.chord;
         st.closing_failed = closed.failed;
-        st.quadtree_depth = depth;
+        st.quadtree_depth = layers.depth;
         st.mean_excess = plane_z.empty() ? 0.0 : excess / double(plane_z.size());
-        st.pieces = ms.triangles.size();
-        matched = bad_slabs.empty();
-        if (matched || st.repair_planes >= o.max_repairs) break;
-        // A plane in the middle of every slab that does not match.
-        for (const std::uint32_t slab : bad_slabs) {
+        st.pieces = check.mesh_pieces;
+        matched = check.bad_slabs.empty() && check.bad_planes.empty();
+        if (matched || st.repair_planes >= o.max_repairs || ++round > 48) break;
+        // A plane whose section's regions came out with other loops than its contours (contours
+        // closer than the deepest cells, a plane grazing a tip) moves within its gaps, up and down
+        // by turns; the slabs beside it wait for the next round.
+        for (const std::size_t p : check.bad_planes) {
+            const double lo = p == 0 ? box.min.z : plane_z[p - 1],
+                         hi = p + 1 >= plane_z.size() ? box.max.z : plane_z[p + 1];
+            planes[p].z += round % 2 ? 0.3 * (hi - plane_z[p]) : -0.3 * (plane_z[p] - lo);
+            ++st.moved_planes;
+            check.bad_slabs.erase(std::uint32_t(p));
+            check.bad_slabs.erase(std::uint32_t(p + 1));
+        }
+        // A plane in the middle of every other slab that does not match.
+        for (const std::uint32_t slab : check.bad_slabs) {
             if (st.repair_planes >= o.max_repairs) break;
             const double lo = slab == 0 ? box.min.z : plane_z[slab - 1];
             const double hi = slab >= plane_z.size() ? box.max.z : plane_z[slab];
@@ -338,8 +180,11 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         else if (!matched)
             st.map_note = "no map: some slab of the polycube does not join the contours the mesh's does";
         else {
-            const PolycubeMap m =
-                map_pieces(ctx, sliced, contours, surface, loop_contour, pairs, capped.original_faces, st);
+            std::vector<std::int32_t> hole_of_face(mesh.face_count(), -1);
+            for (std::size_t f = capped.original_faces; f < mesh.face_count(); ++f)  // caps end at their apex
+                hole_of_face[f] = std::int32_t(mesh.triangles[f][volume < 0.0 ? 1 : 2] - capped.original_vertices);
+            const PolycubeMap m = map_pieces(ctx, sliced, contours, surface, loop_contour, pairs, hole_of_face, st);
+            st.holes_marked = m.holes_marked;
             st.pieces_mapped = m.pieces_mapped;
             st.cut_mismatch = m.cut_mismatch;
             st.flips = m.disk_flips;
@@ -350,40 +195,7 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
             st.mapped = m.pieces_mapped == pairs.size();
             if (st.mapped) {
                 out.mapped.assign(m.image.begin(), m.image.begin() + std::ptrdiff_t(input.vertex_count()));
-                // Flips and distortion over the real triangles of the sliced mesh.
-                double area = 0.0, image_area = 0.0;
-                std::vector<std::size_t> real;
-                for (std::size_t f = 0; f < sliced.mesh.face_count(); ++f) {
-                    if (sliced.source_face[f] >= capped.original_faces) continue;
-                    const auto& t = sliced.mesh.triangles[f];
-                    const glm::dvec3 n0 = glm::cross(sliced.mesh.positions[t[1]] - sliced.mesh.positions[t[0]],
-                                                     sliced.mesh.positions[t[2]] - sliced.mesh.positions[t[0]]);
-                    const glm::dvec3 n1 = glm::cross(m.image[t[1]] - m.image[t[0]], m.image[t[2]] - m.image[t[0]]);
-                    const glm::dvec3 expected =
-                        kAxis[m.image_axis[t[0]]] + kAxis[m.image_axis[t[1]]] + kAxis[m.image_axis[t[2]]];
-                    if (!(glm::dot(n1, expected) > 0.0)) ++st.turned_chords;
-                    area += 0.5 * glm::length(n0);
-                    image_area += 0.5 * glm::length(n1);
-                    real.push_back(f);
-                }
-                const double scale = image_area > 0 ? std::sqrt(area / image_area) : 1.0;
-                double wsum = 0.0;
-                for (std::size_t f : real) {
-                    const auto& t = sliced.mesh.triangles[f];
-                    const glm::dvec3 a[3] = {sliced.mesh.positions[t[0]], sliced.mesh.positions[t[1]],
-                                             sliced.mesh.positions[t[2]]};
-                    const glm::dvec3 b[3] = {scale * m.image[t[0]], scale * m.image[t[1]], scale * m.image[t[2]]};
-                    const auto [s1, s2] = singular_values(a, b);
-                    const double w = 0.5 * glm::length(glm::cross(a[1] - a[0], a[2] - a[0]));
-                    if (!(s2 > 1e-12) || w <= 0.0) continue;
-                    st.area_distortion += w * 0.5 * (s1 * s2 + 1.0 / (s1 * s2));
-                    st.angle_distortion += w * 0.5 * (s1 / s2 + s2 / s1);
-                    wsum += w;
-                }
-                if (wsum > 0) st.area_distortion /= wsum, st.angle_distortion /= wsum;
-            } else if (st.map_note.empty()) {
-                st.map_note = std::to_string(pairs.size() - m.pieces_mapped) + " of " + std::to_string(pairs.size()) +
-                              " pieces could not be cut to matching disks";
+                measure_map(sliced, m, capped.original_faces, st);
             }
         }
     }

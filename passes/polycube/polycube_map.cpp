@@ -358,7 +358,8 @@ struct PieceWork {
 
 PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector<Contour>& contours,
                        const PolycubeSurface& surface, const std::vector<std::vector<std::int32_t>>& loop_contour,
-                       const std::vector<PiecePair>& pieces, std::size_t original_faces, PolycubeStatistics& stats) {
+                       const std::vector<PiecePair>& pieces, const std::vector<std::int32_t>& hole_of_face,
+                       PolycubeStatistics& stats) {
     PolycubeMap out;
     const geo::Mesh& mesh = sliced.mesh;
     // Per contour: the parameter of its mesh vertices and of its surface loop's vertices.
@@ -390,6 +391,7 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
     };
 
     std::vector<PieceWork> work(pieces.size());
+    std::size_t failed_loops = 0, failed_contours = 0, failed_paths = 0, failed_boundaries = 0;
     for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
         PieceWork& w = work[pi];
         // The two sides as local meshes.
@@ -425,10 +427,15 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
         make_local(w.surface_side, pieces[pi].surface_triangles, surface.mesh, false);
         Local& S = w.mesh_side;
         Local& T = w.surface_side;
-        auto s_loops = boundary_loops(S.tri);
-        auto t_loops = boundary_loops(T.tri);
+        std::vector<std::vector<std::uint32_t>> s_loops, t_loops;
+        try {
+            s_loops = boundary_loops(S.tri);
+            t_loops = boundary_loops(T.tri);
+        } catch (const geo::InputError&) {  // two loops through one vertex
+            s_loops.clear();
+        }
         if (s_loops.empty() || s_loops.size() != t_loops.size()) {
-            ++out.cut_mismatch;
+            ++out.cut_mismatch, ++failed_loops;
             continue;
         }
         std::map<std::int32_t, std::size_t> t_loop_of;
@@ -436,49 +443,72 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
         bool ok = true;
         for (const auto& l : s_loops) ok = ok && S.contour[l[0]] >= 0 && t_loop_of.count(S.contour[l[0]]);
         if (!ok) {
-            ++out.cut_mismatch;
+            ++out.cut_mismatch, ++failed_contours;
             continue;
         }
-        // Cuts from every other loop to loop 0, on the mesh side first; the surface side cuts
-        // between the points of the same parameters.
-        const std::int32_t c0 = S.contour[s_loops[0][0]];
+        // Cuts joining the loops into one tree, each from a loop not yet joined to the nearest
+        // joined one, on the mesh side first; the surface side cuts between the points of the same
+        // parameters. Where the cuts wall a loop off, the tree is grown from another loop.
+        std::int32_t c0 = -1;
         std::map<std::pair<std::uint32_t, std::uint32_t>, int> s_cut_of, t_cut_of;
         std::uint32_t s_start = 0, t_start = 0;
-        {
+        const Local s_before = S, t_before = T;
+        for (std::size_t root = 0; root < s_loops.size(); ++root) {
+            S = s_before, T = t_before;
+            s_cut_of.clear(), t_cut_of.clear();
+            ok = true;
+            std::rotate(s_loops.begin(), s_loops.begin() + std::ptrdiff_t(root > 0 ? 1 : 0), s_loops.end());
+            c0 = S.contour[s_loops[0][0]];
             auto nb = neighbours(S);
             std::vector<std::uint8_t> free(S.pos.size(), 1), target(S.pos.size(), 0);
             for (const auto& l : s_loops)
                 for (std::uint32_t v : l) free[v] = 0;
             for (std::uint32_t v : s_loops[0]) target[v] = 1;
-            std::vector<double> a_u, b_u;
-            for (std::size_t j = 1; j < s_loops.size() && ok; ++j) {
-                const auto path = shortest_path(S, nb, s_loops[j], target, free);
+            std::vector<std::uint8_t> joined(s_loops.size(), 0);
+            joined[0] = 1;
+            const auto loop_of = [&](std::uint32_t v) {
+                for (std::size_t l = 0; l < s_loops.size(); ++l)
+                    if (S.contour[s_loops[l][0]] == S.contour[v]) return l;
+                return std::size_t(0);
+            };
+            struct Cut {
+                std::int32_t child, parent;
+                double child_u, parent_u;
+            };
+            std::vector<Cut> cuts;
+            for (std::size_t step = 1; step < s_loops.size() && ok; ++step) {
+                std::vector<std::uint32_t> sources;
+                for (std::size_t l = 0; l < s_loops.size(); ++l)
+                    if (!joined[l])
+                        for (std::uint32_t v : s_loops[l])
+                            if (target[v] == 0) sources.push_back(v);
+                const auto path = shortest_path(S, nb, sources, target, free);
                 if (path.empty()) {
                     ok = false;
                     break;
                 }
-                for (std::size_t i = 0; i + 1 < path.size(); ++i)
-                    s_cut_of[std::minmax(path[i], path[i + 1])] = int(j - 1);
+                const int id = int(cuts.size());
+                for (std::size_t i = 0; i + 1 < path.size(); ++i) s_cut_of[std::minmax(path[i], path[i + 1])] = id;
                 for (std::uint32_t v : path) free[v] = 0;
                 target[path.back()] = 0;
-                if (j == 1) s_start = path.back();
-                a_u.push_back(S.u[path.back()]);
-                b_u.push_back(S.u[path.front()]);
+                const std::size_t child = loop_of(path.front());
+                joined[child] = 1;
+                for (std::uint32_t v : s_loops[child])
+                    if (v != path.front()) target[v] = 1;
+                if (step == 1) s_start = path.back();
+                cuts.push_back({S.contour[path.front()], S.contour[path.back()], S.u[path.front()], S.u[path.back()]});
             }
-            if (ok && s_loops.size() > 1) {
+            if (ok && !cuts.empty()) {
                 // The same points on the surface side, then paths between them.
                 std::vector<std::pair<std::uint32_t, std::uint32_t>> ends;
-                for (std::size_t j = 1; j < s_loops.size(); ++j) {
-                    const std::int32_t cj = S.contour[s_loops[j][0]];
-                    auto tl = boundary_loops(T.tri);
-                    const auto find_loop = [&](std::int32_t c) -> const std::vector<std::uint32_t>& {
-                        for (const auto& l : tl)
-                            if (T.contour[l[0]] == c) return l;
-                        throw geo::InputError("internal: polycube loop lost");
-                    };
-                    const std::uint32_t tb = vertex_at(T, find_loop(cj), b_u[j - 1], loop_points[cj], loop_u[cj]);
-                    tl = boundary_loops(T.tri);
-                    const std::uint32_t ta = vertex_at(T, find_loop(c0), a_u[j - 1], loop_points[c0], loop_u[c0]);
+                const auto at = [&](std::int32_t c, double u) {
+                    for (const auto& l : boundary_loops(T.tri))
+                        if (T.contour[l[0]] == c) return vertex_at(T, l, u, loop_points[c], loop_u[c]);
+                    throw geo::InputError("internal: polycube loop lost");
+                };
+                for (const Cut& c : cuts) {
+                    const std::uint32_t tb = at(c.child, c.child_u);
+                    const std::uint32_t ta = at(c.parent, c.parent_u);
                     ends.push_back({tb, ta});
                 }
                 auto tnb = neighbours(T);
@@ -499,9 +529,10 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
                     if (j == 0) t_start = path.back();
                 }
             }
+            if (ok) break;
         }
         if (!ok) {
-            ++out.cut_mismatch;
+            ++out.cut_mismatch, ++failed_paths;
             continue;
         }
         std::set<std::pair<std::uint32_t, std::uint32_t>> s_cut, t_cut;
@@ -515,7 +546,7 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
         ok = s_ok && t_ok && s_segs.size() == t_segs.size();
         for (std::size_t s = 0; ok && s < s_segs.size(); ++s) ok = s_segs[s].kind == t_segs[s].kind;
         if (!ok) {
-            ++out.cut_mismatch;
+            ++out.cut_mismatch, ++failed_boundaries;
             continue;
         }
         double s_total = 0.0, t_total = 0.0;
@@ -530,6 +561,12 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
         w.ok = true;
     }
 
+    if (out.cut_mismatch)
+        out.note = std::to_string(out.cut_mismatch) + " of " + std::to_string(pieces.size()) +
+                   " pieces could not be cut to matching disks (loops differ: " + std::to_string(failed_loops) +
+                   ", loops unmatched: " + std::to_string(failed_contours) +
+                   ", no disjoint cut: " + std::to_string(failed_paths) +
+                   ", boundaries differ: " + std::to_string(failed_boundaries) + ")";
     // One Tutte solve for every piece's mesh side, one for every surface side.
     for (int side = 0; side < 2; ++side) {
         geo::Mesh all;
@@ -554,7 +591,9 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
         if (all.triangles.empty()) break;
         const geo::MeshAdjacency adj = geo::build_adjacency(all);
         const SolveResult r = solve(ctx, positive_laplacian(all, adj, fixed, values, 2), stats);
-        if (!r.converged) out.note = "a Tutte solve stopped at residual " + std::to_string(r.residual);
+        if (!r.converged)
+            out.note += (out.note.empty() ? "" : "; ") + std::string("a Tutte solve stopped at residual ") +
+                        std::to_string(r.residual);
         for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
             if (!work[pi].ok) continue;
             Local& m = side ? work[pi].surface_side : work[pi].mesh_side;
@@ -567,6 +606,9 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
     out.image.assign(mesh.vertex_count(), glm::dvec3(std::nan("")));
     out.image_axis.assign(mesh.vertex_count(), 0);
     out.surface_hole.assign(surface.mesh.face_count(), 0);
+    std::int32_t holes = 0;
+    for (std::int32_t h : hole_of_face) holes = std::max(holes, h + 1);
+    std::vector<std::uint8_t> marked(std::size_t(holes), 0);
     for (std::size_t pi = 0; pi < pieces.size(); ++pi) {
         if (!work[pi].ok) continue;
         const Local& S = work[pi].mesh_side;
@@ -601,10 +643,21 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
         for (std::size_t f = 0; f < T.tri.size(); ++f) {
             const auto& t = T.tri[f];
             const auto [g, b] = on_mesh.locate((T.disk[t[0]] + T.disk[t[1]] + T.disk[t[2]]) / 3.0);
-            if (sliced.source_face[S.tri_source[g]] >= original_faces) out.surface_hole[T.tri_source[f]] = 1;
+            const std::int32_t h = hole_of_face[sliced.source_face[S.tri_source[g]]];
+            if (h >= 0) out.surface_hole[T.tri_source[f]] = 1, marked[std::size_t(h)] = 1;
+        }
+        // A cap too small to hold a polycube triangle's centre still marks the one under its own.
+        for (std::size_t f = 0; f < S.tri.size(); ++f) {
+            const std::int32_t h = hole_of_face[sliced.source_face[S.tri_source[f]]];
+            if (h < 0 || marked[std::size_t(h)]) continue;
+            const auto& t = S.tri[f];
+            const auto [g, b] = on_surface.locate((S.disk[t[0]] + S.disk[t[1]] + S.disk[t[2]]) / 3.0);
+            out.surface_hole[T.tri_source[g]] = 1;
+            marked[std::size_t(h)] = 1;
         }
         ++out.pieces_mapped;
     }
+    out.holes_marked = std::size_t(std::count(marked.begin(), marked.end(), 1));
     return out;
 }
 

@@ -10,6 +10,8 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <set>
+#include <string>
 #include <vector>
 
 namespace gimg::passes::polycube {
@@ -76,6 +78,12 @@ struct Layers {
     std::vector<double> plane_z;
     double bottom = 0.0, top = 0.0;
 };
+// Step 2-2 for every plane: the rectilinear regions of its closed contours over one root (the
+// bounding rectangle of the model and of every closed contour), all at the deepest plane's depth;
+// `excess` gets the sum of the planes' (area(p) - area(c)) / area(c).
+Layers stacked_regions(const std::vector<Contour>& contours, const std::vector<double>& plane_z, const geo::Bounds& box,
+                       double da, std::uint32_t max_level, double& excess);
+
 // Fills cells until every edge and corner of the stack is manifold; returns how many it filled.
 std::size_t make_manifold(Layers& layers);
 
@@ -93,7 +101,8 @@ PolycubeSurface polycube_surface(const Layers& layers);
 
 namespace gimg::passes::polycube {
 
-// Step 3: the map. `loop_contour[p][l]`: the contour (index into `contours`) that loop l of the
+// Step 3: the map. `hole_of_face`: per face of the capped mesh, the hole its cap closes (-1: none).
+// `loop_contour[p][l]`: the contour (index into `contours`) that loop l of the
 // surface at plane p stands for. `piece_pairs`: per slab piece, its triangles in the sliced mesh
 // and in the surface.
 struct PiecePair {
@@ -103,13 +112,40 @@ struct PolycubeMap {
     std::vector<glm::dvec3> image;           // per sliced-mesh vertex
     std::vector<std::uint8_t> image_axis;    // per sliced-mesh vertex: the axis of the face it landed on
     std::vector<std::uint8_t> surface_hole;  // per surface triangle
-    std::size_t pieces_mapped = 0, cut_mismatch = 0;
+    std::size_t pieces_mapped = 0, cut_mismatch = 0, holes_marked = 0;
     std::size_t disk_flips = 0;  // triangles of either disk map turned over (0 for embeddings)
     double boundary_snap = 0.0;  // largest move of a contour vertex from its located image to its matched point
     std::string note;
 };
 PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector<Contour>& contours,
                        const PolycubeSurface& surface, const std::vector<std::vector<std::int32_t>>& loop_contour,
-                       const std::vector<PiecePair>& pieces, std::size_t original_faces, PolycubeStatistics& stats);
+                       const std::vector<PiecePair>& pieces, const std::vector<std::int32_t>& hole_of_face,
+                       PolycubeStatistics& stats);
+
+}  // namespace gimg::passes::polycube
+
+namespace gimg::passes::polycube {
+
+// Per plane, per loop of the walls at that plane: the contour it stands for (the nearest, one to
+// one; -1 when the plane has more loops than contours).
+std::vector<std::vector<std::int32_t>> match_loops(const PolycubeSurface& surface, const std::vector<Contour>& contours,
+                                                   std::size_t plane_count);
+
+// Every slab piece of the mesh (between consecutive planes) against the polycube's: pieces of
+// genus 0 that join the same contours pair up; `bad_slabs` and `bad_planes` (whose loops and
+// contours differ in number) are where they do not, `reasons` says how.
+struct SlabCheck {
+    std::vector<PiecePair> pairs;
+    std::set<std::uint32_t> bad_slabs;
+    std::vector<std::size_t> bad_planes;
+    std::vector<std::string> reasons;
+    std::size_t mesh_pieces = 0;
+};
+SlabCheck check_slabs(const SlicedMesh& sliced, const std::vector<Contour>& contours, const PolycubeSurface& surface,
+                      const std::vector<std::vector<std::int32_t>>& loop_contour, const std::vector<double>& plane_z);
+
+// turned_chords, and the distortion means and medians over the real triangles of the cut mesh.
+void measure_map(const SlicedMesh& sliced, const PolycubeMap& map, std::size_t original_faces,
+                 PolycubeStatistics& stats);
 
 }  // namespace gimg::passes::polycube

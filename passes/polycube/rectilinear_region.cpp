@@ -325,4 +325,41 @@ RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>&
     }
 }
 
+namespace polycube {
+
+Layers stacked_regions(const std::vector<Contour>& contours, const std::vector<double>& plane_z, const geo::Bounds& box,
+                       double da, std::uint32_t max_level, double& excess) {
+    Rect root{{box.min.x, box.min.y}, {box.max.x, box.max.y}};
+    for (const auto& c : contours)
+        for (const auto& p : c.closed) root.min = glm::min(root.min, p), root.max = glm::max(root.max, p);
+    std::vector<std::vector<std::vector<glm::dvec2>>> loops(plane_z.size());
+    for (const auto& c : contours) loops[c.plane].push_back(c.closed);
+    std::vector<RectilinearRegion> regions;
+    std::uint32_t depth = 0;
+    excess = 0.0;
+    for (const auto& l : loops) {
+        regions.push_back(rectilinear_region(l, root, da, max_level));
+        depth = std::max(depth, regions.back().depth);
+        excess += regions.back().excess();
+    }
+    Layers layers;
+    layers.root = root;
+    layers.depth = depth;
+    layers.plane_z = plane_z;
+    layers.bottom = box.min.z;
+    layers.top = box.max.z;
+    const int n = 1 << depth;
+    for (const auto& r : regions) {
+        std::vector<std::uint8_t> cells(std::size_t(n) * n);
+        const int shift = int(depth - r.depth), rn = 1 << r.depth;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x)
+                cells[std::size_t(y) * n + x] = r.cells[std::size_t(y >> shift) * rn + (x >> shift)];
+        layers.cells.push_back(std::move(cells));
+    }
+    return layers;
+}
+
+}  // namespace polycube
+
 }  // namespace gimg::passes

@@ -112,6 +112,8 @@ nlohmann::json statistics_json(const passes::PolycubeStatistics& s) {
     j["planes"] = s.planes;
     j["inserted_planes"] = s.inserted_planes;
     j["repair_planes"] = s.repair_planes;
+    j["moved_planes"] = s.moved_planes;
+    if (!s.repair_note.empty()) j["repair_note"] = s.repair_note;
     j["contours"] = s.contours;
     j["chains"] = s.chains;
     j["closed_by_bezier"] = s.closed_by_bezier;
@@ -135,8 +137,11 @@ nlohmann::json statistics_json(const passes::PolycubeStatistics& s) {
     j["turned_chords"] = s.turned_chords;
     j["boundary_snap"] = s.boundary_snap;
     j["hole_triangles"] = s.hole_triangles;
+    j["holes_marked"] = s.holes_marked;
     j["area_distortion"] = s.area_distortion;
     j["angle_distortion"] = s.angle_distortion;
+    j["area_distortion_median"] = s.area_distortion_median;
+    j["angle_distortion_median"] = s.angle_distortion_median;
     j["solves"] = s.solves;
     j["solve_iterations"] = s.solve_iterations;
     j["general_solves"] = s.general_solves;
@@ -195,10 +200,11 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
                 s.polycube_corners, s.polycube_triangles, s.euler_characteristic);
     if (!o.no_map)
         std::printf(
-            "map: %zu pieces, %zu flips (%zu chords turned in mapped.ply), boundary snap %.1e, area distortion %.3f, "
-            "angle distortion %.3f, hole triangles %zu\n",
-            s.pieces, s.flips, s.turned_chords, s.boundary_snap, s.area_distortion, s.angle_distortion,
-            s.hole_triangles);
+            "map: %zu pieces, %zu flips (%zu chords turned in mapped.ply), boundary snap %.1e, area distortion %.3f "
+            "(median %.3f), "
+            "angle distortion %.3f (median %.3f), hole triangles %zu (%zu of %zu holes)\n",
+            s.pieces, s.flips, s.turned_chords, s.boundary_snap, s.area_distortion, s.area_distortion_median,
+            s.angle_distortion, s.angle_distortion_median, s.hole_triangles, s.holes_marked, s.holes);
     std::printf("time %.2f s (solves %.2f s, %zu solves on the %s)\n", s.seconds, s.solve_seconds, s.solves,
                 o.cpu ? "CPU" : "GPU");
     std::printf("wrote %s/{polycube.obj, %spolycube.png}\n", o.out.c_str(),

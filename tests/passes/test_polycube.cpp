@@ -294,6 +294,7 @@ TEST(PolycubeBuild, OpenUprightCylinderKeepsItsEndsAsHoles) {
     const gp::Polycube p = gp::build_polycube(nullptr, tube, o);
     expect_valid_polycube(p, 0);
     EXPECT_EQ(p.stats.holes, 2u);
+    EXPECT_EQ(p.stats.holes_marked, 2u);
     EXPECT_EQ(p.stats.polycube_faces, 6u);
     EXPECT_EQ(p.stats.chains, 0u);  // no plane crosses an end
     ASSERT_TRUE(p.stats.mapped) << p.stats.map_note;
@@ -322,6 +323,7 @@ TEST(PolycubeBuild, SideHoleIsClosedInItsPlanesAndMarkedOnTheWall) {
     expect_valid_polycube(p, 0);
     EXPECT_EQ(p.stats.holes, 3u);
     EXPECT_GT(p.stats.chains, 0u);
+    EXPECT_EQ(p.stats.holes_marked, 3u);
     EXPECT_EQ(p.stats.chains,
               p.stats.closed_by_bezier + p.stats.closed_by_fallback + p.stats.closed_by_chord + p.stats.closing_failed);
     EXPECT_EQ(p.stats.closing_failed, 0u);
@@ -398,4 +400,5 @@ TEST(PolycubeSharedMeshes, DoubleTorusAndAnOpenScan) {
     ASSERT_TRUE(h.stats.mapped) << h.stats.map_note;
     EXPECT_EQ(h.stats.flips, 0u);
     EXPECT_GT(h.stats.hole_triangles, 0u);
+    EXPECT_EQ(h.stats.holes_marked, 7u);
 }

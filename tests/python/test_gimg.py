@@ -302,3 +302,31 @@ def test_evaluate_gives_the_command_line_scores(device, tmp_path):
     assert ours["queries"] == 4
     for key in ("nn", "first_tier", "second_tier", "dcg", "map"):
         assert ours[key] == pytest.approx(cli["overall"][key], abs=1e-12), key
+
+
+def test_polycube_of_an_open_tube_keeps_its_ends(device):
+    # An upright tube of 32 x 8 quads, open at both ends: a box-like polycube whose top and bottom
+    # hold the two holes, every vertex mapped onto its surface, on the device as by the CPU twins.
+    around, rows = 32, 8
+    t = np.arange(around) * 2 * np.pi / around
+    positions = np.array([[np.cos(a), np.sin(a), -1 + 2 * r / rows] for r in range(rows + 1) for a in t])
+    faces = []
+    for r in range(rows):
+        for a in range(around):
+            v00, v01 = r * around + a, r * around + (a + 1) % around
+            v10, v11 = v00 + around, v01 + around
+            faces += [[v00, v01, v11], [v00, v11, v10]]
+    faces = np.array(faces, dtype=np.uint32)
+    gpu = gimg.polycube(device, positions, faces, da=10.0)
+    cpu = gimg.polycube(None, positions, faces, da=10.0)
+    assert gpu["holes"] == 2 and gpu["holes_marked"] == 2
+    assert gpu["polycube_faces"] == 6 and gpu["polycube_corners"] == 8
+    assert gpu["flips"] == 0
+    box_min = gpu["polycube"][0].min(axis=0)
+    box_max = gpu["polycube"][0].max(axis=0)
+    m = gpu["mapped"]
+    assert np.all((m >= box_min - 1e-9) & (m <= box_max + 1e-9))
+    assert np.all(np.minimum(np.abs(m - box_min), np.abs(m - box_max)).min(axis=1) < 1e-9)
+    assert np.abs(gpu["mapped"] - cpu["mapped"]).max() < 1e-4
+    with pytest.raises(ValueError):
+        gimg.polycube(None, positions, faces, axis="w")

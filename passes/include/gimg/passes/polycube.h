@@ -115,7 +115,8 @@ enum class Closure { Bezier, Fallback, Chord, Failed };
 
 struct PolycubeStatistics {
     std::size_t genus = 0, holes = 0, saddles = 0, extrema = 0;
-    std::size_t planes = 0, inserted_planes = 0, repair_planes = 0;
+    std::size_t planes = 0, inserted_planes = 0, repair_planes = 0, moved_planes = 0;
+    std::string repair_note;  // why the first planes were inserted (the first few mismatches)
     std::size_t contours = 0, chains = 0, closed_by_bezier = 0, closed_by_fallback = 0, closed_by_chord = 0,
                 closing_failed = 0;
     std::uint32_t quadtree_depth = 0;  // deepest plane
@@ -129,6 +130,7 @@ struct PolycubeStatistics {
     bool mapped = false;
     std::string map_note;
     std::size_t pieces = 0, pieces_mapped = 0, hole_triangles = 0, cut_mismatch = 0;
+    std::size_t holes_marked = 0;  // holes of the mesh with a region on the polycube (all of them, for a map)
     // Triangles turned over in the map: the map is the mesh side's disk map followed by the
     // inverse of the polycube side's, so it is one-to-one exactly when both are embeddings.
     std::size_t flips = 0;
@@ -139,7 +141,8 @@ struct PolycubeStatistics {
     // Largest move of a contour vertex from where the disks put it (the circle's chords) to its
     // matched point on the polycube loop, over the diagonal.
     double boundary_snap = 0.0;
-    double area_distortion = 0.0, angle_distortion = 0.0;  // area-weighted means, 1 ideal
+    double area_distortion = 0.0, angle_distortion = 0.0;                // area-weighted means, 1 ideal
+    double area_distortion_median = 0.0, angle_distortion_median = 0.0;  // area-weighted medians
     double solve_seconds = 0.0, seconds = 0.0;
     std::size_t solves = 0, solve_iterations = 0;
     std::size_t general_solves = 0;  // of them, by BiCGSTAB where the multigrid could not coarsen

@@ -1,0 +1,82 @@
+// How good the polycube map is (docs/polycube.md, Measures): chords turned in mapped.ply, and the
+// Evocube area and angle distortion (area-weighted means and medians).
+#include "polycube_parts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <tuple>
+
+namespace gimg::passes::polycube {
+
+namespace {
+
+// Singular values of the linear map from triangle a to triangle b (each in its own plane).
+std::pair<double, double> singular_values(const glm::dvec3 a[3], const glm::dvec3 b[3]) {
+    const glm::dvec3 e1 = a[1] - a[0], e2 = a[2] - a[0], f1 = b[1] - b[0], f2 = b[2] - b[0];
+    const double g11 = glm::dot(e1, e1), g12 = glm::dot(e1, e2), g22 = glm::dot(e2, e2);
+    const double h11 = glm::dot(f1, f1), h12 = glm::dot(f1, f2), h22 = glm::dot(f2, f2);
+    const double det_g = g11 * g22 - g12 * g12;
+    if (!(det_g > 0.0)) return {0.0, 0.0};
+    // G^-1 H: its eigenvalues are the squared singular values.
+    const double m11 = (g22 * h11 - g12 * h12) / det_g, m12 = (g22 * h12 - g12 * h22) / det_g,
+                 m21 = (g11 * h12 - g12 * h11) / det_g, m22 = (g11 * h22 - g12 * h12) / det_g;
+    const double tr = m11 + m22, det = std::max(m11 * m22 - m12 * m21, 0.0);
+    const double disc = std::sqrt(std::max(tr * tr / 4.0 - det, 0.0));
+    return {std::sqrt(std::max(tr / 2.0 + disc, 0.0)), std::sqrt(std::max(tr / 2.0 - disc, 0.0))};
+}
+
+const glm::dvec3 kAxis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+
+}  // namespace
+
+void measure_map(const SlicedMesh& sliced, const PolycubeMap& m, std::size_t original_faces,
+                 PolycubeStatistics& stats) {
+    // Flips and distortion over the real triangles of the sliced mesh.
+    double area = 0.0, image_area = 0.0;
+    std::vector<std::size_t> real;
+    for (std::size_t f = 0; f < sliced.mesh.face_count(); ++f) {
+        if (sliced.source_face[f] >= original_faces) continue;
+        const auto& t = sliced.mesh.triangles[f];
+        const glm::dvec3 n0 = glm::cross(sliced.mesh.positions[t[1]] - sliced.mesh.positions[t[0]],
+                                         sliced.mesh.positions[t[2]] - sliced.mesh.positions[t[0]]);
+        const glm::dvec3 n1 = glm::cross(m.image[t[1]] - m.image[t[0]], m.image[t[2]] - m.image[t[0]]);
+        const glm::dvec3 expected = kAxis[m.image_axis[t[0]]] + kAxis[m.image_axis[t[1]]] + kAxis[m.image_axis[t[2]]];
+        if (!(glm::dot(n1, expected) > 0.0)) ++stats.turned_chords;
+        area += 0.5 * glm::length(n0);
+        image_area += 0.5 * glm::length(n1);
+        real.push_back(f);
+    }
+    const double scale = image_area > 0 ? std::sqrt(area / image_area) : 1.0;
+    double wsum = 0.0;
+    std::vector<std::tuple<double, double, double>> per_triangle;  // area, angle, weight
+    for (std::size_t f : real) {
+        const auto& t = sliced.mesh.triangles[f];
+        const glm::dvec3 a[3] = {sliced.mesh.positions[t[0]], sliced.mesh.positions[t[1]], sliced.mesh.positions[t[2]]};
+        const glm::dvec3 b[3] = {scale * m.image[t[0]], scale * m.image[t[1]], scale * m.image[t[2]]};
+        const auto [s1, s2] = singular_values(a, b);
+        const double w = 0.5 * glm::length(glm::cross(a[1] - a[0], a[2] - a[0]));
+        if (!(s2 > 1e-12) || w <= 0.0) continue;
+        stats.area_distortion += w * 0.5 * (s1 * s2 + 1.0 / (s1 * s2));
+        stats.angle_distortion += w * 0.5 * (s1 / s2 + s2 / s1);
+        per_triangle.emplace_back(0.5 * (s1 * s2 + 1.0 / (s1 * s2)), 0.5 * (s1 / s2 + s2 / s1), w);
+        wsum += w;
+    }
+    if (wsum > 0) stats.area_distortion /= wsum, stats.angle_distortion /= wsum;
+    // Area-weighted medians: the means above follow a few collapsed images.
+    for (int which = 0; which < 2; ++which) {
+        std::sort(per_triangle.begin(), per_triangle.end(), [&](const auto& x, const auto& y) {
+            return which ? std::get<1>(x) < std::get<1>(y) : std::get<0>(x) < std::get<0>(y);
+        });
+        double run = 0.0;
+        for (const auto& x : per_triangle) {
+            run += std::get<2>(x);
+            if (run >= 0.5 * wsum) {
+                (which ? stats.angle_distortion_median : stats.area_distortion_median) =
+                    which ? std::get<1>(x) : std::get<0>(x);
+                break;
+            }
+        }
+    }
+}
+
+}  // namespace gimg::passes::polycube
