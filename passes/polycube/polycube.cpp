@@ -183,7 +183,7 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
             std::vector<std::int32_t> hole_of_face(mesh.face_count(), -1);
             for (std::size_t f = capped.original_faces; f < mesh.face_count(); ++f)  // caps end at their apex
                 hole_of_face[f] = std::int32_t(mesh.triangles[f][volume < 0.0 ? 1 : 2] - capped.original_vertices);
-            const PolycubeMap m = map_pieces(ctx, sliced, contours, surface, loop_contour, pairs, hole_of_face, st);
+            PolycubeMap m = map_pieces(ctx, sliced, contours, surface, loop_contour, pairs, hole_of_face, st);
             st.holes_marked = m.holes_marked;
             st.pieces_mapped = m.pieces_mapped;
             st.cut_mismatch = m.cut_mismatch;
@@ -194,6 +194,14 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
             st.hole_triangles = std::size_t(std::count(out.hole.begin(), out.hole.end(), 1));
             st.mapped = m.pieces_mapped == pairs.size();
             if (st.mapped) {
+                PolycubeStatistics before;
+                measure_map(sliced, m, capped.original_faces, before);
+                st.area_distortion_unsmoothed = before.area_distortion;
+                st.angle_distortion_unsmoothed = before.angle_distortion;
+                st.area_distortion_median_unsmoothed = before.area_distortion_median;
+                st.angle_distortion_median_unsmoothed = before.angle_distortion_median;
+                st.turned_chords_unsmoothed = before.turned_chords;
+                st.smoothing_moves = smooth_map(sliced, surface.mesh, surface.axis, m.image, m.image_axis, o.smoothing);
                 out.mapped.assign(m.image.begin(), m.image.begin() + std::ptrdiff_t(input.vertex_count()));
                 measure_map(sliced, m, capped.original_faces, st);
             }

@@ -144,6 +144,12 @@ struct SlabCheck {
 SlabCheck check_slabs(const SlicedMesh& sliced, const std::vector<Contour>& contours, const PolycubeSurface& surface,
                       const std::vector<std::vector<std::int32_t>>& loop_contour, const std::vector<double>& plane_z);
 
+// Step 5: `iterations` sweeps of chart smoothing over every vertex's image (and the axis of the
+// polycube face it lies on); returns the moves kept.
+std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
+                       const std::vector<std::uint8_t>& surface_axis, std::vector<glm::dvec3>& image,
+                       std::vector<std::uint8_t>& image_axis, std::uint32_t iterations);
+
 // turned_chords, and the distortion means and medians over the real triangles of the cut mesh.
 void measure_map(const SlicedMesh& sliced, const PolycubeMap& map, std::size_t original_faces,
                  PolycubeStatistics& stats);

@@ -21,7 +21,7 @@ namespace {
 struct PolycubeCommandOptions {
     std::string mesh, out, json, axis = "z";
     double dz = 0.0, da = 0.05;
-    std::uint32_t k = 2, max_level = 8;
+    std::uint32_t k = 2, max_level = 8, smooth = 10;
     bool cpu = false, no_map = false;
 };
 
@@ -142,6 +142,12 @@ nlohmann::json statistics_json(const passes::PolycubeStatistics& s) {
     j["angle_distortion"] = s.angle_distortion;
     j["area_distortion_median"] = s.area_distortion_median;
     j["angle_distortion_median"] = s.angle_distortion_median;
+    j["area_distortion_unsmoothed"] = s.area_distortion_unsmoothed;
+    j["angle_distortion_unsmoothed"] = s.angle_distortion_unsmoothed;
+    j["area_distortion_median_unsmoothed"] = s.area_distortion_median_unsmoothed;
+    j["angle_distortion_median_unsmoothed"] = s.angle_distortion_median_unsmoothed;
+    j["turned_chords_unsmoothed"] = s.turned_chords_unsmoothed;
+    j["smoothing_moves"] = s.smoothing_moves;
     j["solves"] = s.solves;
     j["solve_iterations"] = s.solve_iterations;
     j["general_solves"] = s.general_solves;
@@ -158,6 +164,7 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     po.k = o.k;
     po.max_level = o.max_level;
     po.map = !o.no_map;
+    po.smoothing = o.smooth;
     po.axis = std::uint8_t(o.axis[0] - 'x');
     std::shared_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
     const passes::Polycube p = passes::build_polycube(o.cpu ? nullptr : ctx.get(), mesh, po);
@@ -184,6 +191,7 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     j["dz"] = o.dz;
     j["da"] = o.da;
     j["k"] = o.k;
+    j["smooth"] = o.smooth;
     j["axis"] = o.axis;
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
@@ -205,6 +213,13 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
             "angle distortion %.3f (median %.3f), hole triangles %zu (%zu of %zu holes)\n",
             s.pieces, s.flips, s.turned_chords, s.boundary_snap, s.area_distortion, s.area_distortion_median,
             s.angle_distortion, s.angle_distortion_median, s.hole_triangles, s.holes_marked, s.holes);
+    if (!o.no_map && o.smooth)
+        std::printf(
+            "chart smoothing, %u sweeps: chords turned %zu -> %zu, area distortion %.3f (median %.3f) -> %.3f, "
+            "angle distortion %.3f (median %.3f) -> %.3f\n",
+            o.smooth, s.turned_chords_unsmoothed, s.turned_chords, s.area_distortion_unsmoothed,
+            s.area_distortion_median_unsmoothed, s.area_distortion, s.angle_distortion_unsmoothed,
+            s.angle_distortion_median_unsmoothed, s.angle_distortion);
     std::printf("time %.2f s (solves %.2f s, %zu solves on the %s)\n", s.seconds, s.solve_seconds, s.solves,
                 o.cpu ? "CPU" : "GPU");
     std::printf("wrote %s/{polycube.obj, %spolycube.png}\n", o.out.c_str(),
@@ -226,6 +241,8 @@ void add_polycube_command(CLI::App& app, const GlobalOptions& global) {
     add_count_option(cmd, "--k", o->k, 1, 64, "Parts of each half of the fallback closing polyline (default 2)");
     add_count_option(cmd, "--max-level", o->max_level, 0, 10,
                      "Deepest quadtree level over the model's bounding rectangle (default 8)");
+    add_count_option(cmd, "--smooth", o->smooth, 0, 1000,
+                     "Sweeps of chart smoothing over the map (default 10; 0: the map as composed)");
     cmd->add_option("--axis", o->axis, "Normal of the cutting planes: x, y or z (default z, the paper's)")
         ->check(CLI::IsMember({"x", "y", "z"}));
     cmd->add_flag("--cpu", o->cpu, "Solve with the CPU twins");

@@ -285,6 +285,20 @@ TEST(PolycubeBuild, TorusIsAValidGenusOnePolycubeWithAFlipFreeMap) {
     EXPECT_LT(p.stats.boundary_snap, 0.05);
     EXPECT_GE(p.stats.area_distortion, 1.0);
     EXPECT_GE(p.stats.angle_distortion, 1.0);
+    // The chart smoothing never turns a triangle that was not turned, and keeps every image on the
+    // polycube (its faces' planes, within the polycube's bounds).
+    EXPECT_GT(p.stats.smoothing_moves, 0u);
+    EXPECT_LE(p.stats.turned_chords, p.stats.turned_chords_unsmoothed);
+    const geo::Bounds b = p.surface.bounds();
+    for (const auto& q : p.mapped) {
+        for (int k = 0; k < 3; ++k) ASSERT_TRUE(q[k] >= b.min[k] - 1e-12 && q[k] <= b.max[k] + 1e-12);
+    }
+    gp::PolycubeOptions raw;
+    raw.smoothing = 0;
+    const gp::Polycube unsmoothed = gp::build_polycube(nullptr, torus, raw);
+    EXPECT_EQ(unsmoothed.stats.smoothing_moves, 0u);
+    EXPECT_EQ(unsmoothed.stats.turned_chords, p.stats.turned_chords_unsmoothed);
+    EXPECT_DOUBLE_EQ(unsmoothed.stats.area_distortion, p.stats.area_distortion_unsmoothed);
 }
 
 TEST(PolycubeBuild, OpenUprightCylinderKeepsItsEndsAsHoles) {

@@ -1,6 +1,6 @@
 #pragma once
-// PolyCubes and polycube maps for closed and open meshes (Satoh & Imai, after He, Wang, Xu &
-// Gu 2009; docs/polycube.md). Every hole of the mesh is capped by a temporary fan, so the whole
+// PolyCubes and polycube maps for closed and open meshes (Satoh & Imai, after He, Wang, Fu &
+// Qin 2009; docs/polycube.md). Every hole of the mesh is capped by a temporary fan, so the whole
 // construction runs on a closed surface whose cap triangles are remembered:
 //  1. critical structure: a harmonic function, 0 at the lowest and 1 at the highest vertex, and
 //     its saddles by sign changes around each link;
@@ -12,7 +12,9 @@
 //  3. the map: every slab piece of the mesh and its polycube piece cut to disks along matching
 //     paths and each mapped onto the unit disk by a Tutte map (positive weights, solved by the
 //     solver module), the boundary matched by arc length; the composition is the map, the same on
-//     a contour from above and below. The images of cap triangles are the polycube's hole regions.
+//     a contour from above and below. The images of cap triangles are the polycube's hole regions;
+//  4. chart smoothing: sweeps moving every vertex's image to the harmonic mean of its neighbours'
+//     and back onto the polycube, kept where no triangle around it turns away from the faces.
 
 #include "gimg/engine/context.h"
 #include "gimg/geometry/mesh.h"
@@ -35,6 +37,7 @@ struct PolycubeOptions {
     std::uint32_t k = 2;             // parts per half of the fallback closing polyline
     std::uint32_t max_repairs = 96;  // planes the connectivity check may insert
     bool map = true;                 // also build the map (step 3)
+    std::uint32_t smoothing = 10;    // sweeps of chart smoothing over the map (step 5); 0: none
     std::uint8_t axis = 2;           // the planes' normal: 0 x, 1 y, 2 z (the paper's)
 };
 
@@ -143,6 +146,10 @@ struct PolycubeStatistics {
     double boundary_snap = 0.0;
     double area_distortion = 0.0, angle_distortion = 0.0;                // area-weighted means, 1 ideal
     double area_distortion_median = 0.0, angle_distortion_median = 0.0;  // area-weighted medians
+    // Before the chart smoothing (step 5): the means, medians and turned chords; the moves it kept.
+    double area_distortion_unsmoothed = 0.0, angle_distortion_unsmoothed = 0.0;
+    double area_distortion_median_unsmoothed = 0.0, angle_distortion_median_unsmoothed = 0.0;
+    std::size_t turned_chords_unsmoothed = 0, smoothing_moves = 0;
     double solve_seconds = 0.0, seconds = 0.0;
     std::size_t solves = 0, solve_iterations = 0;
     std::size_t general_solves = 0;  // of them, by BiCGSTAB where the multigrid could not coarsen

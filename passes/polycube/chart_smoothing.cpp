@@ -1,0 +1,81 @@
+// Step 5 (He et al.; charts after Tarini et al.): the map smoothed on the polycube. Every vertex's
+// image moves to the harmonic mean of its neighbours' (positive cotangent weights of the mesh) and
+// back onto the polycube's surface: in a face chart the mean stays in the face's plane; at an edge
+// or a corner the closest point folds it back onto the faces, as unfolding the chart would. A move
+// is kept only when no triangle around the vertex turns its image away from the faces under it, so
+// the count of turned triangles never grows.
+#include "polycube_parts.h"
+
+#include "gimg/geometry/bvh.h"
+#include "gimg/geometry/cotangent.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gimg::passes::polycube {
+
+namespace {
+
+const glm::dvec3 kAxisNormal[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+
+// The triangle's image faces the way the polycube faces under its corners do, and is not flat.
+bool facing(const glm::uvec3& t, const std::vector<glm::dvec3>& image, const std::vector<std::uint8_t>& axis,
+            double min_area2) {
+    const glm::dvec3 n = glm::cross(image[t[1]] - image[t[0]], image[t[2]] - image[t[0]]);
+    const glm::dvec3 expected = kAxisNormal[axis[t[0]]] + kAxisNormal[axis[t[1]]] + kAxisNormal[axis[t[2]]];
+    return glm::dot(n, expected) > 0.0 && glm::dot(n, n) > min_area2;
+}
+
+}  // namespace
+
+std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
+                       const std::vector<std::uint8_t>& surface_axis, std::vector<glm::dvec3>& image,
+                       std::vector<std::uint8_t>& image_axis, std::uint32_t iterations) {
+    if (iterations == 0) return 0;
+    const geo::Mesh& mesh = sliced.mesh;
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    std::vector<double> w = geo::cotangent_weights(mesh, adj);
+    double mean = 0.0;
+    for (double x : w) mean += std::abs(x);
+    mean = w.empty() ? 1.0 : std::max(mean / double(w.size()), 1e-300);
+    for (double& x : w) x = std::max(x, 1e-3 * mean);
+    const geo::TriangleBvh bvh(surface);
+    const double diagonal = surface.bounds().diagonal();
+    const double min_area2 = std::pow(1e-9 * diagonal * diagonal, 2);
+
+    std::size_t moved = 0;
+    std::vector<std::uint32_t> hint(mesh.vertex_count(), geo::kInvalidIndex);
+    for (std::uint32_t it = 0; it < iterations; ++it)
+        for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+            glm::dvec3 sum(0.0);
+            double total = 0.0;
+            for (std::uint32_t k = adj.vertex_vertex_offsets[v]; k < adj.vertex_vertex_offsets[v + 1]; ++k) {
+                const std::uint32_t u = adj.vertex_vertices[k];
+                const double wu = w[adj.find_edge(v, u)];
+                sum += wu * image[u];
+                total += wu;
+            }
+            if (!(total > 0.0)) continue;
+            const geo::ClosestPointResult c =
+                bvh.closest_point(sum / total, std::numeric_limits<double>::infinity(), hint[v]);
+            if (!c.found()) continue;
+            hint[v] = c.face;
+            const auto faces = adj.faces_of_vertex(v);
+            std::size_t turned_before = 0, turned_after = 0;
+            for (std::uint32_t f : faces) turned_before += !facing(mesh.triangles[f], image, image_axis, min_area2);
+            const glm::dvec3 old = image[v];
+            const std::uint8_t old_axis = image_axis[v];
+            image[v] = c.point;
+            image_axis[v] = surface_axis[c.face];
+            for (std::uint32_t f : faces) turned_after += !facing(mesh.triangles[f], image, image_axis, min_area2);
+            if (turned_after > turned_before) {
+                image[v] = old;
+                image_axis[v] = old_axis;
+            } else {
+                ++moved;
+            }
+        }
+    return moved;
+}
+
+}  // namespace gimg::passes::polycube
