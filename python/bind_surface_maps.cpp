@@ -190,11 +190,12 @@ void bind_surface_maps(py::module_& m) {
         [](Device* device, const Positions& positions, const Faces& faces, double dz, double da, std::uint32_t k,
            const std::string& axis, bool map) {
             const geo::Mesh mesh = to_mesh(positions, faces);
-            if (axis != "x" && axis != "y" && axis != "z") throw geo::InputError("axis must be x, y or z");
+            if (axis != "x" && axis != "y" && axis != "z" && axis != "auto")
+                throw geo::InputError("axis must be x, y, z or auto");
             if (k < 1) throw geo::InputError("k must be at least 1");
             passes::PolycubeOptions o;
             o.dz = dz, o.da = da, o.k = k, o.map = map;
-            o.axis = std::uint8_t(axis[0] - 'x');
+            o.axis = axis == "auto" ? 3 : std::uint8_t(axis[0] - 'x');
             passes::Polycube p;
             {
                 py::gil_scoped_release release;
@@ -215,10 +216,11 @@ void bind_surface_maps(py::module_& m) {
             d["flips"] = s.flips, d["holes_marked"] = s.holes_marked;
             d["area_distortion"] = s.area_distortion, d["angle_distortion"] = s.angle_distortion;
             d["seconds"] = s.seconds;
+            d["axis"] = std::string(1, char('x' + s.axis));
             return d;
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("dz") = 0.0, py::arg("da") = 0.05,
-        py::arg("k") = 2, py::arg("axis") = "z", py::arg("map") = true,
+        py::arg("k") = 2, py::arg("axis") = "auto", py::arg("map") = true,
         "Polycube of a closed or open mesh and the map onto it (gimg polycube): solves on the device (None: the CPU "
         "twins). Returns a dict: polycube (positions, faces), hole (per polycube face: 1 where the mesh's holes map), "
         "mapped (per mesh vertex, its point on the polycube; with map), and the statistics of docs/polycube.md");

@@ -211,26 +211,51 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
     return out;
 }
 
+// The construction with the planes normal to axis a (0 x, 1 y, 2 z).
+Polycube build_along(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o, int a) {
+    Polycube out;
+    if (a == 2) {
+        out = build_along_z(ctx, input, o);
+    } else {
+        // A cyclic permutation of the coordinates (it keeps the orientation) makes the axis z.
+        const auto to_work = [a](glm::dvec3 p) { return glm::dvec3(p[(a + 1) % 3], p[(a + 2) % 3], p[a]); };
+        const auto back = [a](glm::dvec3 w) {
+            glm::dvec3 p;
+            for (int k = 0; k < 3; ++k) p[(k + a + 1) % 3] = w[k];
+            return p;
+        };
+        geo::Mesh work = input;
+        for (auto& p : work.positions) p = to_work(p);
+        out = build_along_z(ctx, work, o);
+        for (auto& p : out.surface.positions) p = back(p);
+        for (auto& p : out.mapped) p = back(p);
+        for (auto& x : out.face_axis) x = std::uint8_t(2 * ((x / 2 + a + 1) % 3) + x % 2);
+    }
+    out.stats.axis = std::uint8_t(a);
+    return out;
+}
+
 }  // namespace
 
 Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o) {
-    if (o.axis > 2) throw geo::InputError("the slicing axis must be x, y or z");
-    if (o.axis == 2) return build_along_z(ctx, input, o);
-    // A cyclic permutation of the coordinates (it keeps the orientation) makes the axis z.
-    const int a = o.axis;
-    const auto to_work = [a](glm::dvec3 p) { return glm::dvec3(p[(a + 1) % 3], p[(a + 2) % 3], p[a]); };
-    const auto back = [a](glm::dvec3 w) {
-        glm::dvec3 p;
-        for (int k = 0; k < 3; ++k) p[(k + a + 1) % 3] = w[k];
-        return p;
-    };
-    geo::Mesh work = input;
-    for (auto& p : work.positions) p = to_work(p);
-    Polycube out = build_along_z(ctx, work, o);
-    for (auto& p : out.surface.positions) p = back(p);
-    for (auto& p : out.mapped) p = back(p);
-    for (auto& x : out.face_axis) x = std::uint8_t(2 * ((x / 2 + a + 1) % 3) + x % 2);
-    return out;
+    if (o.axis > 3) throw geo::InputError("the slicing axis must be x, y, z or auto");
+    if (o.axis < 3) return build_along(ctx, input, o, o.axis);
+    // Auto: z, the paper's, then y and x while the polycube or the map fails (a refusal of the mesh
+    // itself is not retried); all failing, z's result says why.
+    Polycube first;
+    std::size_t tried = 0;
+    double seconds = 0.0, solve_seconds = 0.0;  // of every attempt
+    for (const int a : {2, 1, 0}) {
+        Polycube p = build_along(ctx, input, o, a);
+        p.stats.axes_tried = ++tried;
+        seconds += p.stats.seconds, solve_seconds += p.stats.solve_seconds;
+        p.stats.seconds = seconds, p.stats.solve_seconds = solve_seconds;
+        if (p.stats.polycube_valid && (!o.map || p.stats.mapped)) return p;
+        if (a == 2) first = std::move(p);
+    }
+    first.stats.axes_tried = tried;
+    first.stats.seconds = seconds, first.stats.solve_seconds = solve_seconds;
+    return first;
 }
 
 }  // namespace gimg::passes

@@ -19,7 +19,7 @@ namespace gimg::cli {
 namespace {
 
 struct PolycubeCommandOptions {
-    std::string mesh, out, json, axis = "z";
+    std::string mesh, out, json, axis = "auto";
     double dz = 0.0, da = 0.05;
     std::uint32_t k = 2, max_level = 8, smooth = 10;
     bool cpu = false, no_map = false;
@@ -165,14 +165,16 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     po.max_level = o.max_level;
     po.map = !o.no_map;
     po.smoothing = o.smooth;
-    po.axis = std::uint8_t(o.axis[0] - 'x');
+    po.axis = o.axis == "auto" ? 3 : std::uint8_t(o.axis[0] - 'x');
     std::shared_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
     const passes::Polycube p = passes::build_polycube(o.cpu ? nullptr : ctx.get(), mesh, po);
     const auto& s = p.stats;
     if (global.verbose) std::fprintf(stderr, "%s\n", statistics_json(s).dump(2).c_str());
-    if (!s.polycube_valid) throw geo::InputError("the polycube is not valid (" + s.invalid_reason + ")");
+    const std::string along = s.axes_tried > 1 ? " along z (y and x fail too)" : "";
+    if (!s.polycube_valid) throw geo::InputError("the polycube is not valid" + along + " (" + s.invalid_reason + ")");
     if (!o.no_map && !s.mapped)
-        throw geo::InputError("the map could not be built: " + s.map_note + " (--no-map writes the polycube alone)");
+        throw geo::InputError("the map could not be built" + along + ": " + s.map_note +
+                              " (--no-map writes the polycube alone)");
 
     const std::filesystem::path dir(o.out);
     write_polycube_obj(p, dir / "polycube.obj");
@@ -192,13 +194,19 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     j["da"] = o.da;
     j["k"] = o.k;
     j["smooth"] = o.smooth;
-    j["axis"] = o.axis;
+    j["axis"] = std::string(1, char('x' + s.axis));
+    j["axes_tried"] = s.axes_tried;
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
     if (global.quiet) return;
-    std::printf("%s: %zu vertices, genus %zu, %zu holes; %zu saddles, %zu planes (%zu inserted, %zu repairs)\n",
-                o.mesh.c_str(), mesh.vertex_count(), s.genus, s.holes, s.saddles, s.planes, s.inserted_planes,
-                s.repair_planes);
+    std::printf(
+        "%s: %zu vertices, genus %zu, %zu holes; planes normal to %c%s; %zu saddles, %zu planes (%zu "
+        "inserted, %zu repairs)\n",
+        o.mesh.c_str(), mesh.vertex_count(), s.genus, s.holes, char('x' + s.axis),
+        s.axes_tried == 2   ? " (z failed)"
+        : s.axes_tried == 3 ? " (z and y failed)"
+                            : "",
+        s.saddles, s.planes, s.inserted_planes, s.repair_planes);
     std::printf(
         "contours %zu, chains %zu closed by Bezier %zu, fallback %zu, chord %zu, failed %zu; quadtree depth %u, "
         "excess %.3f\n",
@@ -243,8 +251,10 @@ void add_polycube_command(CLI::App& app, const GlobalOptions& global) {
                      "Deepest quadtree level over the model's bounding rectangle (default 8)");
     add_count_option(cmd, "--smooth", o->smooth, 0, 1000,
                      "Sweeps of chart smoothing over the map (default 10; 0: the map as composed)");
-    cmd->add_option("--axis", o->axis, "Normal of the cutting planes: x, y or z (default z, the paper's)")
-        ->check(CLI::IsMember({"x", "y", "z"}));
+    cmd->add_option("--axis", o->axis,
+                    "Normal of the cutting planes: x, y, z (the paper's) or auto (default: z, then y, then x while "
+                    "the polycube or the map fails)")
+        ->check(CLI::IsMember({"x", "y", "z", "auto"}));
     cmd->add_flag("--cpu", o->cpu, "Solve with the CPU twins");
     cmd->add_flag("--no-map", o->no_map, "Build the polycube only (polycube.obj, polycube.png)");
     cmd->add_option("--json", o->json, "Write the statistics as JSON");

@@ -371,6 +371,12 @@ TEST_F(PolycubeGpu, BuildOnTheGpuMatchesTheCpuTwin) {
     EXPECT_EQ(gpu.stats.flips, 0u);
 }
 
+TEST(PolycubeBuild, AutoAxisTakesZFirst) {
+    const gp::Polycube p = gp::build_polycube(nullptr, geo::make_torus(1.0, 0.35, 48, 16));
+    EXPECT_EQ(p.stats.axis, 2);
+    EXPECT_EQ(p.stats.axes_tried, 1u);
+}
+
 TEST(PolycubeBuild, SlicingAxisIsAPermutation) {
     geo::Mesh box = geo::make_box({1.0, 2.0, 3.0}, 2);
     gp::PolycubeOptions o;
@@ -395,7 +401,7 @@ TEST(PolycubeBuild, RefusesWhatItCannotTake) {
     bad.da = 0.0;
     EXPECT_THROW(gp::build_polycube(nullptr, geo::make_icosphere(1.0, 1), bad), geo::InputError);
     bad = {};
-    bad.axis = 3;
+    bad.axis = 4;
     EXPECT_THROW(gp::build_polycube(nullptr, geo::make_icosphere(1.0, 1), bad), geo::InputError);
 }
 
