@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numeric>
 #include <functional>
@@ -96,7 +97,8 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
     std::vector<std::vector<std::int32_t>> loop_contour;
     std::vector<PiecePair> pairs;
     bool matched = false;
-    int round = 0;
+    int round = 0, best_round = 0;
+    std::size_t fewest = std::numeric_limits<std::size_t>::max();
     for (;;) {
         std::vector<double> plane_z;
         for (auto& p : planes) plane_z.push_back(p.z = clear_of_vertices(p.z, zv, 1e-7 * height, 0.05 * dz));
@@ -126,7 +128,10 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         st.mean_excess = plane_z.empty() ? 0.0 : excess / double(plane_z.size());
         st.pieces = check.mesh_pieces;
         matched = check.bad_slabs.empty() && check.bad_planes.empty();
-        if (matched || st.repair_planes >= o.max_repairs || ++round > 48) break;
+        // Give up after 48 rounds, or 8 without fewer mismatches than the best so far.
+        const std::size_t mismatches = check.bad_slabs.size() + check.bad_planes.size();
+        if (mismatches < fewest) fewest = mismatches, best_round = round;
+        if (matched || st.repair_planes >= o.max_repairs || ++round > 48 || round - best_round > 8) break;
         // A plane whose section's regions came out with other loops than its contours (contours
         // closer than the deepest cells, a plane grazing a tip) moves within its gaps, up and down
         // by turns; the slabs beside it wait for the next round.
