@@ -65,6 +65,17 @@ double signed_area(const std::vector<glm::dvec2>& loop) {
     return 0.5 * a;
 }
 
+double distance_to_loop(glm::dvec2 p, const std::vector<glm::dvec2>& loop) {
+    double best = 1e300;
+    for (std::size_t i = 0; i < loop.size(); ++i) {
+        const glm::dvec2 a = loop[i], ab = loop[(i + 1) % loop.size()] - a;
+        const double len2 = glm::dot(ab, ab);
+        const double t = len2 > 0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+        best = std::min(best, glm::length(p - (a + t * ab)));
+    }
+    return best;
+}
+
 bool point_in_loops(const std::vector<std::vector<glm::dvec2>>& loops, glm::dvec2 p) {
     bool inside = false;
     for (const auto& loop : loops)

@@ -7,26 +7,11 @@
 #include "polycube_parts.h"
 
 #include "gimg/geometry/bvh.h"
-#include "gimg/geometry/cotangent.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace gimg::passes::polycube {
-
-namespace {
-
-const glm::dvec3 kAxisNormal[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-
-// The triangle's image faces the way the polycube faces under its corners do, and is not flat.
-bool facing(const glm::uvec3& t, const std::vector<glm::dvec3>& image, const std::vector<std::uint8_t>& axis,
-            double min_area2) {
-    const glm::dvec3 n = glm::cross(image[t[1]] - image[t[0]], image[t[2]] - image[t[0]]);
-    const glm::dvec3 expected = kAxisNormal[axis[t[0]]] + kAxisNormal[axis[t[1]]] + kAxisNormal[axis[t[2]]];
-    return glm::dot(n, expected) > 0.0 && glm::dot(n, n) > min_area2;
-}
-
-}  // namespace
 
 std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
                        const std::vector<std::uint8_t>& surface_axis, std::vector<glm::dvec3>& image,
@@ -34,11 +19,7 @@ std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
     if (iterations == 0) return 0;
     const geo::Mesh& mesh = sliced.mesh;
     const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
-    std::vector<double> w = geo::cotangent_weights(mesh, adj);
-    double mean = 0.0;
-    for (double x : w) mean += std::abs(x);
-    mean = w.empty() ? 1.0 : std::max(mean / double(w.size()), 1e-300);
-    for (double& x : w) x = std::max(x, 1e-3 * mean);
+    const std::vector<double> w = positive_cotangent_weights(mesh, adj);
     const geo::TriangleBvh bvh(surface);
     const double diagonal = surface.bounds().diagonal();
     const double min_area2 = std::pow(1e-9 * diagonal * diagonal, 2);
@@ -62,12 +43,12 @@ std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
             hint[v] = c.face;
             const auto faces = adj.faces_of_vertex(v);
             std::size_t turned_before = 0, turned_after = 0;
-            for (std::uint32_t f : faces) turned_before += !facing(mesh.triangles[f], image, image_axis, min_area2);
+            for (std::uint32_t f : faces) turned_before += turned(mesh.triangles[f], image, image_axis, min_area2);
             const glm::dvec3 old = image[v];
             const std::uint8_t old_axis = image_axis[v];
             image[v] = c.point;
             image_axis[v] = surface_axis[c.face];
-            for (std::uint32_t f : faces) turned_after += !facing(mesh.triangles[f], image, image_axis, min_area2);
+            for (std::uint32_t f : faces) turned_after += turned(mesh.triangles[f], image, image_axis, min_area2);
             if (turned_after > turned_before) {
                 image[v] = old;
                 image_axis[v] = old_axis;

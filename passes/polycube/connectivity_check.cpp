@@ -16,17 +16,6 @@ namespace gimg::passes::polycube {
 
 namespace {
 
-double point_polyline_distance(glm::dvec2 p, const std::vector<glm::dvec2>& loop) {
-    double best = 1e300;
-    for (std::size_t i = 0; i < loop.size(); ++i) {
-        const glm::dvec2 a = loop[i], b = loop[(i + 1) % loop.size()];
-        const glm::dvec2 ab = b - a;
-        const double t = glm::dot(ab, ab) > 0 ? std::clamp(glm::dot(p - a, ab) / glm::dot(ab, ab), 0.0, 1.0) : 0.0;
-        best = std::min(best, glm::length(p - (a + t * ab)));
-    }
-    return best;
-}
-
 struct Pieces {
     std::vector<std::vector<std::uint32_t>> triangles;
     std::vector<std::uint32_t> slab;
@@ -99,7 +88,7 @@ std::vector<std::vector<std::int32_t>> match_loops(const PolycubeSurface& surfac
                 const std::size_t step = std::max<std::size_t>(1, cl.size() / 48);
                 double d = 0.0;
                 std::size_t count = 0;
-                for (std::size_t i = 0; i < cl.size(); i += step, ++count) d += point_polyline_distance(cl[i], poly);
+                for (std::size_t i = 0; i < cl.size(); i += step, ++count) d += distance_to_loop(cl[i], poly);
                 cost.emplace_back(d / double(count), l, ci);
             }
         }

@@ -16,14 +16,19 @@ namespace gimg::passes {
 
 namespace polycube {
 
-LinearSystem positive_laplacian(const geo::Mesh& mesh, const geo::MeshAdjacency& adj,
-                                const std::vector<std::uint8_t>& fixed, const std::vector<double>& fixed_values,
-                                std::uint32_t rhs_count) {
+std::vector<double> positive_cotangent_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adj) {
     std::vector<double> w = geo::cotangent_weights(mesh, adj);
     double mean = 0.0;
     for (double x : w) mean += std::abs(x);
     mean = w.empty() ? 1.0 : std::max(mean / double(w.size()), 1e-300);
     for (double& x : w) x = std::max(x, 1e-3 * mean);
+    return w;
+}
+
+LinearSystem positive_laplacian(const geo::Mesh& mesh, const geo::MeshAdjacency& adj,
+                                const std::vector<std::uint8_t>& fixed, const std::vector<double>& fixed_values,
+                                std::uint32_t rhs_count) {
+    const std::vector<double> w = positive_cotangent_weights(mesh, adj);
 
     const std::size_t n = mesh.vertex_count();
     LinearSystem s;

@@ -29,6 +29,13 @@ const glm::dvec3 kAxis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0
 
 }  // namespace
 
+bool turned(const glm::uvec3& t, const std::vector<glm::dvec3>& image, const std::vector<std::uint8_t>& axis,
+            double min_area2) {
+    const glm::dvec3 n = glm::cross(image[t[1]] - image[t[0]], image[t[2]] - image[t[0]]);
+    const glm::dvec3 expected = kAxis[axis[t[0]]] + kAxis[axis[t[1]]] + kAxis[axis[t[2]]];
+    return !(glm::dot(n, expected) > 0.0 && glm::dot(n, n) > min_area2);
+}
+
 void measure_map(const SlicedMesh& sliced, const PolycubeMap& m, std::size_t original_faces,
                  PolycubeStatistics& stats) {
     // Flips and distortion over the real triangles of the sliced mesh.
@@ -40,8 +47,7 @@ void measure_map(const SlicedMesh& sliced, const PolycubeMap& m, std::size_t ori
         const glm::dvec3 n0 = glm::cross(sliced.mesh.positions[t[1]] - sliced.mesh.positions[t[0]],
                                          sliced.mesh.positions[t[2]] - sliced.mesh.positions[t[0]]);
         const glm::dvec3 n1 = glm::cross(m.image[t[1]] - m.image[t[0]], m.image[t[2]] - m.image[t[0]]);
-        const glm::dvec3 expected = kAxis[m.image_axis[t[0]]] + kAxis[m.image_axis[t[1]]] + kAxis[m.image_axis[t[2]]];
-        if (!(glm::dot(n1, expected) > 0.0)) ++stats.turned_chords;
+        if (turned(t, m.image, m.image_axis)) ++stats.turned_chords;
         area += 0.5 * glm::length(n0);
         image_area += 0.5 * glm::length(n1);
         real.push_back(f);

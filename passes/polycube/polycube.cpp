@@ -208,7 +208,14 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
                 st.turned_chords_unsmoothed = before.turned_chords;
                 st.smoothing_moves = smooth_map(sliced, surface.mesh, surface.axis, m.image, m.image_axis, o.smoothing);
                 out.mapped.assign(m.image.begin(), m.image.begin() + std::ptrdiff_t(input.vertex_count()));
-                measure_map(sliced, m, capped.original_faces, st);
+                if (o.smoothing == 0) {  // nothing moved: the figures before are the figures
+                    st.turned_chords = before.turned_chords;
+                    st.area_distortion = before.area_distortion, st.angle_distortion = before.angle_distortion;
+                    st.area_distortion_median = before.area_distortion_median;
+                    st.angle_distortion_median = before.angle_distortion_median;
+                } else {
+                    measure_map(sliced, m, capped.original_faces, st);
+                }
             }
         }
     }

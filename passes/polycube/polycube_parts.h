@@ -16,8 +16,11 @@
 
 namespace gimg::passes::polycube {
 
-// The Laplacian with clamped cotangent weights, max(w, floor * mean w) > 0, so the discrete maximum
-// principle holds (no spurious extrema, Tutte maps one-to-one). Rows with fixed[i] are Dirichlet
+// Per edge of `adj`, the cotangent weight clamped to max(w, 1e-3 mean |w|) > 0: positive weights
+// keep the discrete maximum principle (no spurious extrema, Tutte maps one-to-one).
+std::vector<double> positive_cotangent_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adj);
+
+// The Laplacian with positive_cotangent_weights. Rows with fixed[i] are Dirichlet
 // rows holding fixed_values (rhs_count per row).
 LinearSystem positive_laplacian(const geo::Mesh& mesh, const geo::MeshAdjacency& adj,
                                 const std::vector<std::uint8_t>& fixed, const std::vector<double>& fixed_values,
@@ -61,6 +64,7 @@ ClosureCounts close_contours(const geo::Mesh& sliced, std::vector<Contour>& cont
 
 // 2D helpers.
 double signed_area(const std::vector<glm::dvec2>& loop);
+double distance_to_loop(glm::dvec2 p, const std::vector<glm::dvec2>& loop);            // to the closed polyline
 bool point_in_loops(const std::vector<std::vector<glm::dvec2>>& loops, glm::dvec2 p);  // even-odd
 bool segments_cross(glm::dvec2 a, glm::dvec2 b, glm::dvec2 c, glm::dvec2 d);           // proper or touching
 
@@ -149,6 +153,11 @@ SlabCheck check_slabs(const SlicedMesh& sliced, const std::vector<Contour>& cont
 std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
                        const std::vector<std::uint8_t>& surface_axis, std::vector<glm::dvec3>& image,
                        std::vector<std::uint8_t>& image_axis, std::uint32_t iterations);
+
+// A triangle of the mesh whose image faces away from the polycube faces under its corners (per
+// vertex, the axis index of its face), or whose image's squared doubled area is at most min_area2.
+bool turned(const glm::uvec3& t, const std::vector<glm::dvec3>& image, const std::vector<std::uint8_t>& axis,
+            double min_area2 = 0.0);
 
 // turned_chords, and the distortion means and medians over the real triangles of the cut mesh.
 void measure_map(const SlicedMesh& sliced, const PolycubeMap& map, std::size_t original_faces,

@@ -160,13 +160,7 @@ void fill_pockets(Window& win, const Loops& loops, const Rect& root, int depth) 
 
 double distance_to_loops(glm::dvec2 p, const Loops& loops) {
     double best = 1e300;
-    for (const auto* loop : loops)
-        for (std::size_t i = 0; i < loop->size(); ++i) {
-            const glm::dvec2 a = (*loop)[i], b = (*loop)[(i + 1) % loop->size()], ab = b - a;
-            const double len2 = glm::dot(ab, ab);
-            const double t = len2 > 0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-            best = std::min(best, glm::length(p - (a + t * ab)));
-        }
+    for (const auto* loop : loops) best = std::min(best, polycube::distance_to_loop(p, *loop));
     return best;
 }
 
