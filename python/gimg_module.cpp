@@ -37,4 +37,5 @@ PYBIND11_MODULE(gimg, m) {
     bind_cylinders(m);
     bind_retrieval(m);
     bind_surface_maps(m);
+    bind_batch(m);
 }

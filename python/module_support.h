@@ -69,5 +69,6 @@ void bind_meshes(py::module_& m);
 void bind_cylinders(py::module_& m);
 void bind_retrieval(py::module_& m);
 void bind_surface_maps(py::module_& m);
+void bind_batch(py::module_& m);
 
 }  // namespace gimg::python

@@ -330,3 +330,55 @@ def test_polycube_of_an_open_tube_keeps_its_ends(device):
     assert np.abs(gpu["mapped"] - cpu["mapped"]).max() < 1e-4
     with pytest.raises(ValueError):
         gimg.polycube(None, positions, faces, axis="w")
+
+
+def test_batch_runs_a_function_over_a_list_as_gimg_batch_does(device, tmp_path):
+    # Files as gimg batch reads them: the same results in order, and a broken file's message kept.
+    folder = tmp_path / "models"
+    folder.mkdir()
+    for n in ["cube_quads.obj", "tetra.off"]:
+        (folder / n).write_bytes(open(os.path.join(DATA, "meshes", n), "rb").read())
+    (folder / "broken.off").write_text("OFF garbage\n")
+    subprocess.run([GIMG, "--quiet", "batch", "info", "--inputs", str(folder), "--out", str(tmp_path / "run")],
+                   check=True)
+    lines = [json.loads(x) for x in open(tmp_path / "run" / "results.jsonl")]
+    by_input = {x["input"]: x for x in lines}
+    paths = sorted(folder.iterdir())
+    results = gimg.batch(gimg.info, paths, errors="keep")
+    assert len(results) == 3
+    for path, result in zip(paths, results):
+        line = by_input[path.name]
+        if line["status"] == "failed":
+            assert isinstance(result, ValueError) and str(result) == line["error"]
+        else:
+            for key in ["vertices", "faces", "edges", "genus", "closed", "manifold"]:
+                assert result[key] == line["result"][key]
+    with pytest.raises(ValueError, match="OFF counts must be three whole numbers"):
+        gimg.batch(gimg.info, paths)
+
+    # Arrays: each result is the single call's; a bad mesh keeps its ValueError in place with
+    # errors="keep", and ends the run with the default.
+    positions, faces = gimg.load_mesh(TETRA)
+    meshes = [(positions * (1 + 0.25 * k), faces) for k in range(4)]
+    spheres = gimg.batch(gimg.sphere, meshes, device=device)
+    for (p, f), (points, metrics) in zip(meshes, spheres):
+        np.testing.assert_array_equal(points, gimg.sphere(device, p, f)[0])
+        assert metrics["flips"] == 0
+    bad = meshes[:2] + [(positions, faces + 10)] + meshes[2:]
+    for function, options in [(gimg.cylinder, {"device": device, "width": 32, "height": 16}),
+                              (gimg.sphere, {"device": device})]:
+        kept = gimg.batch(function, bad, errors="keep", **options)
+        assert [type(r) for r in kept] == [tuple, tuple, ValueError, tuple, tuple]
+        assert str(kept[2]) == "face 0 names vertex 10 of 4"
+        with pytest.raises(ValueError, match="face 0 names vertex 10 of 4"):
+            gimg.batch(function, bad, **options)
+    # cylinder's list is projected in one batch, bit for bit the single calls.
+    for (p, f), (d, m, fr) in zip(meshes, gimg.batch(gimg.cylinder, meshes, device=device, width=32, height=16)):
+        d1, m1, fr1 = gimg.cylinder(device, p, f, width=32, height=16)
+        np.testing.assert_array_equal(m, m1)
+        np.testing.assert_array_equal(d[m], d1[m1])
+        assert fr["scale"] == fr1["scale"]
+    with pytest.raises(ValueError, match='errors must be "raise" or "keep"'):
+        gimg.batch(gimg.info, meshes, errors="ignore")
+    with pytest.raises(ValueError, match="a list of \\(positions, faces\\) pairs or mesh file paths"):
+        gimg.batch(gimg.info, [positions])
