@@ -61,15 +61,7 @@ SolveResult solve(Context* ctx, const LinearSystem& system, PolycubeStatistics& 
     o.tolerance = 1e-10;
     o.max_iterations = 20000;
     const auto start = std::chrono::steady_clock::now();
-    SolveResult r;
-    try {
-        r = ctx ? solve_symmetric(*ctx, system, o) : solve_symmetric_cpu(system, o);
-    } catch (const geo::InputError&) {
-        // The multigrid cannot coarsen many pieces of a few free vertices each (every piece is its
-        // own block): BiCGSTAB with Jacobi takes the same system.
-        r = ctx ? solve_general(*ctx, system, o) : solve_general_cpu(system, o);
-        ++stats.general_solves;
-    }
+    const SolveResult r = ctx ? solve_symmetric(*ctx, system, o) : solve_symmetric_cpu(system, o);
     stats.solve_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     ++stats.solves;
     stats.solve_iterations += r.iterations;

@@ -354,8 +354,15 @@ Multigrid build_multigrid(const SpdSystem& problem) {
     while (std::size_t(a.rows()) > kMultigridDenseRows) {
         const Eigen::VectorXd diagonal = a.diagonal();
         std::vector<int> of;
-        const Eigen::Index coarse = aggregate(a, diagonal, of);
-        if (double(coarse) > kStalledCoarsening * double(a.rows())) break;
+        Eigen::Index coarse = aggregate(a, diagonal, of);
+        if (double(coarse) > kStalledCoarsening * double(a.rows())) {
+            if (std::size_t(a.rows()) <= kMaxDenseRows) break;
+            // Many rows without strong neighbours (pieces of one or two free vertices) leave the
+            // aggregates as they were; pairing them by index still halves the level. A coarse
+            // correction across uncoupled rows is weak, but the smoother solves such rows alone.
+            for (int& o : of) o /= 2;
+            coarse = (coarse + 1) / 2;
+        }
 
         const double rho = largest_jacobi_eigenvalue(a, diagonal);
         const double omega = 4.0 / (3.0 * rho);

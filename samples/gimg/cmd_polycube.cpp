@@ -150,7 +150,6 @@ nlohmann::json statistics_json(const passes::PolycubeStatistics& s) {
     j["smoothing_moves"] = s.smoothing_moves;
     j["solves"] = s.solves;
     j["solve_iterations"] = s.solve_iterations;
-    j["general_solves"] = s.general_solves;
     j["solve_seconds"] = s.solve_seconds;
     j["seconds"] = s.seconds;
     return j;

@@ -185,6 +185,40 @@ TEST_F(Solvers, SymmetricOnASharedMeshWithScatteredDirichletRows) {
     EXPECT_LT(max_difference(gpu.x, truth), 1e-7);
 }
 
+TEST_F(Solvers, SymmetricOnManyPiecesOfOneOrTwoFreeVertices) {
+    // 1,500 paths, each a fixed vertex, one or two free ones (one in five has two) and a fixed
+    // vertex, weights 1 to 2 (the polycube map's pieces): 1,800 free rows in blocks of one or two,
+    // which no aggregate joins. It used to stop the multigrid with "aggregation stalled".
+    SparseMatrix a;
+    std::vector<std::uint8_t> fixed;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> weight(1.0, 2.0);
+    for (int piece = 0; piece < 1500; ++piece) {
+        const std::uint32_t first = std::uint32_t(fixed.size()), free = piece % 5 == 0 ? 2 : 1;
+        std::vector<double> w(free + 1);
+        for (double& x : w) x = weight(rng);
+        for (std::uint32_t k = 0; k < free + 2; ++k) {
+            fixed.push_back(k == 0 || k == free + 1 ? 1 : 0);
+            const double left = k > 0 ? w[k - 1] : 0.0, right = k <= free ? w[k] : 0.0;
+            if (k > 0) a.columns.push_back(first + k - 1), a.values.push_back(-left);
+            a.columns.push_back(first + k), a.values.push_back(left + right);
+            if (k <= free) a.columns.push_back(first + k + 1), a.values.push_back(-right);
+            a.offsets.push_back(std::uint32_t(a.columns.size()));
+        }
+    }
+    a.size = fixed.size();
+    std::vector<double> truth;
+    const LinearSystem s = system_with_solution(a, fixed, 2, truth);
+    const SolveResult gpu = passes::solve_symmetric(ctx(), s, {.tolerance = 1e-10});
+    const SolveResult cpu = passes::solve_symmetric_cpu(s, {.tolerance = 1e-10});
+    std::printf("conjugate gradients on 1,500 pieces: %zu iterations to 1e-10\n", gpu.iterations);
+    EXPECT_TRUE(gpu.converged);
+    EXPECT_LE(gpu.iterations, 20u);
+    EXPECT_EQ(gpu.iterations, cpu.iterations);
+    EXPECT_LT(max_difference(gpu.x, cpu.x), 1e-10);
+    EXPECT_LT(max_difference(gpu.x, truth), 1e-8);
+}
+
 TEST_F(Solvers, GeneralEqualsTheCpuTwinAndEigensLuOnRowNormalisedWeights) {
     // Tutte's system with cotangent weights divided by their row sums: not symmetric.
     const geo::Mesh mesh = jittered_grid(30);

@@ -156,7 +156,6 @@ struct PolycubeStatistics {
     std::size_t turned_chords_unsmoothed = 0, smoothing_moves = 0;
     double solve_seconds = 0.0, seconds = 0.0;  // with axis auto: of every axis tried
     std::size_t solves = 0, solve_iterations = 0;
-    std::size_t general_solves = 0;  // of them, by BiCGSTAB where the multigrid could not coarsen
 };
 
 struct Polycube {
