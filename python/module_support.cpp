@@ -13,8 +13,9 @@ using Faces = py::array_t<std::int64_t, py::array::c_style | py::array::forcecas
 
 namespace {
 
-// The two checks every array crossing makes, written as flat loops that vectorise; the AVX2 clone
-// keeps them a small part of a call's time (the call-overhead goal of docs/python.md).
+// The checks and conversions of the arrays crossing into and out of the library, written as flat
+// loops that vectorise; the AVX2 clones keep them a small part of a call's time (the call-overhead
+// goal of docs/python.md).
 __attribute__((target_clones("avx2", "default"))) bool all_finite(const double* p, std::size_t count) {
     bool finite = true;
     for (std::size_t i = 0; i < count; ++i) finite &= std::isfinite(p[i]);
