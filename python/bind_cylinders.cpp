@@ -2,6 +2,7 @@
 #include "module_support.h"
 
 #include "gimg/geometry/error.h"
+#include "gimg/geometry/parallel_for.h"
 #include "gimg/geometry/surface_distance.h"
 #include "gimg/passes/cylinder_hierarchy.h"
 #include "gimg/passes/sample.h"
@@ -84,12 +85,18 @@ void bind_cylinders(py::module_& m) {
             std::vector<passes::CylinderImage> images;
             {
                 py::gil_scoped_release release;
+                // Frames and cylinder meshes on every core, then one upload of them all.
+                frames.resize(ms.size());
+                std::vector<passes::CylinderMesh> cylinder_meshes(ms.size());
+                geo::parallel_for_chunks(ms.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t i = begin; i < end; ++i) {
+                        frames[i] = passes::fit_cylinder_frame(ms[i]);
+                        cylinder_meshes[i] = passes::make_cylinder_mesh(ms[i], frames[i]);
+                    }
+                });
                 passes::CylinderZBuffer zbuffer(device.context(), width, height);
                 std::vector<passes::CylinderZBuffer::Job> jobs;
-                for (const geo::Mesh& mesh : ms) {
-                    frames.push_back(passes::fit_cylinder_frame(mesh));
-                    jobs.push_back({zbuffer.add_mesh(passes::make_cylinder_mesh(mesh, frames.back()))});
-                }
+                for (const std::uint32_t id : zbuffer.add_meshes(cylinder_meshes)) jobs.push_back({id});
                 images = zbuffer.project(jobs);
             }
             py::list out;

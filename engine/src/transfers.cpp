@@ -78,14 +78,15 @@ VkBufferImageCopy whole_image(const Image& image) {
 }
 }  // namespace
 
-void Context::upload(Image& image, const void* pixels, VkDeviceSize bytes) {
-    if (bytes != image.byte_size())
+void Context::upload(Image& image, const void* pixels, VkDeviceSize bytes, bool zero_rest) {
+    if (zero_rest ? bytes > image.byte_size() : bytes != image.byte_size())
         throw Error(ErrorKind::InvalidArgument, "upload of " + std::to_string(bytes) + " bytes into image '" +
                                                     image.name() + "' of " + std::to_string(image.byte_size()) +
                                                     " bytes");
     detail::Device& d = *device_;
-    Buffer staging = d.create_buffer({bytes, "staging image upload"}, MemoryUsage::Upload);
+    Buffer staging = d.create_buffer({image.byte_size(), "staging image upload"}, MemoryUsage::Upload);
     std::memcpy(staging.mapped(), pixels, bytes);
+    std::memset(static_cast<std::byte*>(staging.mapped()) + bytes, 0, image.byte_size() - bytes);
     d.flush_host_writes(staging);
     staging.set_last_access(Access::HostWrite);
     d.run_now([&](VkCommandBuffer cmd) {

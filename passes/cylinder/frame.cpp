@@ -48,15 +48,15 @@ CylinderFrame fit_cylinder_frame(const geo::Mesh& mesh, bool align) {
         centre /= double(n);
     }
     // In the rotated frame, around the centroid: the axis goes through the centroid.
-    double r_max = 0.0, y_min = 1e300, y_max = -1e300;
+    double r2_max = 0.0, y_min = 1e300, y_max = -1e300;
     for (std::size_t i = 0; i < used.size(); ++i) {
         if (!used[i]) continue;
         const glm::dvec3 q = frame.rotation * (mesh.positions[i] - centre);
-        r_max = std::max(r_max, std::hypot(q.x, q.z));
+        r2_max = std::max(r2_max, q.x * q.x + q.z * q.z);  // one square root at the end, not one a vertex
         y_min = std::min(y_min, q.y);
         y_max = std::max(y_max, q.y);
     }
-    const double extent = std::max(r_max, y_max - y_min);
+    const double extent = std::max(std::sqrt(r2_max), y_max - y_min);
     if (!(extent > 0.0) || !std::isfinite(extent))
         throw geo::InputError("the mesh has no extent to fit into the cylinder");
     frame.scale = kMargin / extent;

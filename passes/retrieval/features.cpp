@@ -5,6 +5,7 @@
 #include "gimg/engine/graph.h"
 #include "gimg/engine/upload.h"
 #include "gimg/geometry/error.h"
+#include "gimg/geometry/parallel_for.h"
 #include "gimg/geometry/surface_sampling.h"
 
 #include <glm/geometric.hpp>
@@ -107,26 +108,38 @@ std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vecto
            tv = upload_buffer(ctx, table(v_taps), "retrieval taps v");
 
     if (options.cylinders != 1 && options.cylinders != 3) throw geo::InputError("retrieval: 1 or 3 cylinders");
+    // Each model's frame and cylinder meshes on every core, then one upload of them all.
+    const std::uint32_t per_model = options.cylinders;
+    std::vector<CylinderMesh> cylinder_meshes(meshes.size() * per_model);
+    geo::parallel_for_chunks(meshes.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t m = begin; m < end; ++m) {
+            const geo::Mesh& mesh = meshes[m];
+            const CylinderFrame frame = fit_cylinder_frame(mesh);
+            cylinder_meshes[m * per_model] = make_cylinder_mesh(mesh, frame);
+            // With 3 cylinders: the model in its principal frame, each of the two other axes turned
+            // onto the cylinder's (a cyclic permutation: no mirror), then centred and scaled into it.
+            for (std::uint32_t turn = 1; turn < per_model; ++turn) {
+                geo::Mesh turned = mesh;
+                for (auto& p : turned.positions) {
+                    const glm::dvec3 q = frame.rotation * p;
+                    p = turn == 1 ? glm::dvec3(q.y, q.z, q.x) : glm::dvec3(q.z, q.x, q.y);
+                }
+                cylinder_meshes[m * per_model + turn] = make_cylinder_mesh(turned, fit_cylinder_frame(turned, false));
+            }
+        }
+    });
     CylinderZBuffer zbuffer(ctx, n, n);
+    std::size_t all_vertices = 0, all_faces = 0;
+    for (const CylinderMesh& c : cylinder_meshes) all_vertices += c.positions.size() / 3, all_faces += c.face_count();
+    zbuffer.reserve(all_vertices, all_faces);
     std::vector<CylinderZBuffer::Job> jobs;
     std::vector<std::size_t> job_faces;
-    for (const geo::Mesh& mesh : meshes) {
-        job_faces.insert(job_faces.end(), options.cylinders, mesh.face_count());
-        const CylinderFrame frame = fit_cylinder_frame(mesh);
-        jobs.push_back({zbuffer.add_mesh(make_cylinder_mesh(mesh, frame)), kIdentityTransform});
-        if (options.cylinders == 1) continue;
-        // The model in its principal frame, each of the two other axes turned onto the cylinder's
-        // (a cyclic permutation: no mirror), then centred and scaled into it.
-        for (int turn = 1; turn <= 2; ++turn) {
-            geo::Mesh turned = mesh;
-            for (auto& p : turned.positions) {
-                const glm::dvec3 q = frame.rotation * p;
-                p = turn == 1 ? glm::dvec3(q.y, q.z, q.x) : glm::dvec3(q.z, q.x, q.y);
-            }
-            jobs.push_back(
-                {zbuffer.add_mesh(make_cylinder_mesh(turned, fit_cylinder_frame(turned, false))), kIdentityTransform});
-        }
+    const std::vector<std::uint32_t> ids = zbuffer.add_meshes(cylinder_meshes);
+    for (std::size_t k = 0; k < ids.size(); ++k) {
+        jobs.push_back({ids[k], kIdentityTransform});
+        job_faces.push_back(cylinder_meshes[k].face_count());
     }
+    cylinder_meshes = {};
     std::vector<std::vector<float>> out;
     out.reserve(meshes.size());
     // Graphs of at most 256 images and 1M faces, well inside what one execution holds.

@@ -2,12 +2,17 @@
 // itself is checked by provoking a hazard it must see.
 #include "gimg/engine/error.h"
 #include "gimg/engine/graph.h"
+#include "gimg/engine/texel_array.h"
 
 #include "gpu_test.h"
 
 #include "engine/scale_add_comp.h"
 
+#include <glm/vec4.hpp>
+
+#include <cstring>
 #include <string>
+#include <vector>
 
 using namespace gimg;
 
@@ -146,4 +151,22 @@ TEST_F(EngineErrors, SynchronizationValidationSeesAMissingBarrier) {
     EXPECT_GT(ctx().validation_message_count(), before);
     EXPECT_TRUE(contains(log, "SYNC-HAZARD")) << log;
     accept_validation_messages();
+}
+
+TEST_F(EngineErrors, TexelArraysArePaddedWithZerosAndPartialUploadsAreRefusedUnlessAsked) {
+    // A full image of 0xff bytes first, so a reused staging allocation would show through the padding.
+    const std::vector<glm::uvec4> full(kTexelArrayRowWidth * 2, glm::uvec4(0xffffffffu));
+    Image first = upload_texel_array(ctx(), full, Format::RGBA32U, "full");
+    const std::vector<glm::uvec4> some{{1, 2, 3, 4}, {5, 6, 7, 8}, {9, 10, 11, 12}};
+    Image padded = upload_texel_array(ctx(), some, Format::RGBA32U, "padded");
+    const std::vector<std::byte> bytes = ctx().download(padded);
+    ASSERT_EQ(bytes.size(), std::size_t(kTexelArrayRowWidth) * sizeof(glm::uvec4));
+    std::vector<glm::uvec4> back(kTexelArrayRowWidth);
+    std::memcpy(back.data(), bytes.data(), bytes.size());
+    for (std::size_t i = 0; i < back.size(); ++i)
+        ASSERT_EQ(back[i], i < some.size() ? some[i] : glm::uvec4(0u)) << "texel " << i;
+    // Without zero_rest an upload must fill the image; with it, it must still fit.
+    EXPECT_THROW(ctx().upload(padded, some.data(), sizeof(glm::uvec4) * some.size()), Error);
+    const std::vector<glm::uvec4> too_many(kTexelArrayRowWidth + 1);
+    EXPECT_THROW(ctx().upload(padded, too_many.data(), sizeof(glm::uvec4) * too_many.size(), true), Error);
 }

@@ -3,9 +3,13 @@
 #include "cylinder_cases.h"
 #include "gpu_test.h"
 
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/shapes.h"
 #include "gimg/passes/cylinder.h"
 
 #include <glm/ext/matrix_transform.hpp>
+
+#include <algorithm>
 
 using namespace gimg;
 
@@ -93,4 +97,31 @@ TEST_F(CylinderBatch, TimestampsOnlyWhenAskedForAndTheSameImage) {
     EXPECT_FALSE(timed.last_pass_timings().empty());
     EXPECT_EQ(a.covered, b.covered);
     EXPECT_EQ(a.distance, b.distance);
+}
+
+TEST_F(CylinderBatch, MeshesAddedTogetherProjectAsAddedOneByOne) {
+    // add_meshes prepares the meshes on every core; the images are those of add_mesh, and a bad mesh
+    // in the list adds none of them.
+    const std::uint32_t W = 64, H = 32;
+    std::vector<passes::CylinderMesh> meshes;
+    for (int k = 0; k < 7; ++k) {
+        geo::Mesh m = k % 2 ? geo::make_torus(0.3, 0.1, 20 + k, 10) : geo::make_icosphere(0.2 + 0.02 * k, 2);
+        for (auto& p : m.positions) p.y += 0.5;
+        meshes.push_back(gimg::test::to_cylinder_mesh(m));
+    }
+    passes::CylinderZBuffer together(ctx(), W, H), alone(ctx(), W, H);
+    together.reserve(1000, 1000);  // smaller than they need: only a hint
+    const std::vector<std::uint32_t> ids = together.add_meshes(meshes);
+    ASSERT_EQ(ids.size(), meshes.size());
+    for (std::size_t k = 0; k < meshes.size(); ++k) {
+        EXPECT_EQ(ids[k], k);
+        const auto a = together.project(ids[k]), b = alone.project(alone.add_mesh(meshes[k]));
+        EXPECT_GT(std::count(a.covered.begin(), a.covered.end(), 1), 100) << "mesh " << k;
+        EXPECT_EQ(a.covered, b.covered) << "mesh " << k;
+        EXPECT_EQ(a.distance, b.distance) << "mesh " << k;
+    }
+    std::vector<passes::CylinderMesh> bad = meshes;
+    bad[4].triangles[5] = 1u << 20;
+    EXPECT_THROW(together.add_meshes(bad), geo::InputError);
+    EXPECT_EQ(together.add_mesh(meshes[0]), meshes.size());  // nothing of the bad list was added
 }

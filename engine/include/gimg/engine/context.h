@@ -126,8 +126,9 @@ public:
         download(buffer, out.data(), out.size() * sizeof(T));
         return out;
     }
-    // Whole-image transfers, tightly packed rows of bytes_per_pixel(format).
-    void upload(Image& image, const void* pixels, VkDeviceSize bytes);
+    // Whole-image transfers, tightly packed rows of bytes_per_pixel(format). With zero_rest, `bytes`
+    // may be fewer than the image holds: the rest is zeros.
+    void upload(Image& image, const void* pixels, VkDeviceSize bytes, bool zero_rest = false);
     std::vector<std::byte> download(Image& image);
 
     // Waits for every submission gimg made on this context.

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,17 +40,20 @@ inline void check_texel_array_size(const Context& ctx, std::size_t count, const 
 }
 
 // A device image of `format` (one T a texel: T has the format's size) holding `texels`, padded to
-// whole rows.
+// whole rows with zeros.
 template <class T>
-Image upload_texel_array(Context& ctx, std::vector<T> texels, Format format, const std::string& name) {
+Image upload_texel_array(Context& ctx, std::span<const T> texels, Format format, const std::string& name) {
     if (sizeof(T) != bytes_per_pixel(format))
         throw Error(ErrorKind::InvalidArgument,
                     name + ": " + std::to_string(sizeof(T)) + "-byte elements in " + to_string(format) + " texels");
     check_texel_array_size(ctx, texels.size(), name);
     Image image = ctx.create_image(texel_array_desc(texels.size(), format, name));
-    texels.resize(std::size_t(image.width()) * image.height(), T{});
-    ctx.upload(image, texels.data(), texels.size() * sizeof(T));
+    ctx.upload(image, texels.data(), texels.size_bytes(), /*zero_rest=*/true);
     return image;
+}
+template <class T>
+Image upload_texel_array(Context& ctx, const std::vector<T>& texels, Format format, const std::string& name) {
+    return upload_texel_array(ctx, std::span<const T>(texels), format, name);
 }
 
 }  // namespace gimg

@@ -188,6 +188,10 @@ public:
     // Uploads a mesh; returns its id for project(). Batches larger than one execution can hold
     // (the device's storage-buffer range, one atlas) are split into several.
     std::uint32_t add_mesh(const CylinderMesh& mesh);
+    // The same for many meshes, their preparation spread over the cores: their ids in order.
+    std::vector<std::uint32_t> add_meshes(std::span<const CylinderMesh> meshes);
+    // Room for this many more vertices and faces, for a caller about to add many meshes.
+    void reserve(std::size_t vertices, std::size_t faces);
 
     struct Job {
         std::uint32_t mesh = 0;
