@@ -69,7 +69,38 @@ Pieces slab_pieces(const std::vector<glm::uvec3>& tris, const std::vector<std::u
     return p;
 }
 
+// The sliced mesh's slab pieces with the contours each touches.
+Pieces mesh_slab_pieces(const SlicedMesh& sliced, const std::vector<Contour>& contours,
+                        const std::vector<double>& plane_z) {
+    std::vector<std::int32_t> contour_of(sliced.mesh.vertex_count(), -1);
+    for (std::size_t c = 0; c < contours.size(); ++c)
+        for (std::uint32_t v : contours[c].vertices) contour_of[v] = std::int32_t(c);
+    std::vector<std::uint32_t> mesh_slab(sliced.mesh.face_count());
+    for (std::size_t f = 0; f < mesh_slab.size(); ++f) {
+        const auto& t = sliced.mesh.triangles[f];
+        const double zc =
+            (sliced.mesh.positions[t[0]].z + sliced.mesh.positions[t[1]].z + sliced.mesh.positions[t[2]].z) / 3.0;
+        mesh_slab[f] = std::uint32_t(std::upper_bound(plane_z.begin(), plane_z.end(), zc) - plane_z.begin());
+    }
+    return slab_pieces(sliced.mesh.triangles, mesh_slab, [&](std::uint32_t v) { return contour_of[v]; });
+}
+
 }  // namespace
+
+JoinedContours joined_contours(const SlicedMesh& sliced, const std::vector<Contour>& contours,
+                               const std::vector<double>& plane_z) {
+    const Pieces ms = mesh_slab_pieces(sliced, contours, plane_z);
+    JoinedContours joined(plane_z.size() + 1);
+    for (std::size_t i = 0; i < ms.triangles.size(); ++i) {
+        const std::uint32_t slab = ms.slab[i];
+        if (slab == 0 || slab >= plane_z.size()) continue;
+        for (const std::int32_t lower : ms.contours[i])
+            for (const std::int32_t upper : ms.contours[i])
+                if (contours[lower].plane + 1 == slab && contours[upper].plane == slab)
+                    joined[slab].insert({lower, upper});
+    }
+    return joined;
+}
 
 std::vector<std::vector<std::int32_t>> match_loops(const PolycubeSurface& surface, const std::vector<Contour>& contours,
                                                    std::size_t plane_count) {
@@ -107,21 +138,11 @@ SlabCheck check_slabs(const SlicedMesh& sliced, const std::vector<Contour>& cont
     std::vector<std::size_t> contours_on(plane_z.size(), 0);
     for (const auto& c : contours) ++contours_on[c.plane];
     // The connectivity check: every slab piece of the mesh (genus 0) against the polycube's.
-    std::vector<std::int32_t> contour_of(sliced.mesh.vertex_count(), -1);
-    for (std::size_t c = 0; c < contours.size(); ++c)
-        for (std::uint32_t v : contours[c].vertices) contour_of[v] = std::int32_t(c);
-    std::vector<std::uint32_t> mesh_slab(sliced.mesh.face_count());
-    for (std::size_t f = 0; f < mesh_slab.size(); ++f) {
-        const auto& t = sliced.mesh.triangles[f];
-        const double zc =
-            (sliced.mesh.positions[t[0]].z + sliced.mesh.positions[t[1]].z + sliced.mesh.positions[t[2]].z) / 3.0;
-        mesh_slab[f] = std::uint32_t(std::upper_bound(plane_z.begin(), plane_z.end(), zc) - plane_z.begin());
-    }
+    const Pieces ms = mesh_slab_pieces(sliced, contours, plane_z);
     std::map<std::uint32_t, std::int32_t> surface_contour;
     for (std::size_t p = 0; p < plane_z.size(); ++p)
         for (std::size_t l = 0; l < surface.loops[p].size(); ++l)
             for (std::uint32_t v : surface.loops[p][l]) surface_contour[v] = loop_contour[p][l];
-    const Pieces ms = slab_pieces(sliced.mesh.triangles, mesh_slab, [&](std::uint32_t v) { return contour_of[v]; });
     const Pieces ps = slab_pieces(surface.mesh.triangles, surface.slab, [&](std::uint32_t v) {
         const auto it = surface_contour.find(v);
         return it == surface_contour.end() ? -1 : it->second;

@@ -107,7 +107,8 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         const ClosureCounts closed = close_contours(sliced.mesh, contours, o.k, mean_edge);
 
         double excess = 0.0;
-        Layers layers = stacked_regions(contours, plane_z, box, o.da, o.max_level, excess);
+        const JoinedContours joined = joined_contours(sliced, contours, plane_z);
+        Layers layers = stacked_regions(contours, plane_z, box, o.da, o.max_level, joined, excess, st.cells_carved);
         st.cells_filled = make_manifold(layers);
         surface = polycube_surface(layers);
 

@@ -79,16 +79,28 @@ struct Layers {
     Rect root;
     std::uint32_t depth = 0;
     std::vector<std::vector<std::uint8_t>> cells;  // per plane, (2^depth)^2
+    std::vector<std::vector<std::int32_t>> owner;  // per plane, per cell: its component (-1 empty)
+    std::vector<std::set<std::pair<std::int32_t, std::int32_t>>> joins;  // per plane p: the components of
+                                                                         // p and p + 1 a mesh piece joins
     std::vector<double> plane_z;
     double bottom = 0.0, top = 0.0;
 };
+// Per slab (slab s between planes s - 1 and s), the pairs (contour on plane s - 1, contour on plane
+// s) that one piece of the mesh between the two planes joins.
+using JoinedContours = std::vector<std::set<std::pair<std::int32_t, std::int32_t>>>;
+
 // Step 2-2 for every plane: the rectilinear regions of its closed contours over one root (the
 // bounding rectangle of the model and of every closed contour), all at the deepest plane's depth;
-// `excess` gets the sum of the planes' (area(p) - area(c)) / area(c).
+// `excess` gets the sum of the planes' (area(p) - area(c)) / area(c). Components of neighbouring
+// layers that overlap or touch where no mesh piece joins them are refined further, and at
+// max_level the farther cell of each such touch is given up (`carved` counts them).
 Layers stacked_regions(const std::vector<Contour>& contours, const std::vector<double>& plane_z, const geo::Bounds& box,
-                       double da, std::uint32_t max_level, double& excess);
+                       double da, std::uint32_t max_level, const JoinedContours& joined, double& excess,
+                       std::size_t& carved);
 
-// Fills cells until every edge and corner of the stack is manifold; returns how many it filled.
+// Fills cells until every edge and corner of the stack is manifold, never one that would join two
+// pieces of a layer or touch a component of a neighbouring layer the mesh does not join to its
+// own; returns how many cells it filled or gave up.
 std::size_t make_manifold(Layers& layers);
 
 struct PolycubeSurface {
@@ -129,6 +141,9 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
 }  // namespace gimg::passes::polycube
 
 namespace gimg::passes::polycube {
+
+JoinedContours joined_contours(const SlicedMesh& sliced, const std::vector<Contour>& contours,
+                               const std::vector<double>& plane_z);
 
 // Per plane, per loop of the walls at that plane: the contour it stands for (the nearest, one to
 // one; -1 when the plane has more loops than contours).

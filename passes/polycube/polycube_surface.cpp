@@ -98,6 +98,34 @@ std::size_t make_manifold(Layers& layers) {
             }
         return false;
     };
+    // The component a fill at (l, cx, cy) would join (a neighbour's in its layer), and whether it
+    // would touch a component of the layer above or below that the mesh does not join to it.
+    const bool owned = layers.owner.size() == layers.cells.size();
+    const auto component_for = [&](int l, int cx, int cy) {
+        for (int dy = -1; dy <= 1; ++dy)
+            for (int dx = -1; dx <= 1; ++dx) {
+                const int x = cx + dx, y = cy + dy;
+                if (x >= 0 && y >= 0 && x < n && y < n && layers.owner[l][std::size_t(y) * n + x] >= 0)
+                    return layers.owner[l][std::size_t(y) * n + x];
+            }
+        return std::int32_t(-1);
+    };
+    const auto touches_foreign = [&](int l, int cx, int cy) {
+        if (!owned) return false;
+        const std::int32_t a = component_for(l, cx, cy);
+        if (a < 0) return false;
+        for (const int m : {l - 1, l + 1}) {
+            if (m < 0 || m >= count) continue;
+            for (int dy = -1; dy <= 1; ++dy)
+                for (int dx = -1; dx <= 1; ++dx) {
+                    const int x = cx + dx, y = cy + dy;
+                    if (x < 0 || y < 0 || x >= n || y >= n) continue;
+                    const std::int32_t b = layers.owner[m][std::size_t(y) * n + x];
+                    if (b >= 0 && !(m < l ? layers.joins[m].count({b, a}) : layers.joins[l].count({a, b}))) return true;
+                }
+        }
+        return false;
+    };
     for (int pass = 0; pass < 64; ++pass) {
         bool changed = false;
         for (int l = 0; l < count; ++l) relabel(l);
@@ -119,7 +147,8 @@ std::size_t make_manifold(Layers& layers) {
                         if (l < 0 || l >= count || cx < 0 || cy < 0 || cx >= n || cy >= n) continue;
                         int m = mask | (1 << bit);
                         if (lower == upper) m |= (bit & 4) ? (1 << (bit - 4)) : (1 << (bit + 4));
-                        int score = (ok[m] ? 100 : 0) + (joins_pieces(l, cx, cy) ? -1000 : 0);
+                        int score =
+                            (ok[m] ? 100 : 0) + (joins_pieces(l, cx, cy) || touches_foreign(l, cx, cy) ? -1000 : 0);
                         for (int axis = 0; axis < 3; ++axis) score += (mask >> (bit ^ (1 << axis))) & 1;
                         if (score > best_score) best_score = score, best = bit;
                     }
@@ -137,11 +166,14 @@ std::size_t make_manifold(Layers& layers) {
                             if (score < drop_score) drop_score = score, drop = bit;
                         }
                         const int dl = drop & 4 ? upper : lower;
-                        layers.cells[dl][std::size_t(y - 1 + ((drop >> 1) & 1)) * n + x - 1 + (drop & 1)] = 0;
+                        const std::size_t dc = std::size_t(y - 1 + ((drop >> 1) & 1)) * n + x - 1 + (drop & 1);
+                        layers.cells[dl][dc] = 0;
+                        if (owned) layers.owner[dl][dc] = -1;
                         ++filled;
                         changed = true;
                         continue;
                     }
+                    if (owned) layers.owner[l][std::size_t(fy) * n + fx] = component_for(l, fx, fy);
                     layers.cells[l][std::size_t(fy) * n + fx] = 1;
                     label[l][std::size_t(fy) * n + fx] = [&] {
                         for (int dy = -1; dy <= 1; ++dy)

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 namespace gimg::passes {
 
@@ -167,7 +168,7 @@ double distance_to_loops(glm::dvec2 p, const Loops& loops) {
 }  // namespace
 
 RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>& loops, Rect root, double da,
-                                     std::uint32_t max_level) {
+                                     std::uint32_t max_level, std::uint32_t min_depth) {
     RectilinearRegion r;
     r.root = root;
     // Nesting: a loop inside an even number of others bounds a piece, inside an odd number a hole
@@ -217,7 +218,7 @@ RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>&
             if ((excess < da && topology_ok(cells[k], 1, parts[k].size() - 1)) || d >= int(max_level)) return;
         }
     };
-    for (std::size_t k = 0; k < parts.size(); ++k) refine(k, 0);
+    for (std::size_t k = 0; k < parts.size(); ++k) refine(k, int(std::min(min_depth, max_level)));
 
     // Together at the deepest of their depths: components that overlap or touch are refined
     // further; at the deepest level the cells between them go to the nearer one.
@@ -309,6 +310,11 @@ RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>&
         r.depth = std::uint32_t(top);
         r.cells.assign(std::size_t(n) * n, 0);
         for (std::size_t c = 0; c < owner.size(); ++c) r.cells[c] = owner[c] >= 0;
+        r.owner = std::move(owner);
+        r.component_depth.assign(depth.begin(), depth.end());
+        r.component_of_loop.assign(loops.size(), -1);
+        for (std::size_t i = 0; i < loops.size(); ++i)
+            if (loops[i].size() >= 3) r.component_of_loop[i] = std::int32_t(part_of[nesting[i] % 2 ? parent[i] : i]);
         r.area = double(std::count(r.cells.begin(), r.cells.end(), 1)) * cell.x * cell.y;
         r.carved = carved + contested.size();
         Window all;
@@ -322,35 +328,122 @@ RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>&
 namespace polycube {
 
 Layers stacked_regions(const std::vector<Contour>& contours, const std::vector<double>& plane_z, const geo::Bounds& box,
-                       double da, std::uint32_t max_level, double& excess) {
+                       double da, std::uint32_t max_level, const JoinedContours& joined, double& excess,
+                       std::size_t& carved) {
     Rect root{{box.min.x, box.min.y}, {box.max.x, box.max.y}};
     for (const auto& c : contours)
         for (const auto& p : c.closed) root.min = glm::min(root.min, p), root.max = glm::max(root.max, p);
-    std::vector<std::vector<std::vector<glm::dvec2>>> loops(plane_z.size());
-    for (const auto& c : contours) loops[c.plane].push_back(c.closed);
-    std::vector<RectilinearRegion> regions;
-    std::uint32_t depth = 0;
-    excess = 0.0;
-    for (const auto& l : loops) {
-        regions.push_back(rectilinear_region(l, root, da, max_level));
-        depth = std::max(depth, regions.back().depth);
-        excess += regions.back().excess();
+    const std::size_t planes = plane_z.size();
+    std::vector<std::vector<std::vector<glm::dvec2>>> loops(planes);
+    std::vector<std::size_t> loop_of(contours.size());  // contour -> its loop on its plane
+    for (std::size_t c = 0; c < contours.size(); ++c) {
+        loop_of[c] = loops[contours[c].plane].size();
+        loops[contours[c].plane].push_back(contours[c].closed);
     }
+    std::vector<RectilinearRegion> regions(planes);
+    std::vector<std::uint32_t> min_depth(planes, 0);
+    std::vector<std::uint8_t> stale(planes, 1);
+    std::uint32_t depth = 0;
+    std::vector<std::vector<std::int32_t>> owner(planes);  // per plane, per cell at `depth`: its component
+    // Per slab between planes p and p + 1, the component pairs a mesh piece joins.
+    const auto allowed = [&](std::size_t p) {
+        std::set<std::pair<std::int32_t, std::int32_t>> pairs;
+        if (p + 1 < joined.size())
+            for (const auto& [lower, upper] : joined[p + 1])
+                pairs.insert(
+                    {regions[p].component_of_loop[loop_of[lower]], regions[p + 1].component_of_loop[loop_of[upper]]});
+        return pairs;
+    };
+    struct Touch {
+        std::size_t plane;  // the lower layer; the upper is plane + 1
+        std::int32_t lower, upper;
+        std::size_t lower_cell, upper_cell;
+    };
+    // Cells of neighbouring layers that overlap or meet at an edge or corner (the surface joins
+    // them there) while no mesh piece joins their components.
+    const auto touches = [&] {
+        std::vector<Touch> found;
+        const int n = 1 << depth;
+        for (std::size_t p = 0; p + 1 < planes; ++p) {
+            const auto ok = allowed(p);
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x) {
+                    const std::size_t c = std::size_t(y) * n + x;
+                    const std::int32_t a = owner[p][c];
+                    if (a < 0) continue;
+                    for (int dy = -1; dy <= 1; ++dy)
+                        for (int dx = -1; dx <= 1; ++dx) {
+                            const int qx = x + dx, qy = y + dy;
+                            if (qx < 0 || qy < 0 || qx >= n || qy >= n) continue;
+                            const std::size_t q = std::size_t(qy) * n + qx;
+                            const std::int32_t b = owner[p + 1][q];
+                            if (b >= 0 && !ok.count({a, b})) found.push_back({p, a, b, c, q});
+                        }
+                }
+        }
+        return found;
+    };
+    carved = 0;
+    for (;;) {
+        for (std::size_t p = 0; p < planes; ++p)
+            if (stale[p]) regions[p] = rectilinear_region(loops[p], root, da, max_level, min_depth[p]), stale[p] = 0;
+        depth = 0;
+        for (const auto& r : regions) depth = std::max(depth, r.depth);
+        const int n = 1 << depth;
+        for (std::size_t p = 0; p < planes; ++p) {
+            const auto& r = regions[p];
+            const int shift = int(depth - r.depth), rn = 1 << r.depth;
+            owner[p].assign(std::size_t(n) * n, -1);
+            for (int y = 0; y < n; ++y)
+                for (int x = 0; x < n; ++x)
+                    owner[p][std::size_t(y) * n + x] = r.owner[std::size_t(y >> shift) * rn + (x >> shift)];
+        }
+        std::vector<Touch> found = touches();
+        if (found.empty()) break;
+        // Components coarser than max_level refine further and the layers are compared again.
+        bool refined = false;
+        for (const Touch& t : found)
+            for (const auto& [p, k] : {std::pair{t.plane, t.lower}, std::pair{t.plane + 1, t.upper}}) {
+                const std::uint32_t d = regions[p].component_depth[std::size_t(k)];
+                if (d < max_level && min_depth[p] < d + 1) min_depth[p] = d + 1, stale[p] = 1, refined = true;
+            }
+        if (refined) continue;
+        // At max_level: of each touching pair, the cell farther from its own contours is given up.
+        const glm::dvec2 cell = (root.max - root.min) / double(n);
+        const auto distance = [&](std::size_t p, std::int32_t k, std::size_t c) {
+            const glm::dvec2 centre = root.min + glm::dvec2(double(c % n) + 0.5, double(c / n) + 0.5) * cell;
+            double best = 1e300;
+            for (std::size_t l = 0; l < loops[p].size(); ++l)
+                if (regions[p].component_of_loop[l] == k)
+                    best = std::min(best, polycube::distance_to_loop(centre, loops[p][l]));
+            return best;
+        };
+        for (; !found.empty(); found = touches())
+            for (const Touch& t : found) {
+                if (owner[t.plane][t.lower_cell] != t.lower || owner[t.plane + 1][t.upper_cell] != t.upper) continue;
+                if (distance(t.plane, t.lower, t.lower_cell) >= distance(t.plane + 1, t.upper, t.upper_cell))
+                    owner[t.plane][t.lower_cell] = -1;
+                else
+                    owner[t.plane + 1][t.upper_cell] = -1;
+                ++carved;
+            }
+        break;
+    }
+    excess = 0.0;
+    for (const auto& r : regions) excess += r.excess();
     Layers layers;
     layers.root = root;
     layers.depth = depth;
     layers.plane_z = plane_z;
     layers.bottom = box.min.z;
     layers.top = box.max.z;
-    const int n = 1 << depth;
-    for (const auto& r : regions) {
-        std::vector<std::uint8_t> cells(std::size_t(n) * n);
-        const int shift = int(depth - r.depth), rn = 1 << r.depth;
-        for (int y = 0; y < n; ++y)
-            for (int x = 0; x < n; ++x)
-                cells[std::size_t(y) * n + x] = r.cells[std::size_t(y >> shift) * rn + (x >> shift)];
+    for (const auto& o : owner) {
+        std::vector<std::uint8_t> cells(o.size());
+        for (std::size_t c = 0; c < o.size(); ++c) cells[c] = o[c] >= 0;
         layers.cells.push_back(std::move(cells));
     }
+    for (std::size_t p = 0; p < planes; ++p) layers.joins.push_back(allowed(p));
+    layers.owner = std::move(owner);
     return layers;
 }
 

@@ -252,6 +252,94 @@ TEST(PolycubeQuadtree, StopRuleAndMonotoneInDa) {
     EXPECT_EQ(annulus.cells[std::size_t(n / 2) * n + n / 2], 0);  // the centre is in the hole
 }
 
+// Two pairs of columns, the right one of the upper plane leaning left to within 0.03 of the lower
+// plane's left column: each plane alone keeps its two regions apart, but the left region of the
+// lower plane meets the right one of the upper (the polyhedron would join the columns there).
+TEST(PolycubeQuadtree, NeighbouringLayersKeepUnjoinedPiecesApart) {
+    const auto square = [](double x0, double x1) {
+        return std::vector<glm::dvec2>{{x0, 0.0}, {x1, 0.0}, {x1, 1.0}, {x0, 1.0}};
+    };
+    std::vector<gp::polycube::Contour> contours(4);
+    contours[0].plane = 0, contours[0].closed = square(0.0, 1.0);    // A0
+    contours[1].plane = 0, contours[1].closed = square(1.3, 2.3);    // B0
+    contours[2].plane = 1, contours[2].closed = square(0.0, 0.9);    // A1
+    contours[3].plane = 1, contours[3].closed = square(1.03, 2.03);  // B1
+    const std::vector<double> plane_z{0.0, 1.0};
+    geo::Bounds box;
+    box.min = {0.0, 0.0, -0.5}, box.max = {2.3, 1.0, 1.5};
+    const gp::Rect root{{0.0, 0.0}, {2.3, 1.0}};
+    const double da = 0.05;
+    const std::uint32_t max_level = 8;
+
+    // Per cell of the common grid, per layer: the component of A (0), of B (1) or none (-1).
+    const auto touching_a0_b1 = [](const std::vector<std::int32_t>& lower, const std::vector<std::int32_t>& upper,
+                                   std::int32_t a, std::int32_t b, int n) {
+        std::size_t count = 0;
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x) {
+                if (lower[std::size_t(y) * n + x] != a) continue;
+                for (int dy = -1; dy <= 1; ++dy)
+                    for (int dx = -1; dx <= 1; ++dx) {
+                        const int qx = x + dx, qy = y + dy;
+                        if (qx >= 0 && qy >= 0 && qx < n && qy < n && upper[std::size_t(qy) * n + qx] == b) ++count;
+                    }
+            }
+        return count;
+    };
+    const auto upsample = [](const gp::RectilinearRegion& r, std::uint32_t depth) {
+        const int n = 1 << depth, shift = int(depth - r.depth), rn = 1 << r.depth;
+        std::vector<std::int32_t> out(std::size_t(n) * n);
+        for (int y = 0; y < n; ++y)
+            for (int x = 0; x < n; ++x)
+                out[std::size_t(y) * n + x] = r.owner[std::size_t(y >> shift) * rn + (x >> shift)];
+        return out;
+    };
+    // Each plane alone: two regions apart, but across the layers A0 meets B1.
+    const auto r0 = gp::rectilinear_region({contours[0].closed, contours[1].closed}, root, da, max_level);
+    const auto r1 = gp::rectilinear_region({contours[2].closed, contours[3].closed}, root, da, max_level);
+    ASSERT_TRUE(r0.topology_ok && r1.topology_ok);
+    const std::uint32_t depth = std::max(r0.depth, r1.depth);
+    ASSERT_GT(touching_a0_b1(upsample(r0, depth), upsample(r1, depth), r0.component_of_loop[0], r1.component_of_loop[1],
+                             1 << depth),
+              0u);
+
+    // Stacked, with the mesh joining A0 to A1 and B0 to B1 only: nothing of A0 meets B1, nothing
+    // was given up (refining was enough), and every cell centre inside a square is still in its region.
+    gp::polycube::JoinedContours joined(3);
+    joined[1] = {{0, 2}, {1, 3}};
+    double excess = 0.0;
+    std::size_t carved = 0;
+    const auto layers = gp::polycube::stacked_regions(contours, plane_z, box, da, max_level, joined, excess, carved);
+    const int n = 1 << layers.depth;
+    EXPECT_EQ(carved, 0u);
+    ASSERT_EQ(layers.joins[0].size(), 2u);
+    const std::int32_t a0 = layers.owner[0][std::size_t(n / 2) * n + n / 5];
+    const std::int32_t b1 = layers.owner[1][std::size_t(n / 2) * n + 3 * n / 4];
+    ASSERT_GE(a0, 0);
+    ASSERT_GE(b1, 0);
+    EXPECT_FALSE(layers.joins[0].count({a0, b1}));
+    EXPECT_EQ(touching_a0_b1(layers.owner[0], layers.owner[1], a0, b1, n), 0u);
+    for (int y = 0; y < n; ++y)
+        for (int x = 0; x < n; ++x) {
+            const glm::dvec2 c = root.min + (glm::dvec2(x, y) + 0.5) * (root.max - root.min) / double(n);
+            for (const auto& contour : contours)
+                if (c.x > contour.closed[0].x && c.x < contour.closed[1].x) {
+                    ASSERT_EQ(layers.cells[contour.plane][std::size_t(y) * n + x], 1) << x << " " << y;
+                }
+        }
+
+    // Where the contours themselves overlap in projection, refining cannot help: the cells are given up.
+    contours[3].closed = square(0.99, 1.99);
+    const auto carved_layers =
+        gp::polycube::stacked_regions(contours, plane_z, box, da, max_level, joined, excess, carved);
+    EXPECT_GT(carved, 0u);
+    const int m = 1 << carved_layers.depth;
+    EXPECT_EQ(touching_a0_b1(carved_layers.owner[0], carved_layers.owner[1],
+                             carved_layers.owner[0][std::size_t(m / 2) * m + m / 5],
+                             carved_layers.owner[1][std::size_t(m / 2) * m + 3 * m / 4], m),
+              0u);
+}
+
 TEST(PolycubeBuild, AxisAlignedBoxGivesOneBox) {
     const geo::Mesh box = geo::make_box({2.0, 1.0, 1.0}, 4);
     const gp::Polycube p = gp::build_polycube(nullptr, box);
@@ -403,6 +491,16 @@ TEST(PolycubeBuild, RefusesWhatItCannotTake) {
     bad = {};
     bad.axis = 4;
     EXPECT_THROW(gp::build_polycube(nullptr, geo::make_icosphere(1.0, 1), bad), geo::InputError);
+}
+
+// The cow's legs and horns stand closer than the coarse cells: the layers must keep them apart.
+TEST(PolycubeSharedMeshes, CowHasAValidPolycubeAndAFlipFreeMap) {
+    GIMG_REQUIRE_SHARED_MESH(cow, "cow.off");
+    const gp::Polycube p = gp::build_polycube(nullptr, geo::load_mesh(cow));
+    expect_valid_polycube(p, 0);
+    EXPECT_EQ(p.stats.axis, 2);  // along z, the first tried
+    ASSERT_TRUE(p.stats.mapped) << p.stats.map_note;
+    EXPECT_EQ(p.stats.flips, 0u);
 }
 
 TEST(PolycubeSharedMeshes, DoubleTorusAndAnOpenScan) {

@@ -106,13 +106,16 @@ struct RectilinearRegion {
     double region_area = 0.0;  // area(c)
     double area = 0.0;         // area(p)
     double excess() const { return region_area > 0.0 ? (area - region_area) / region_area : 0.0; }
-    bool topology_ok = false;  // components, holes and touching as the loops' region
-    std::size_t carved = 0;    // cells given up where components came closer than a cell (0: p holds c)
+    bool topology_ok = false;         // components, holes and touching as the loops' region
+    std::size_t carved = 0;           // cells given up where components came closer than a cell (0: p holds c)
+    std::vector<std::int32_t> owner;  // per cell: the component (outer loop and its holes), -1 empty
+    std::vector<std::int32_t> component_of_loop;  // per loop: its component (-1: fewer than 3 points)
+    std::vector<std::uint32_t> component_depth;   // per component: the depth it was refined to
 };
-// Refines from depth 0 until excess() < da and the topology matches with nothing carved (or
+// Refines from depth min_depth until excess() < da and the topology matches with nothing carved (or
 // max_level). Pockets a component's cells enclose that hold none of its holes are filled.
 RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>& loops, Rect root, double da,
-                                     std::uint32_t max_level);
+                                     std::uint32_t max_level, std::uint32_t min_depth = 0);
 
 // ---- The whole construction ----
 
@@ -129,6 +132,7 @@ struct PolycubeStatistics {
     std::uint32_t quadtree_depth = 0;  // deepest plane
     double mean_excess = 0.0;          // of (area(p) - area(c)) / area(c) over the planes' regions
     std::size_t cells_filled = 0;      // cells added so the polyhedron is manifold
+    std::size_t cells_carved = 0;      // cells given up where neighbouring layers' unjoined pieces touched
     std::size_t polycube_faces = 0, polycube_corners = 0, polycube_triangles = 0;
     long long euler_characteristic = 0;
     bool polycube_valid = false;  // closed, manifold, one piece, axis-aligned, chi = 2 - 2g
