@@ -308,7 +308,11 @@ BaseDomain build_base_domain(const geo::Mesh& mesh, const MapsOptions& options) 
     if (options.max_valence < 3) throw geo::InputError("the valence cap must be at least 3");
     if (!(options.max_cone == 0.0 || options.max_cone >= 1.0))
         throw geo::InputError("the cone limit must be 0 (none) or at least 1");
-    const std::uint32_t target = options.base_vertices ? options.base_vertices : 50u * (1u + genus);
+    // About one base vertex per 20 of the mesh's, so base triangles shrink with its detail (cow's
+    // horns and legs straddle base edges at 50), kept within 50 (1 + g) and 150 (1 + g).
+    const std::uint32_t target = options.base_vertices ? options.base_vertices
+                                                       : std::clamp(std::uint32_t(mesh.vertex_count() / 20),
+                                                                    50u * (1u + genus), 150u * (1u + genus));
     Hierarchy h(mesh, options);
     return h.run(target);
 }

@@ -79,7 +79,9 @@ void add_maps_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--out", o->out, "Output folder (base.obj, remesh_J.obj, coarse_J-1.obj, wavelets.bin, pictures)")
         ->required();
     add_count_option(cmd, "--levels", o->levels, 1, 7, "Subdivision levels J of the remesh (default 4)");
-    add_count_option(cmd, "--base", o->base, 4, 1'000'000, "Base domain size in vertices (default 50 (1 + genus))");
+    add_count_option(
+        cmd, "--base", o->base, 4, 1'000'000,
+        "Base domain size in vertices (default: a twentieth of the mesh's, within 50 (1 + genus) and 150 (1 + genus))");
     cmd->add_option("--k", o->k, "Wavelet: lazy, or the k-disk wavelet's k: 0, 1 (default) or 2")
         ->check(CLI::IsMember({"lazy", "0", "1", "2"}));
     add_number_option(cmd, "--lambda", o->lambda, 0.0, 1.0,

@@ -26,7 +26,7 @@ enum class RingFlattening { Polar, Za };
 
 struct MapsOptions {
     double lambda = 0.5;              // weight of the ring area against the curvature in the priority
-    std::uint32_t base_vertices = 0;  // stop at this many vertices; 0: 50 (1 + genus)
+    std::uint32_t base_vertices = 0;  // stop at this many vertices; 0: V / 20 within 50 (1 + g), 150 (1 + g)
     std::uint32_t max_valence = 12;   // vertices of higher valence are never removed
     bool check_tracking = false;      // assert the tracking invariants after every removal (tests)
     bool keep_levels = false;         // keep every level's triangles in BaseDomain::level_faces
