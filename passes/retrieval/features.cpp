@@ -6,6 +6,7 @@
 #include "gimg/engine/upload.h"
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/parallel_for.h"
+#include "gimg/geometry/pca.h"
 #include "gimg/geometry/surface_sampling.h"
 
 #include <glm/geometric.hpp>
@@ -85,8 +86,79 @@ std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32
     return out;
 }
 
+std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh) {
+    const geo::PcaAlignment pca = geo::compute_pca_alignment(mesh, geo::PcaWeighting::SurfaceArea);
+    std::vector<glm::dvec3> q(mesh.positions.size());
+    for (std::size_t i = 0; i < q.size(); ++i) q[i] = pca.transform.apply_point(mesh.positions[i]);
+    // The surface's mean distance from the centroid, by area (each triangle at its centroid).
+    double area = 0.0, mean = 0.0;
+    for (const auto& t : mesh.triangles) {
+        const double a = 0.5 * glm::length(glm::cross(q[t[1]] - q[t[0]], q[t[2]] - q[t[0]]));
+        area += a;
+        mean += a * glm::length((q[t[0]] + q[t[1]] + q[t[2]]) / 3.0);
+    }
+    if (!(area > 0.0) || !(mean > 0.0)) throw geo::InputError("retrieval: the mesh has no area");
+    mean /= area;
+    std::vector<CylinderMesh> out;
+    // (u, axis, v) right-handed (cyclic permutations of the principal frame), so faces keep facing out.
+    const glm::dvec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    for (int a = 0; a < 3; ++a) {
+        const glm::dvec3 axis = a == 0 ? e[1] : a == 1 ? e[0] : e[2];
+        const glm::dvec3 u = a == 0 ? e[0] : a == 1 ? e[2] : e[1], v = glm::cross(u, axis);
+        double radius = 0.0, reach = 0.0;
+        for (const auto& p : q) {
+            radius = std::max(radius, std::hypot(glm::dot(p, u), glm::dot(p, v)));
+            reach = std::max(reach, std::abs(glm::dot(p, axis)));
+        }
+        const double r = std::max(3.0 * mean, 1.001 * radius), h = std::max(r, 1.001 * reach);
+        CylinderMesh c;
+        c.positions.reserve(3 * q.size());
+        for (const auto& p : q)
+            c.positions.insert(c.positions.end(), {float(glm::dot(p, u) / r), float(0.5 + 0.5 * glm::dot(p, axis) / h),
+                                                   float(glm::dot(p, v) / r)});
+        c.triangles.reserve(3 * mesh.triangles.size());
+        for (const auto& t : mesh.triangles) c.triangles.insert(c.triangles.end(), {t.x, t.y, t.z});
+        out.push_back(std::move(c));
+    }
+    return out;
+}
+
+namespace {
+
+std::vector<std::vector<float>> panorama_features(Context& ctx, const std::vector<geo::Mesh>& meshes) {
+    std::vector<CylinderMesh> cylinder_meshes(meshes.size() * 3);
+    geo::parallel_for_chunks(meshes.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t m = begin; m < end; ++m) {
+            auto three = panorama_cylinder_meshes(meshes[m]);
+            for (std::size_t a = 0; a < 3; ++a) cylinder_meshes[3 * m + a] = std::move(three[a]);
+        }
+    });
+    CylinderZBuffer zbuffer(ctx, kPanoramaWidth, kPanoramaHeight);
+    std::size_t all_vertices = 0, all_faces = 0;
+    for (const CylinderMesh& c : cylinder_meshes) all_vertices += c.positions.size() / 3, all_faces += c.face_count();
+    zbuffer.reserve(all_vertices, all_faces);
+    const std::vector<std::uint32_t> ids = zbuffer.add_meshes(cylinder_meshes);
+    cylinder_meshes = {};
+    std::vector<std::vector<float>> out(meshes.size());
+    constexpr std::size_t kBatch = 255;  // whole models, at most 255 images an execution
+    for (std::size_t begin = 0; begin < ids.size(); begin += kBatch) {
+        std::vector<CylinderZBuffer::Job> jobs;
+        for (std::size_t k = begin; k < std::min(ids.size(), begin + kBatch); ++k) jobs.push_back({ids[k]});
+        const std::vector<CylinderImage> images = zbuffer.project(jobs);
+        for (std::size_t k = 0; k < images.size(); ++k) {
+            auto& f = out[(begin + k) / 3];
+            for (std::size_t i = 0; i < images[k].distance.size(); ++i)
+                f.push_back(images[k].covered[i] && images[k].distance[i] > 0.0f ? images[k].distance[i] : 0.0f);
+        }
+    }
+    return out;
+}
+
+}  // namespace
+
 std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vector<geo::Mesh>& meshes,
                                                   const RetrievalOptions& options) {
+    if (options.descriptor == RetrievalDescriptor::Panorama) return panorama_features(ctx, meshes);
     const std::uint32_t n = options.size, r = options.reduced;
     if (r == 0 || n % r != 0)
         throw geo::InputError("retrieval: a " + std::to_string(n) + " image does not reduce to " + std::to_string(r));

@@ -3,6 +3,7 @@
 
 #include "gimg/geometry/atomic_file.h"
 #include "gimg/geometry/error.h"
+#include "gimg/geometry/parallel_for.h"
 
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
@@ -40,6 +41,7 @@ std::vector<std::vector<float>> poses(const std::vector<float>& f, std::uint32_t
 }
 
 std::size_t descriptor_size(const RetrievalOptions& o) {
+    if (o.descriptor == RetrievalDescriptor::Panorama) return 6 * (kPanoramaBand + 1) * (kPanoramaBand + 1);
     const std::size_t r = o.reduced;
     const std::size_t one = o.cylinders * (o.descriptor == RetrievalDescriptor::Image ? r * r : r * (r / 2 + 1));
     return o.descriptor == RetrievalDescriptor::Spectrum2DSlope ? 2 * one : one;
@@ -49,17 +51,92 @@ const char* descriptor_name(RetrievalDescriptor d) {
     return d == RetrievalDescriptor::Image           ? "image"
            : d == RetrievalDescriptor::ThetaSpectrum ? "theta_spectrum"
            : d == RetrievalDescriptor::Spectrum2D    ? "spectrum_2d"
+           : d == RetrievalDescriptor::Panorama      ? "panorama"
                                                      : "spectrum_2d_slope";
 }
 
 std::vector<float> spectra(const RetrievalOptions& options, const std::vector<float>& image);
 
+// |F(kh, kt)| of a W x H image for kh, kt in 0 .. band, each averaged with |F(-kh, kt)| so that
+// the image turned end over end (or mirrored in theta) has the same values.
+std::vector<double> low_band(const double* image, std::uint32_t w, std::uint32_t h, std::uint32_t band) {
+    constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
+    std::vector<double> cos_w(w), sin_w(w), cos_h(h), sin_h(h);
+    for (std::uint32_t i = 0; i < w; ++i) cos_w[i] = std::cos(kTwoPi * i / w), sin_w[i] = std::sin(kTwoPi * i / w);
+    for (std::uint32_t i = 0; i < h; ++i) cos_h[i] = std::cos(kTwoPi * i / h), sin_h[i] = std::sin(kTwoPi * i / h);
+    // Per row, the DFT over theta (real input), k = 0 .. band.
+    std::vector<double> re(std::size_t(h) * (band + 1)), im(re.size());
+    for (std::uint32_t y = 0; y < h; ++y) {
+        const double* row = image + std::size_t(y) * w;
+        for (std::uint32_t kt = 0; kt <= band; ++kt) {
+            double a = 0.0, b = 0.0;
+            for (std::uint32_t x = 0, i = 0; x < w; ++x, i = i + kt >= w ? i + kt - w : i + kt)
+                a += row[x] * cos_w[i], b -= row[x] * sin_w[i];
+            re[std::size_t(y) * (band + 1) + kt] = a, im[std::size_t(y) * (band + 1) + kt] = b;
+        }
+    }
+    std::vector<double> out;
+    out.reserve(std::size_t(band + 1) * (band + 1));
+    for (std::uint32_t kh = 0; kh <= band; ++kh)
+        for (std::uint32_t kt = 0; kt <= band; ++kt) {
+            // Over height, e^{-i 2 pi kh y / h} (up) and its conjugate (down).
+            double up_re = 0.0, up_im = 0.0, down_re = 0.0, down_im = 0.0;
+            for (std::uint32_t y = 0, i = 0; y < h; ++y, i = i + kh >= h ? i + kh - h : i + kh) {
+                const double r = re[std::size_t(y) * (band + 1) + kt], m = im[std::size_t(y) * (band + 1) + kt];
+                const double c = cos_h[i], sn = sin_h[i];
+                up_re += r * c + m * sn, up_im += m * c - r * sn;
+                down_re += r * c - m * sn, down_im += m * c + r * sn;
+            }
+            out.push_back(0.5 * (std::hypot(up_re, up_im) + std::hypot(down_re, down_im)));
+        }
+    return out;
+}
+
+// Panorama's descriptor of its three images: per image the distance channel and the orientation
+// channel, |cos| between the wall's ray and the surface, from the image's own slope (radius 1 is
+// the image's wall, its height 2 radii), each channel's low band scaled to sum 1.
+std::vector<float> panorama_descriptor(const std::vector<float>& images) {
+    constexpr std::uint32_t w = kPanoramaWidth, h = kPanoramaHeight;
+    constexpr double kStepTheta = 2.0 * 3.14159265358979323846 / w, kStepHeight = 2.0 / h;
+    std::vector<float> out;
+    for (std::size_t c = 0; c < 3; ++c) {
+        const float* d = images.data() + c * w * h;
+        std::vector<double> distance(std::size_t(w) * h), facing(std::size_t(w) * h, 0.0);
+        for (std::size_t i = 0; i < distance.size(); ++i) distance[i] = d[i];
+        for (std::uint32_t y = 0; y < h; ++y)
+            for (std::uint32_t x = 0; x < w; ++x) {
+                const double r = distance[std::size_t(y) * w + x];
+                if (!(r > 0.0)) continue;
+                const auto at = [&](std::uint32_t xx, std::uint32_t yy) { return distance[std::size_t(yy) * w + xx]; };
+                const double along_theta =
+                    (at((x + 1) % w, y) - at((x + w - 1) % w, y)) / (2.0 * kStepTheta * std::max(r, 1e-3));
+                const std::uint32_t y0 = y > 0 ? y - 1 : 0, y1 = std::min(y + 1, h - 1);
+                const double along_height = (at(x, y1) - at(x, y0)) / (double(y1 - y0) * kStepHeight);
+                facing[std::size_t(y) * w + x] =
+                    1.0 / std::sqrt(1.0 + along_theta * along_theta + along_height * along_height);
+            }
+        for (const std::vector<double>* channel : {&distance, &facing}) {
+            const std::vector<double> band = low_band(channel->data(), w, h, kPanoramaBand);
+            double sum = 0.0;
+            for (double v : band) sum += v;
+            for (double v : band) out.push_back(float(sum > 0.0 ? v / sum : 0.0));
+        }
+    }
+    return out;
+}
+
 }  // namespace
+
+std::size_t feature_size(const RetrievalOptions& options) {
+    if (options.descriptor == RetrievalDescriptor::Panorama) return 3 * std::size_t(kPanoramaWidth) * kPanoramaHeight;
+    return std::size_t(options.cylinders) * options.reduced * options.reduced;
+}
 
 std::vector<float> describe_feature(const RetrievalOptions& options, const std::vector<float>& image) {
     const std::size_t r = options.reduced;
-    if (image.size() != options.cylinders * r * r)
+    if (image.size() != feature_size(options))
         throw geo::InputError("retrieval: the feature does not match the database's size");
+    if (options.descriptor == RetrievalDescriptor::Panorama) return panorama_descriptor(image);
     if (options.descriptor == RetrievalDescriptor::Image) return image;
     if (options.descriptor != RetrievalDescriptor::Spectrum2DSlope) return spectra(options, image);
     // The slope: central differences, circular in theta, one-sided at the top and bottom rows.
@@ -132,9 +209,24 @@ ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& featur
     if (paths.size() != n || labels.size() != n) throw geo::InputError("retrieval: paths and labels per model");
     if (!(options.variance > 0.0 && options.variance <= 1.0))
         throw geo::InputError("retrieval: the variance share must be in (0, 1]");
+    if (options.descriptor == RetrievalDescriptor::Panorama) {
+        ShapeDatabase db;
+        db.options = options;
+        db.k = std::uint32_t(d);
+        db.variance_kept = 1.0;
+        for (const auto& f : features)
+            if (f.size() != feature_size(options)) throw geo::InputError("retrieval: features of different sizes");
+        db.coefficients.resize(n);
+        geo::parallel_for_chunks(n, 1, [&](std::size_t, std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) db.coefficients[i] = describe_feature(options, features[i]);
+        });
+        db.paths = std::move(paths);
+        db.labels = std::move(labels);
+        return db;
+    }
     Eigen::MatrixXd x(n, d);
     for (std::size_t i = 0; i < n; ++i) {
-        if (features[i].size() != std::size_t(options.cylinders) * options.reduced * options.reduced)
+        if (features[i].size() != feature_size(options))
             throw geo::InputError("retrieval: features of different sizes");
         const std::vector<float> f = describe_feature(options, features[i]);
         for (std::size_t j = 0; j < d; ++j) x(Eigen::Index(i), Eigen::Index(j)) = f[j];
@@ -165,6 +257,7 @@ ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& featur
 
 std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<float>& image) {
     const std::vector<float> feature = describe_feature(db.options, image);
+    if (db.options.descriptor == RetrievalDescriptor::Panorama) return feature;
     const std::size_t d = db.mean.size();
     if (feature.size() != d) throw geo::InputError("retrieval: the feature does not match the database's size");
     std::vector<float> c(db.k);
@@ -179,11 +272,30 @@ std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<fl
 
 std::vector<ShapeMatch> search_shapes(const ShapeDatabase& db, const std::vector<float>& feature, PoseHandling pose,
                                       std::size_t exclude) {
+    std::vector<ShapeMatch> out;
+    if (db.options.descriptor == RetrievalDescriptor::Panorama) {  // invariant already: L1, one pose
+        const std::vector<float> q = project_feature(db, feature);
+        for (std::size_t m = 0; m < db.size(); ++m) {
+            if (m == exclude) continue;
+            // Eight running sums, so the loop vectorises without reordering one sum.
+            const float* c = db.coefficients[m].data();
+            float part[8] = {};
+            std::uint32_t j = 0;
+            for (; j + 8 <= db.k; j += 8)
+                for (int l = 0; l < 8; ++l) part[l] += std::abs(q[j + l] - c[j + l]);
+            double s = 0.0;
+            for (float p : part) s += p;
+            for (; j < db.k; ++j) s += std::abs(q[j] - c[j]);
+            out.push_back({m, s});
+        }
+        std::stable_sort(out.begin(), out.end(),
+                         [](const ShapeMatch& a, const ShapeMatch& b) { return a.distance < b.distance; });
+        return out;
+    }
     std::vector<std::vector<float>> queries;
     const PoseHandling used = db.options.cylinders == 1 ? pose : PoseHandling::AsAligned;
     for (const auto& variant : poses(feature, db.options.reduced, used))
         queries.push_back(project_feature(db, variant));
-    std::vector<ShapeMatch> out;
     for (std::size_t m = 0; m < db.size(); ++m) {
         if (m == exclude) continue;
         double best = std::numeric_limits<double>::infinity();
@@ -234,11 +346,12 @@ ShapeDatabase read_shape_database(const std::filesystem::path& path) {
         db.options.variance = j.at("variance").get<double>();
         const std::string descriptor = j.value("descriptor", std::string("image"));
         if (descriptor != "image" && descriptor != "theta_spectrum" && descriptor != "spectrum_2d" &&
-            descriptor != "spectrum_2d_slope")
+            descriptor != "spectrum_2d_slope" && descriptor != "panorama")
             throw geo::InputError(path.string() + ": unknown descriptor \"" + descriptor + "\"");
         db.options.descriptor = descriptor == "image"            ? RetrievalDescriptor::Image
                                 : descriptor == "theta_spectrum" ? RetrievalDescriptor::ThetaSpectrum
                                 : descriptor == "spectrum_2d"    ? RetrievalDescriptor::Spectrum2D
+                                : descriptor == "panorama"       ? RetrievalDescriptor::Panorama
                                                                  : RetrievalDescriptor::Spectrum2DSlope;
         db.options.cylinders = j.value("cylinders", 1u);
         if (db.options.cylinders != 1 && db.options.cylinders != 3)
@@ -256,8 +369,11 @@ ShapeDatabase read_shape_database(const std::filesystem::path& path) {
         throw geo::InputError(path.string() + " is not a gimg shape database: " + e.what());
     }
     const std::size_t d = descriptor_size(db.options);
+    const bool panorama = db.options.descriptor == RetrievalDescriptor::Panorama;
     bool ok = db.options.reduced > 0 && db.options.reduced % 2 == 0 && db.options.size % db.options.reduced == 0 &&
-              db.mean.size() == d && db.loadings.size() == d * db.k && db.size() >= 2;
+              db.size() >= 2 &&
+              (panorama ? db.mean.empty() && db.loadings.empty() && db.k == d
+                        : db.mean.size() == d && db.loadings.size() == d * db.k);
     for (const auto& c : db.coefficients) ok = ok && c.size() == db.k;
     if (!ok) throw geo::InputError(path.string() + ": its arrays do not match its sizes");
     return db;

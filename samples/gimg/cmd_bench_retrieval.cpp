@@ -10,6 +10,7 @@
 #include "json_output.h"
 #include "timing.h"
 
+#include "gimg/geometry/parallel_for.h"
 #include "gimg/geometry/shapes.h"
 #include "gimg/passes/retrieval.h"
 
@@ -26,7 +27,7 @@ namespace {
 
 struct RetrievalBenchOptions {
     std::uint32_t models = 10000;
-    std::string json;
+    std::string json, descriptor = "image";
 };
 
 geo::Mesh perturbed_copy(const geo::Mesh& base, std::mt19937_64& rng) {
@@ -45,7 +46,10 @@ void run_retrieval_bench(const RetrievalBenchOptions& o, const GlobalOptions& gl
     auto ctx = open_context(global);
     const geo::Mesh base = geo::make_torus(0.35, 0.15, 100, 50);  // 10,000 faces
     std::mt19937_64 rng(23);
-    const passes::RetrievalOptions options;
+    passes::RetrievalOptions options;
+    const bool panorama = o.descriptor == "panorama";
+    if (panorama) options.descriptor = passes::RetrievalDescriptor::Panorama, options.cylinders = 3;
+    // Panorama's features (three raw images) are large: each chunk is kept as its descriptors.
     std::vector<std::vector<float>> features;
     double feature_ms = 0.0;
     constexpr std::uint32_t kChunk = 256;  // copies in memory at once
@@ -54,7 +58,13 @@ void run_retrieval_bench(const RetrievalBenchOptions& o, const GlobalOptions& gl
         std::vector<geo::Mesh> copies;
         for (std::uint32_t i = 0; i < n; ++i) copies.push_back(perturbed_copy(base, rng));
         std::vector<std::vector<float>> chunk;
-        feature_ms += time_ms([&] { chunk = passes::cylinder_features(*ctx, copies, options); });
+        feature_ms += time_ms([&] {
+            chunk = passes::cylinder_features(*ctx, copies, options);
+            if (panorama)
+                geo::parallel_for_chunks(chunk.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t i = begin; i < end; ++i) chunk[i] = passes::describe_feature(options, chunk[i]);
+                });
+        });
         for (auto& f : chunk) features.push_back(std::move(f));
         done += n;
     }
@@ -72,8 +82,16 @@ void run_retrieval_bench(const RetrievalBenchOptions& o, const GlobalOptions& gl
             database_sizes.push_back(size);
     for (std::uint32_t size : database_sizes) {
         const std::vector<std::vector<float>> subset(features.begin(), features.begin() + size);
-        const passes::ShapeDatabase db = passes::build_shape_database(subset, std::vector<std::string>(size),
-                                                                      std::vector<std::string>(size), options);
+        passes::ShapeDatabase db;
+        if (panorama) {  // the database build_shape_database makes: the descriptors as they are
+            db.options = options;
+            db.k = std::uint32_t(subset.front().size());
+            db.coefficients = subset;
+            db.paths = db.labels = std::vector<std::string>(size);
+        } else {
+            db = passes::build_shape_database(subset, std::vector<std::string>(size), std::vector<std::string>(size),
+                                              options);
+        }
         std::vector<double> project, match;
         for (int run = 0; run < 5; ++run) {
             std::vector<float> f;
@@ -89,6 +107,7 @@ void run_retrieval_bench(const RetrievalBenchOptions& o, const GlobalOptions& gl
         sizes.push_back({{"models", size}, {"k", db.k}, {"projection_ms", project[2]}, {"matching_ms", match[2]}});
     }
     nlohmann::json j{{"models", o.models},
+                     {"descriptor", o.descriptor},
                      {"faces", base.face_count()},
                      {"index_models_per_second", 1000.0 * o.models / std::max(feature_ms, 1e-9)},
                      {"databases", sizes}};
@@ -102,6 +121,8 @@ void add_bench_retrieval_command(CLI::App& bench, const GlobalOptions& global) {
     auto o = std::make_shared<RetrievalBenchOptions>();
     auto* cmd = bench.add_subcommand("retrieval", "Retrieval speed on a synthetic database of perturbed copies");
     add_count_option(cmd, "--models", o->models, 100, 1000000, "Copies in the database (default 10000)");
+    cmd->add_option("--descriptor", o->descriptor, "image (default) or panorama (as gimg index)")
+        ->check(CLI::IsMember({"image", "panorama"}));
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_retrieval_bench(*o, global); }); });
 }

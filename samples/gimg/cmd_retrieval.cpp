@@ -90,7 +90,9 @@ void resolve_feature_options(IndexOptions& o) {
     o.retrieval.descriptor = o.descriptor == "spectrum"           ? passes::RetrievalDescriptor::ThetaSpectrum
                              : o.descriptor == "spectrum2d"       ? passes::RetrievalDescriptor::Spectrum2D
                              : o.descriptor == "spectrum2d-slope" ? passes::RetrievalDescriptor::Spectrum2DSlope
+                             : o.descriptor == "panorama"         ? passes::RetrievalDescriptor::Panorama
                                                                   : passes::RetrievalDescriptor::Image;
+    if (o.retrieval.descriptor == passes::RetrievalDescriptor::Panorama) o.retrieval.cylinders = 3;
     if (o.retrieval.cylinders == 2) throw geo::InputError("--cylinders takes 1 or 3");
     if (o.retrieval.reduced % 2 != 0 || o.retrieval.size % o.retrieval.reduced != 0)
         throw geo::InputError("--size must be a multiple of --reduced, and --reduced even");
@@ -364,7 +366,9 @@ void run_eval(const EvalOptions& o, const GlobalOptions& global) {
     if (!global.quiet) {
         const std::string how = o.method == "d2"            ? std::string("D2 shape distributions")
                                 : o.method == "silhouettes" ? std::string("silhouettes (Zernike, 7 views)")
-                                                            : "cylindrical images, pose " + o.pose;
+                                : db.options.descriptor == passes::RetrievalDescriptor::Panorama
+                                    ? std::string("panorama (three cylinders, L1; no pose variants needed)")
+                                    : "cylindrical images, pose " + o.pose;
         std::printf("%s: %zu queries, %s, %s\n", o.db.c_str(), queries,
                     held_apart ? ("held apart in " + o.queries).c_str() : "leave-one-out", how.c_str());
         std::printf("%-14s %6s %6s %6s %6s %6s\n", "class", "NN", "FT", "ST", "DCG", "mAP");
@@ -421,9 +425,10 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
             "--descriptor", io->descriptor,
             "image (the reduced image, the thesis; default), spectrum (per row, the magnitudes of its "
             "DFT over theta: the same for every turn about the axis), spectrum2d (the magnitudes of "
-            "its 2D DFT: also the same turned end over end) or spectrum2d-slope (spectrum2d of the image and of its "
-            "slope, a second channel)")
-        ->check(CLI::IsMember({"image", "spectrum", "spectrum2d", "spectrum2d-slope"}));
+            "its 2D DFT: also the same turned end over end), spectrum2d-slope (spectrum2d of the image and of its "
+            "slope, a second channel) or panorama (PANORAMA's kind: three cylinders of its own, distance and "
+            "orientation channels, low-band spectra compared by L1, no PCA)")
+        ->check(CLI::IsMember({"image", "spectrum", "spectrum2d", "spectrum2d-slope", "panorama"}));
     add_count_option(index, "--cylinders", io->retrieval.cylinders, 1, 3,
                      "1: the cylinder around the main axis (the thesis; default); 3: one around each principal axis");
     index->add_option("--from-shards", io->shards,
@@ -441,7 +446,7 @@ void add_retrieval_commands(CLI::App& app, const GlobalOptions& global) {
     add_count_option(features, "--size", fo->retrieval.size, 8, 4096, "Cylindrical image side (default 144)");
     add_count_option(features, "--reduced", fo->retrieval.reduced, 2, 512, "Reduced side (default 48)");
     features->add_option("--descriptor", fo->descriptor, "As for index")
-        ->check(CLI::IsMember({"image", "spectrum", "spectrum2d", "spectrum2d-slope"}));
+        ->check(CLI::IsMember({"image", "spectrum", "spectrum2d", "spectrum2d-slope", "panorama"}));
     add_count_option(features, "--cylinders", fo->retrieval.cylinders, 1, 3, "As for index");
     features->callback(
         [fo, &global] { run_writing({fo->source}, {json_output(fo->json)}, [&] { run_features(*fo, global); }); });

@@ -251,3 +251,97 @@ TEST(Retrieval, TheTwoDimensionalSpectrumIsTheSameTurnedEndOverEnd) {
         }
     }
 }
+
+// Panorama's descriptor: the same for the model turned about the axis, mirrored in theta and turned
+// end over end (each of its three images), two channels per image each summing to 1, and not the
+// same for another image.
+TEST(Retrieval, PanoramaIsTheSameTurnedMirroredAndEndOverEnd) {
+    constexpr std::uint32_t w = gp::kPanoramaWidth, h = gp::kPanoramaHeight;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> d(0.0f, 1.0f);
+    std::vector<float> images(3 * w * h), moved(images.size()), other(images.size());
+    for (float& v : images) v = d(rng) < 0.1f ? 0.0f : d(rng);  // some empty pixels
+    for (std::uint32_t c = 0; c < 3; ++c)
+        for (std::uint32_t y = 0; y < h; ++y)
+            for (std::uint32_t x = 0; x < w; ++x) {
+                const float v = images[(c * h + y) * w + x];
+                // image 0 turned by 17 columns, image 1 mirrored in theta, image 2 end over end
+                const std::uint32_t mx = c == 0 ? (x + 17) % w : c == 1 ? w - 1 - x : x, my = c == 2 ? h - 1 - y : y;
+                moved[(c * h + my) * w + mx] = v;
+                other[(c * h + y) * w + x] = c == 1 && y < h / 2 ? 0.5f : v;
+            }
+    const gp::RetrievalOptions options{.descriptor = gp::RetrievalDescriptor::Panorama, .cylinders = 3};
+    ASSERT_EQ(gp::feature_size(options), images.size());
+    const auto a = gp::describe_feature(options, images), b = gp::describe_feature(options, moved),
+               c = gp::describe_feature(options, other);
+    const std::size_t block = (gp::kPanoramaBand + 1) * (gp::kPanoramaBand + 1);
+    ASSERT_EQ(a.size(), 6 * block);
+    double changed = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        ASSERT_NEAR(b[i], a[i], 1e-6f) << i;
+        changed += std::abs(c[i] - a[i]);
+    }
+    for (std::size_t k = 0; k < 6; ++k) {
+        double sum = 0.0;
+        for (std::size_t i = 0; i < block; ++i) sum += a[k * block + i];
+        EXPECT_NEAR(sum, 1.0, 1e-5) << "channel " << k;
+    }
+    EXPECT_GT(changed, 0.05);  // the second image changed: its two channels moved
+    EXPECT_THROW(gp::describe_feature(options, std::vector<float>(10)), geo::InputError);
+}
+
+// Panorama's images from the GPU Z-buffer equal the CPU ray caster's on the same cylinder meshes
+// (distances seen through the axis and empty pixels as 0); every model lies inside its cylinders;
+// a turned, scaled, moved copy finds its original first by L1 between the descriptors.
+TEST_F(RetrievalGpu, PanoramaImagesEqualTheRayCasterAndFindTurnedCopies) {
+    geo::Mesh lumpy = geo::make_icosphere(0.5, 4);
+    for (auto& p : lumpy.positions) p = glm::dvec3(p.x * 0.6, p.y * 1.5 + 0.2 * std::sin(6.0 * p.x), p.z * 0.8);
+    std::vector<geo::Mesh> models{geo::make_torus(0.3, 0.1, 48, 24), geo::make_box({0.3, 0.8, 0.5}, 4), lumpy,
+                                  geo::make_box({0.2, 1.0, 0.2}, 4)};
+    const std::size_t n = models.size();
+    const glm::dmat4 pose = glm::translate(glm::dmat4(1.0), {3.0, -1.0, 2.0}) *
+                            glm::rotate(glm::dmat4(1.0), 2.1, glm::normalize(glm::dvec3(1, 2, 3))) *
+                            glm::scale(glm::dmat4(1.0), glm::dvec3(2.5));
+    for (std::size_t i = 0; i < n; ++i) models.push_back(turned(models[i], pose));
+    const gp::RetrievalOptions options{.descriptor = gp::RetrievalDescriptor::Panorama, .cylinders = 3};
+    const auto features = gp::cylinder_features(ctx(), models, options);
+    ASSERT_EQ(features.size(), models.size());
+    constexpr std::uint32_t w = gp::kPanoramaWidth, h = gp::kPanoramaHeight;
+    for (std::size_t m = 0; m < n; ++m) {
+        const auto meshes = gp::panorama_cylinder_meshes(models[m]);
+        ASSERT_EQ(meshes.size(), 3u);
+        for (std::size_t a = 0; a < 3; ++a) {
+            for (std::size_t i = 0; i < meshes[a].positions.size(); i += 3) {
+                ASSERT_LE(std::hypot(meshes[a].positions[i], meshes[a].positions[i + 2]), 1.0f);
+                ASSERT_GE(meshes[a].positions[i + 1], 0.0f);
+                ASSERT_LE(meshes[a].positions[i + 1], 1.0f);
+            }
+            const gp::CylinderImage ray = gp::cylinder_raycast(meshes[a], w, h);
+            std::size_t differ = 0, seen = 0;
+            for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
+                const float expected = ray.covered[i] && ray.distance[i] > 0.0f ? ray.distance[i] : 0.0f;
+                const float got = features[m][a * w * h + i];
+                differ += std::abs(got - expected) > 1e-5f;
+                seen += expected > 0.0f;
+            }
+            EXPECT_EQ(differ, 0u) << "model " << m << " cylinder " << a;
+            EXPECT_GT(seen, std::size_t(w) * h / 20) << "model " << m << " cylinder " << a;  // not empty
+        }
+    }
+    std::vector<std::string> labels;
+    for (std::size_t i = 0; i < 2 * n; ++i) labels.push_back(std::to_string(i % n));
+    const gp::ShapeDatabase db =
+        gp::build_shape_database(features, std::vector<std::string>(2 * n, "m"), labels, options);
+    EXPECT_EQ(db.k, 6u * (gp::kPanoramaBand + 1) * (gp::kPanoramaBand + 1));
+    EXPECT_TRUE(db.loadings.empty());
+    for (std::size_t i = 0; i < 2 * n; ++i)
+        EXPECT_EQ(gp::search_shapes(db, features[i], gp::PoseHandling::AsAligned, i).front().model, (i + n) % (2 * n))
+            << "model " << i;
+    // The file keeps it.
+    const auto path = std::filesystem::temp_directory_path() / "gimg_panorama_db.json";
+    gp::write_shape_database(path, db);
+    const gp::ShapeDatabase back = gp::read_shape_database(path);
+    std::filesystem::remove(path);
+    EXPECT_EQ(back.options.descriptor, gp::RetrievalDescriptor::Panorama);
+    EXPECT_EQ(back.coefficients, db.coefficients);
+}

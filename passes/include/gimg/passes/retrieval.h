@@ -26,7 +26,17 @@ enum class RetrievalDescriptor {
     Spectrum2DSlope,  // Spectrum2D of the image followed by Spectrum2D of its slope (the length of its
                       // central-difference gradient, circular in theta), each half scaled to unit
                       // length: a second channel as PANORAMA's normals give one; the same invariances
+    // In PANORAMA's manner (Papadakis et al. 2010), its own images and no PCA: the model in its
+    // area-weighted principal frame, scaled by its mean distance from the centroid (radius 3 of
+    // them, height 6, more where the model reaches farther); a kPanoramaWidth x kPanoramaHeight
+    // image around each principal axis, and per image two channels, the distance from the axis
+    // and the cosine between the wall's ray and the surface the image's slope gives; each channel
+    // the magnitudes of its 2D DFT at the (kPanoramaBand + 1)^2 lowest frequencies, the same
+    // turned about the axis, mirrored or end over end, scaled to sum 1; compared by L1.
+    Panorama,
 };
+
+inline constexpr std::uint32_t kPanoramaWidth = 128, kPanoramaHeight = 64, kPanoramaBand = 20;
 
 struct RetrievalOptions {
     std::uint32_t size = 144;    // the cylindrical image is size x size
@@ -38,8 +48,11 @@ struct RetrievalOptions {
     std::uint32_t cylinders = 1;
 };
 
-// The descriptor of a reduced image (its own values, or the per-row spectrum magnitudes).
+// The descriptor of a feature (its own values, or the per-row spectrum magnitudes; Panorama's two
+// channels' spectra).
 std::vector<float> describe_feature(const RetrievalOptions& options, const std::vector<float>& reduced_image);
+// The values a feature holds: cylinders x reduced^2, or Panorama's three images.
+std::size_t feature_size(const RetrievalOptions& options);
 
 // The feature of one cylindrical image: low-pass and decimation in one step (the thesis's "cubic
 // reduction"), each output pixel the Keys cubic kernel stretched by the reduction factor over the
@@ -49,9 +62,16 @@ std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32
 
 // The features of many meshes: each aligned by fit_cylinder_frame, projected by the GPU Z-buffer and
 // reduced by a compute pass in the same graph (reduce_cylinder_image is its CPU twin), in batches;
-// with 3 cylinders, the model's principal axes each take the cylinder's axis in turn.
+// with 3 cylinders, the model's principal axes each take the cylinder's axis in turn. Panorama:
+// its three images (panorama_cylinder_meshes) as the Z-buffer leaves them, empty and negative
+// distances (surfaces seen through the axis) as 0.
 std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vector<geo::Mesh>& meshes,
                                                   const RetrievalOptions& options = {});
+
+// Panorama's three cylinder meshes of one model (main, second, third principal axis on the
+// cylinder's): radii over R = max(3 mean distance, the farthest point from that axis), heights
+// over [-H, H] with H = max(R, the farthest point along it), so the model lies inside.
+std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh);
 
 // PCA leaves each axis's sign open, so one model can come out turned over. BestOfFour compares a
 // query in the four poses the two free signs give (turned end over end, turned half way about
@@ -64,13 +84,14 @@ struct ShapeDatabase {
     double variance_kept = 0.0;                    // their share of the variance
     std::vector<float> mean;                       // the descriptor's size
     std::vector<float> loadings;                   // descriptor size x k, column after column
-    std::vector<std::vector<float>> coefficients;  // k per model
+    std::vector<std::vector<float>> coefficients;  // k per model (Panorama: the descriptor, k its size)
     std::vector<std::string> paths, labels;        // per model; labels may be empty strings
     std::size_t size() const { return coefficients.size(); }
 };
 
-// PCA of the centred descriptors of the features (reduced images; Eigen's SVD); throws
-// geo::InputError for fewer than 2 models or features of different sizes.
+// PCA of the centred descriptors of the features (reduced images; Eigen's SVD; Panorama keeps its
+// descriptors as they are); throws geo::InputError for fewer than 2 models or features of
+// different sizes.
 ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& features, std::vector<std::string> paths,
                                    std::vector<std::string> labels, const RetrievalOptions& options);
 
@@ -79,7 +100,7 @@ std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<fl
 
 struct ShapeMatch {
     std::size_t model = 0;
-    double distance = 0.0;  // squared distance between coefficients
+    double distance = 0.0;  // squared distance between coefficients (Panorama: L1 between descriptors)
 };
 // Every model but `exclude` (e.g. the query itself), nearest first.
 std::vector<ShapeMatch> search_shapes(const ShapeDatabase& db, const std::vector<float>& feature, PoseHandling pose,
