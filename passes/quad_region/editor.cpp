@@ -15,7 +15,7 @@ QuadRegionEditor::QuadRegionEditor(Context* ctx, geo::Mesh mesh, const std::arra
 }
 
 void QuadRegionEditor::remap(const std::vector<glm::dvec2>& previous_by_vertex) {
-    QuadRegion region = cutter_.cut(corners_);
+    QuadRegion region = cutter_.cut(corners_, false);  // no picture here: the outside mesh is not needed
     std::vector<glm::dvec2> warm;
     if (!previous_by_vertex.empty()) {
         warm.assign(region.mesh.vertex_count(), glm::dvec2(std::numeric_limits<double>::quiet_NaN()));

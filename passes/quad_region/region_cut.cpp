@@ -3,6 +3,7 @@
 // faces on the left of W1 -> W2 -> W3 (-> W4) gathered by a flood fill that the sides stop.
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/normals.h"
+#include "gimg/geometry/topology.h"
 #include "gimg/passes/parameterize.h"
 #include "gimg/passes/quad_region.h"
 
@@ -31,9 +32,9 @@ struct Segment {
 class RegionCutter {
 public:
     RegionCutter(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, const std::vector<glm::dvec3>& face_normals,
-                 double diagonal, std::vector<std::uint32_t> corners)
+                 double diagonal, std::vector<std::uint32_t> corners, bool with_outside)
         : mesh_(mesh), adj_(adj), face_n_(face_normals), diagonal_(diagonal), corners_(std::move(corners)),
-          n_(int(corners_.size())) {}
+          n_(int(corners_.size())), with_outside_(with_outside) {}
 
     QuadRegion cut() {
         std::vector<glm::dvec3> normal(corners_.size(), glm::dvec3(0.0));
@@ -213,10 +214,15 @@ private:
     // with the region, not the mesh.
     QuadRegion gather(const std::vector<std::vector<std::uint32_t>>& paths) {
         std::unordered_map<std::uint32_t, std::vector<std::pair<std::uint32_t, std::uint32_t>>> chords;
-        std::unordered_set<std::uint64_t> barrier;
+        std::unordered_set<std::uint64_t> barrier;                     // side segments through faces
+        std::vector<std::uint8_t> barrier_edge(adj_.edge_count(), 0);  // side segments along mesh edges
         for (const Segment& sg : segments_) {
             if (sg.face != kNone) chords[sg.face].emplace_back(sg.from, sg.to);
-            barrier.insert(key(std::min(sg.from, sg.to), std::max(sg.from, sg.to)));
+            const std::uint32_t e = is_vertex(sg.from) && is_vertex(sg.to) ? adj_.find_edge(sg.from, sg.to) : kNone;
+            if (e != kNone && e != geo::kInvalidIndex)
+                barrier_edge[e] = 1;
+            else
+                barrier.insert(key(std::min(sg.from, sg.to), std::max(sg.from, sg.to)));
         }
         std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> on_edge;
         for (std::uint32_t p = 0; p < point_edge_.size(); ++p)
@@ -277,12 +283,33 @@ private:
         std::vector<std::uint32_t> region_nodes{seed}, stack{seed};
         in[seed] = 1;
         while (!stack.empty()) {
-            const glm::uvec3 t = triangle(stack.back());
+            const std::uint32_t node = stack.back();
             stack.pop_back();
+            const glm::uvec3 t = triangle(node);
             for (int c = 0; c < 3; ++c) {
                 const std::uint32_t a = t[c], b = t[(c + 1) % 3];
-                if (barrier.count(key(std::min(a, b), std::max(a, b)))) continue;
-                const std::uint32_t o = holding(b, a);
+                std::uint32_t o = kNone;
+                if (node < nf) {  // an untouched face: its edges are mesh edges
+                    const std::uint32_t e = adj_.face_edges[3 * node + c];
+                    if (e == geo::kInvalidIndex || barrier_edge[e]) continue;
+                    // As holding(b, a): a piece first (only a touched face's pieces can hold a mesh edge).
+                    const auto faces = adj_.faces_of_edge(e);
+                    if (std::any_of(faces.begin(), faces.end(), [&](std::uint32_t g) { return is_touched[g] != 0; }))
+                        if (const auto it = piece_by_edge.find(key(b, a)); it != piece_by_edge.end()) o = it->second;
+                    for (std::size_t i = 0; i < faces.size() && o == kNone; ++i) {
+                        const std::uint32_t g = faces[i];
+                        if (is_touched[g]) continue;
+                        const glm::uvec3& u = mesh_.triangles[g];
+                        for (int k = 0; k < 3 && o == kNone; ++k)
+                            if (u[k] == b && u[(k + 1) % 3] == a) o = g;
+                    }
+                } else {
+                    if (barrier.count(key(std::min(a, b), std::max(a, b)))) continue;
+                    if (is_vertex(a) && is_vertex(b))
+                        if (const std::uint32_t e = adj_.find_edge(a, b); e != geo::kInvalidIndex && barrier_edge[e])
+                            continue;
+                    o = holding(b, a);
+                }
                 if (o != kNone && !in[o]) in[o] = 1, stack.push_back(o), region_nodes.push_back(o);
             }
         }
@@ -309,8 +336,8 @@ private:
             r.mesh.triangles.push_back(out);
         }
         // The rest of the mesh, for pictures: untouched faces and pieces outside.
-        std::vector<std::uint32_t> outer(mesh_.vertex_count() + point_pos_.size(), kNone);
-        for (std::uint32_t node = 0; node < in.size(); ++node) {
+        std::vector<std::uint32_t> outer(with_outside_ ? mesh_.vertex_count() + point_pos_.size() : 0, kNone);
+        for (std::uint32_t node = 0; with_outside_ && node < in.size(); ++node) {
             if (in[node] || (node < nf && is_touched[node])) continue;
             const glm::uvec3 t = triangle(node);
             glm::uvec3 out;
@@ -331,13 +358,58 @@ private:
         r.fallback_sides = fallbacks_;
         for (std::uint32_t p = 0; p < point_pos_.size(); ++p)
             r.inserted += index.count(std::uint32_t(mesh_.vertex_count()) + p);
-        try {
-            check_disk_mesh(r.mesh);
-        } catch (const geo::InputError& e) {
-            throw geo::InputError(std::string("the region is not a disk (it may reach the mesh's boundary): ") +
-                                  e.what());
-        }
+        check_region_disk(r.mesh);
         return r;
+    }
+
+    // The region is a disk. Its faces are faces of a manifold mesh or pieces of them, gathered as
+    // one component, so it can only fail by reaching the mesh's boundary or its own (a vertex
+    // with two boundary arcs), which one boundary loop through every boundary edge once excludes;
+    // with V - E + F = 1 it is then a disk.
+    static void check_region_disk(const geo::Mesh& m) {
+        const auto refuse = [](const std::string& why) {
+            throw geo::InputError("the region is not a disk (it may reach the mesh's boundary): " + why);
+        };
+        const std::size_t nv = m.vertex_count();
+        std::vector<std::uint32_t> offset(nv + 1, 0), to(3 * m.face_count());
+        for (const auto& t : m.triangles) {
+            if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0] || geo::zero_area_face(m, t)) refuse("a face has no area");
+            for (int c = 0; c < 3; ++c) ++offset[t[c] + 1];
+        }
+        for (std::size_t v = 0; v < nv; ++v) offset[v + 1] += offset[v];
+        std::vector<std::uint32_t> fill(offset.begin(), offset.end() - 1);
+        for (const auto& t : m.triangles)
+            for (int c = 0; c < 3; ++c) to[fill[t[c]]++] = t[(c + 1) % 3];
+        const auto has = [&](std::uint32_t a, std::uint32_t b) {
+            std::size_t n = 0;
+            for (std::uint32_t i = offset[a]; i < offset[a + 1]; ++i) n += to[i] == b;
+            return n;
+        };
+        std::vector<std::uint32_t> next(nv, kNone);
+        std::size_t boundary = 0, directed = 0;
+        for (std::uint32_t a = 0; a < nv; ++a)
+            for (std::uint32_t i = offset[a]; i < offset[a + 1]; ++i) {
+                const std::uint32_t b = to[i];
+                ++directed;
+                if (has(a, b) != 1)
+                    refuse("an edge is in more than two faces, or two faces disagree on their direction");
+                if (has(b, a)) continue;
+                if (next[a] != kNone) refuse("it touches itself at a vertex");
+                next[a] = b, ++boundary;
+            }
+        const std::size_t edges = boundary + (directed - boundary) / 2;
+        if (long(nv) - long(edges) + long(m.face_count()) != 1) refuse("it has a handle or more than one boundary");
+        std::size_t loop = 0;
+        std::uint32_t v = 0;
+        while (v < nv && next[v] == kNone) ++v;
+        if (v == nv) refuse("it is closed");
+        for (std::uint32_t w = v; loop <= boundary; w = next[w]) {
+            ++loop;
+            if (next[w] == kNone) refuse("its boundary is open");
+            if (next[w] == v) break;
+        }
+        if (loop != boundary) refuse("it has more than one boundary loop");
+        if (boundary < 4) refuse("its boundary has fewer than 4 vertices, one for each corner of the square");
     }
 
     // Cuts a convex polygon (a face with points on its edges) along its chords and triangulates the
@@ -402,6 +474,7 @@ private:
     double diagonal_;
     std::vector<std::uint32_t> corners_;
     int n_;
+    bool with_outside_;
     std::vector<glm::dvec3> point_pos_;      // inserted points (ids from V on)
     std::vector<std::uint32_t> point_edge_;  // per inserted point, its edge
     std::map<std::pair<std::uint32_t, double>, std::uint32_t> inserted_;
@@ -415,15 +488,15 @@ QuadRegionCutter::QuadRegionCutter(const geo::Mesh& mesh)
     : mesh_(&mesh), adjacency_(geo::build_adjacency(mesh)), face_normals_(geo::face_normals(mesh)),
       diagonal_(mesh.bounds().diagonal()) {}
 
-QuadRegion QuadRegionCutter::cut(const std::array<std::uint32_t, 4>& corners) const {
-    return cut_polygon({corners.begin(), corners.end()});
+QuadRegion QuadRegionCutter::cut(const std::array<std::uint32_t, 4>& corners, bool outside) const {
+    return cut_polygon({corners.begin(), corners.end()}, outside);
 }
 
-QuadRegion QuadRegionCutter::cut_triangle(const std::array<std::uint32_t, 3>& corners) const {
-    return cut_polygon({corners.begin(), corners.end()});
+QuadRegion QuadRegionCutter::cut_triangle(const std::array<std::uint32_t, 3>& corners, bool outside) const {
+    return cut_polygon({corners.begin(), corners.end()}, outside);
 }
 
-QuadRegion QuadRegionCutter::cut_polygon(const std::vector<std::uint32_t>& corners) const {
+QuadRegion QuadRegionCutter::cut_polygon(const std::vector<std::uint32_t>& corners, bool outside) const {
     for (std::size_t i = 0; i < corners.size(); ++i) {
         if (corners[i] >= mesh_->vertex_count())
             throw geo::InputError("corner " + std::to_string(corners[i]) + " is not a vertex of the mesh (it has " +
@@ -431,7 +504,7 @@ QuadRegion QuadRegionCutter::cut_polygon(const std::vector<std::uint32_t>& corne
         for (std::size_t j = 0; j < i; ++j)
             if (corners[i] == corners[j]) throw geo::InputError("the corners must be distinct vertices");
     }
-    return RegionCutter(*mesh_, adjacency_, face_normals_, diagonal_, corners).cut();
+    return RegionCutter(*mesh_, adjacency_, face_normals_, diagonal_, corners, outside).cut();
 }
 
 QuadRegion cut_quad_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 4>& corners) {

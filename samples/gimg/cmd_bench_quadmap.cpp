@@ -61,7 +61,7 @@ void run_quad_bench(const QuadBenchOptions& o, const GlobalOptions& global) {
             // The mesh's adjacency and normals (once per mesh, kept by an editor), then the cut itself.
             std::optional<passes::QuadRegionCutter> cutter;
             prepare_ms.push_back(time_ms([&] { cutter.emplace(mesh); }));
-            cut_ms.push_back(time_ms([&] { region = cutter->cut(corners); }));
+            cut_ms.push_back(time_ms([&] { region = cutter->cut(corners, false); }));
             flat = passes::map_quad_region(nullptr, region,
                                            {.start = passes::QuadStart::Flat, .solver = passes::QuadSolver::Iterate});
             flat_ms.push_back(flat.solve_ms);

@@ -9,6 +9,7 @@
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/normals.h"
 #include "gimg/geometry/shapes.h"
+#include "gimg/geometry/topology.h"
 #include "gimg/passes/parameterize.h"
 #include "gimg/passes/quad_region.h"
 
@@ -242,6 +243,27 @@ TEST(QuadRegionCut, RefusesCornersThatSpanNoRegion) {
     EXPECT_THROW(gp::cut_quad_region(sheet, {c[0], c[1], c[2], 100000}), geo::InputError);
     // Clockwise: the faces on the left are the rest of the sheet, which reaches its boundary.
     EXPECT_THROW(gp::cut_quad_region(sheet, {c[0], c[3], c[2], c[1]}), geo::InputError);
+    // A hole inside the square: the region has two boundary loops, not a disk.
+    geo::Mesh holed = sheet;
+    holed.triangles.erase(
+        std::remove_if(holed.triangles.begin(), holed.triangles.end(),
+                       [&](const glm::uvec3& t) {
+                           const glm::dvec3 m =
+                               (holed.positions[t[0]] + holed.positions[t[1]] + holed.positions[t[2]]) / 3.0;
+                           return glm::distance(m, glm::dvec3(0.5, 0.5, 0.0)) < 0.15;
+                       }),
+        holed.triangles.end());
+    try {
+        (void)gp::cut_quad_region(holed, unit_corners(holed));
+        ADD_FAILURE() << "a region with a hole was cut";
+    } catch (const geo::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("not a disk"), std::string::npos) << e.what();
+    }
+    // The same square without the hole is a disk of V - E + F = 1.
+    const gp::QuadRegion whole = gp::cut_quad_region(sheet, c);
+    const geo::MeshInfo info = geo::analyze_topology(whole.mesh);
+    EXPECT_EQ(info.boundary_loops, 1u);
+    EXPECT_TRUE(info.manifold);
 }
 
 TEST(QuadDeform, TheLatticeVanishesToSecondOrderAtTheBoundaryWithTwoFixedLayers) {

@@ -50,11 +50,13 @@ QuadRegion cut_triangle_region(const geo::Mesh& mesh, const std::array<std::uint
 class QuadRegionCutter {
 public:
     explicit QuadRegionCutter(const geo::Mesh& mesh);
-    QuadRegion cut(const std::array<std::uint32_t, 4>& corners) const;
-    QuadRegion cut_triangle(const std::array<std::uint32_t, 3>& corners) const;
+    // outside = false leaves QuadRegion::outside empty (it is only for pictures, and costs a pass
+    // over the whole mesh).
+    QuadRegion cut(const std::array<std::uint32_t, 4>& corners, bool outside = true) const;
+    QuadRegion cut_triangle(const std::array<std::uint32_t, 3>& corners, bool outside = true) const;
 
 private:
-    QuadRegion cut_polygon(const std::vector<std::uint32_t>& corners) const;
+    QuadRegion cut_polygon(const std::vector<std::uint32_t>& corners, bool outside) const;
     const geo::Mesh* mesh_;
     geo::MeshAdjacency adjacency_;
     std::vector<glm::dvec3> face_normals_;
