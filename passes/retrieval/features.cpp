@@ -105,11 +105,13 @@ std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh) {
     for (int a = 0; a < 3; ++a) {
         const glm::dvec3 axis = a == 0 ? e[1] : a == 1 ? e[0] : e[2];
         const glm::dvec3 u = a == 0 ? e[0] : a == 1 ? e[2] : e[1], v = glm::cross(u, axis);
-        double radius = 0.0, reach = 0.0;
-        for (const auto& p : q) {
-            radius = std::max(radius, std::hypot(glm::dot(p, u), glm::dot(p, v)));
-            reach = std::max(reach, std::abs(glm::dot(p, axis)));
-        }
+        double radius = 0.0, reach = 0.0;  // over the vertices faces use: a stray point does not count
+        for (const auto& t : mesh.triangles)
+            for (int k = 0; k < 3; ++k) {
+                const glm::dvec3& p = q[t[k]];
+                radius = std::max(radius, std::hypot(glm::dot(p, u), glm::dot(p, v)));
+                reach = std::max(reach, std::abs(glm::dot(p, axis)));
+            }
         const double r = std::max(3.0 * mean, 1.001 * radius), h = std::max(r, 1.001 * reach);
         CylinderMesh c;
         c.positions.reserve(3 * q.size());
