@@ -88,7 +88,7 @@ void bind_retrieval(py::module_& m) {
     m.def(
         "index",
         [](Device& device, const py::list& meshes, std::vector<std::string> labels, std::uint32_t size,
-           std::uint32_t reduced, double variance) {
+           std::uint32_t reduced, double variance, const std::string& descriptor) {
             const std::vector<geo::Mesh> ms = to_meshes(meshes);
             if (!labels.empty() && labels.size() != ms.size()) throw geo::InputError("labels: one per mesh, or none");
             labels.resize(ms.size());
@@ -96,14 +96,21 @@ void bind_retrieval(py::module_& m) {
             for (std::size_t i = 0; i < ms.size(); ++i) names[i] = "model " + std::to_string(i);
             passes::RetrievalOptions o;
             o.size = size, o.reduced = reduced, o.variance = variance;
+            if (descriptor == "panorama")
+                o.descriptor = passes::RetrievalDescriptor::Panorama, o.cylinders = 3;
+            else if (descriptor == "spectrum2d-slope")
+                o.descriptor = passes::RetrievalDescriptor::Spectrum2DSlope;
+            else if (descriptor != "image")
+                throw geo::InputError("descriptor: image, spectrum2d-slope or panorama, not \"" + descriptor + "\"");
             if (o.reduced % 2 != 0 || o.size % o.reduced != 0)
                 throw geo::InputError("size must be a multiple of reduced, and reduced even");
             py::gil_scoped_release release;
             return passes::build_shape_database(passes::cylinder_features(device.context(), ms, o), names, labels, o);
         },
         py::arg("device"), py::arg("meshes"), py::arg("labels") = std::vector<std::string>{}, py::arg("size") = 144,
-        py::arg("reduced") = 48, py::arg("variance") = 0.95,
-        "A retrieval index of a list of (positions, faces) (gimg index, the reduced-image descriptor): a "
+        py::arg("reduced") = 48, py::arg("variance") = 0.95, py::arg("descriptor") = "image",
+        "A retrieval index of a list of (positions, faces) (gimg index): descriptor image (the thesis's, "
+        "default), spectrum2d-slope or panorama (the best; size, reduced and variance do not apply). A "
         "ShapeDatabase");
 }
 

@@ -255,6 +255,18 @@ def test_roundtrip_batches_and_retrieval_match_the_command_line(device, tmp_path
     db.save(str(tmp_path / "py.json"))
     assert gimg.load_database(str(tmp_path / "py.json")).k == db.k
 
+    # The panorama descriptor ranks as gimg index --descriptor panorama does, and a bad name is refused.
+    subprocess.run([GIMG, "--quiet", "index", str(folder), "--out", str(tmp_path / "pano.json"), "--descriptor",
+                    "panorama"], check=True)
+    found = cli_json("search", str(tmp_path / "pano.json"), os.path.join(DATA, "meshes", "cube_quads.obj"))["results"]
+    pano = gimg.index(device, meshes, descriptor="panorama")
+    assert pano.k == 6 * 21 * 21
+    ours = pano.search(device, *meshes[0], k=len(names))
+    assert [names[i] for i, _ in ours] == [os.path.basename(x["path"]) for x in found]
+    assert ours[0][1] == pytest.approx(0.0, abs=1e-6)  # the cube itself first
+    with pytest.raises(ValueError, match="descriptor"):
+        gimg.index(device, meshes, descriptor="zernike")
+
 
 def test_the_walkthrough_in_docs_python_md_draws_its_pictures(capsys, tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
