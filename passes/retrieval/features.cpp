@@ -87,18 +87,26 @@ std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32
 }
 
 std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh) {
-    const geo::PcaAlignment pca = geo::compute_pca_alignment(mesh, geo::PcaWeighting::SurfaceArea);
+    double area = 0.0;
+    for (const auto& t : mesh.triangles)
+        area += 0.5 * glm::length(glm::cross(mesh.positions[t[1]] - mesh.positions[t[0]],
+                                             mesh.positions[t[2]] - mesh.positions[t[0]]));
+    // A mesh with no area (a flat strip of collinear points) still gets images, as the thesis's
+    // descriptor gives it one: its frame from the vertices, its scale from their mean distance.
+    const bool flat = !(area > 0.0);
+    const geo::PcaAlignment pca =
+        geo::compute_pca_alignment(mesh, flat ? geo::PcaWeighting::Vertices : geo::PcaWeighting::SurfaceArea);
     std::vector<glm::dvec3> q(mesh.positions.size());
     for (std::size_t i = 0; i < q.size(); ++i) q[i] = pca.transform.apply_point(mesh.positions[i]);
     // The surface's mean distance from the centroid, by area (each triangle at its centroid).
-    double area = 0.0, mean = 0.0;
+    double weight = 0.0, mean = 0.0;
     for (const auto& t : mesh.triangles) {
-        const double a = 0.5 * glm::length(glm::cross(q[t[1]] - q[t[0]], q[t[2]] - q[t[0]]));
-        area += a;
+        const double a = flat ? 1.0 : 0.5 * glm::length(glm::cross(q[t[1]] - q[t[0]], q[t[2]] - q[t[0]]));
+        weight += a;
         mean += a * glm::length((q[t[0]] + q[t[1]] + q[t[2]]) / 3.0);
     }
-    if (!(area > 0.0) || !(mean > 0.0)) throw geo::InputError("retrieval: the mesh has no area");
-    mean /= area;
+    mean = weight > 0.0 && mean > 0.0 ? mean / weight : 1.0;
+    if (!std::isfinite(mean)) throw geo::InputError("retrieval: the mesh's coordinates are not finite");
     std::vector<CylinderMesh> out;
     // (u, axis, v) right-handed (cyclic permutations of the principal frame), so faces keep facing out.
     const glm::dvec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};

@@ -344,4 +344,12 @@ TEST_F(RetrievalGpu, PanoramaImagesEqualTheRayCasterAndFindTurnedCopies) {
     std::filesystem::remove(path);
     EXPECT_EQ(back.options.descriptor, gp::RetrievalDescriptor::Panorama);
     EXPECT_EQ(back.coefficients, db.coefficients);
+    // A mesh with no area (collinear points) still gets its three images, as the thesis's
+    // descriptor gives it one, rather than stopping a whole index.
+    geo::Mesh flat;
+    flat.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+    flat.triangles = {{0, 1, 2}};
+    const auto flat_feature = gp::cylinder_features(ctx(), {flat}, options);
+    ASSERT_EQ(flat_feature.size(), 1u);
+    EXPECT_EQ(flat_feature[0].size(), gp::feature_size(options));
 }

@@ -70,7 +70,8 @@ std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vecto
 
 // Panorama's three cylinder meshes of one model (main, second, third principal axis on the
 // cylinder's): radii over R = max(3 mean distance, the farthest point from that axis), heights
-// over [-H, H] with H = max(R, the farthest point along it), so the model lies inside.
+// over [-H, H] with H = max(R, the farthest point along it), so the model lies inside. A mesh with
+// no area takes its frame and mean distance from its vertices.
 std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh);
 
 // PCA leaves each axis's sign open, so one model can come out turned over. BestOfFour compares a
