@@ -86,7 +86,7 @@ std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32
     return out;
 }
 
-std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh) {
+PanoramaFrame panorama_frame(const geo::Mesh& mesh) {
     double area = 0.0;
     for (const auto& t : mesh.triangles)
         area += 0.5 * glm::length(glm::cross(mesh.positions[t[1]] - mesh.positions[t[0]],
@@ -107,7 +107,14 @@ std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh) {
     }
     mean = weight > 0.0 && mean > 0.0 ? mean / weight : 1.0;
     if (!std::isfinite(mean)) throw geo::InputError("retrieval: the mesh's coordinates are not finite");
-    std::vector<CylinderMesh> out;
+    PanoramaFrame out;
+    out.mesh.positions.reserve(3 * q.size());
+    for (auto& p : q) {
+        p /= mean;
+        out.mesh.positions.insert(out.mesh.positions.end(), {float(p.x), float(p.y), float(p.z)});
+    }
+    out.mesh.triangles.reserve(3 * mesh.triangles.size());
+    for (const auto& t : mesh.triangles) out.mesh.triangles.insert(out.mesh.triangles.end(), {t.x, t.y, t.z});
     // (u, axis, v) right-handed (cyclic permutations of the principal frame), so faces keep facing out.
     const glm::dvec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     for (int a = 0; a < 3; ++a) {
@@ -116,19 +123,15 @@ std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh) {
         double radius = 0.0, reach = 0.0;  // over the vertices faces use: a stray point does not count
         for (const auto& t : mesh.triangles)
             for (int k = 0; k < 3; ++k) {
-                const glm::dvec3& p = q[t[k]];
-                radius = std::max(radius, std::hypot(glm::dot(p, u), glm::dot(p, v)));
+                const glm::dvec3 p(out.mesh.positions[3 * t[k]], out.mesh.positions[3 * t[k] + 1],
+                                   out.mesh.positions[3 * t[k] + 2]);
+                radius = std::max(radius, std::sqrt(glm::dot(p, u) * glm::dot(p, u) + glm::dot(p, v) * glm::dot(p, v)));
                 reach = std::max(reach, std::abs(glm::dot(p, axis)));
             }
-        const double r = std::max(3.0 * mean, 1.001 * radius), h = std::max(r, 1.001 * reach);
-        CylinderMesh c;
-        c.positions.reserve(3 * q.size());
-        for (const auto& p : q)
-            c.positions.insert(c.positions.end(), {float(glm::dot(p, u) / r), float(0.5 + 0.5 * glm::dot(p, axis) / h),
-                                                   float(glm::dot(p, v) / r)});
-        c.triangles.reserve(3 * mesh.triangles.size());
-        for (const auto& t : mesh.triangles) c.triangles.insert(c.triangles.end(), {t.x, t.y, t.z});
-        out.push_back(std::move(c));
+        const double r = std::max(3.0, 1.001 * radius), h = std::max(r, 1.001 * reach);
+        out.transforms[a] = {float(u.x / r),          float(u.y / r),          float(u.z / r),          0.0f,
+                             float(0.5 * axis.x / h), float(0.5 * axis.y / h), float(0.5 * axis.z / h), 0.5f,
+                             float(v.x / r),          float(v.y / r),          float(v.z / r),          0.0f};
     }
     return out;
 }
@@ -136,27 +139,30 @@ std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh) {
 namespace {
 
 std::vector<std::vector<float>> panorama_features(Context& ctx, const std::vector<geo::Mesh>& meshes) {
-    std::vector<CylinderMesh> cylinder_meshes(meshes.size() * 3);
+    std::vector<CylinderMesh> frames(meshes.size());
+    std::vector<std::array<CylinderTransform, 3>> transforms(meshes.size());
     geo::parallel_for_chunks(meshes.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
         for (std::size_t m = begin; m < end; ++m) {
-            auto three = panorama_cylinder_meshes(meshes[m]);
-            for (std::size_t a = 0; a < 3; ++a) cylinder_meshes[3 * m + a] = std::move(three[a]);
+            PanoramaFrame f = panorama_frame(meshes[m]);
+            frames[m] = std::move(f.mesh);
+            transforms[m] = f.transforms;
         }
     });
     CylinderZBuffer zbuffer(ctx, kPanoramaWidth, kPanoramaHeight);
     std::size_t all_vertices = 0, all_faces = 0;
-    for (const CylinderMesh& c : cylinder_meshes) all_vertices += c.positions.size() / 3, all_faces += c.face_count();
+    for (const CylinderMesh& c : frames) all_vertices += c.positions.size() / 3, all_faces += c.face_count();
     zbuffer.reserve(all_vertices, all_faces);
-    const std::vector<std::uint32_t> ids = zbuffer.add_meshes(cylinder_meshes);
-    cylinder_meshes = {};
+    const std::vector<std::uint32_t> ids = zbuffer.add_meshes(frames);  // one upload a model, three images
+    frames = {};
     std::vector<std::vector<float>> out(meshes.size());
-    constexpr std::size_t kBatch = 255;  // whole models, at most 255 images an execution
+    constexpr std::size_t kBatch = 85;  // models an execution: 255 images
     for (std::size_t begin = 0; begin < ids.size(); begin += kBatch) {
         std::vector<CylinderZBuffer::Job> jobs;
-        for (std::size_t k = begin; k < std::min(ids.size(), begin + kBatch); ++k) jobs.push_back({ids[k]});
+        for (std::size_t m = begin; m < std::min(ids.size(), begin + kBatch); ++m)
+            for (std::size_t a = 0; a < 3; ++a) jobs.push_back({ids[m], transforms[m][a]});
         const std::vector<CylinderImage> images = zbuffer.project(jobs);
         for (std::size_t k = 0; k < images.size(); ++k) {
-            auto& f = out[(begin + k) / 3];
+            auto& f = out[begin + k / 3];
             for (std::size_t i = 0; i < images[k].distance.size(); ++i)
                 f.push_back(images[k].covered[i] && images[k].distance[i] > 0.0f ? images[k].distance[i] : 0.0f);
         }

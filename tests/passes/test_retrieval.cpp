@@ -308,15 +308,19 @@ TEST_F(RetrievalGpu, PanoramaImagesEqualTheRayCasterAndFindTurnedCopies) {
     ASSERT_EQ(features.size(), models.size());
     constexpr std::uint32_t w = gp::kPanoramaWidth, h = gp::kPanoramaHeight;
     for (std::size_t m = 0; m < n; ++m) {
-        const auto meshes = gp::panorama_cylinder_meshes(models[m]);
-        ASSERT_EQ(meshes.size(), 3u);
+        const gp::PanoramaFrame frame = gp::panorama_frame(models[m]);
         for (std::size_t a = 0; a < 3; ++a) {
-            for (std::size_t i = 0; i < meshes[a].positions.size(); i += 3) {
-                ASSERT_LE(std::hypot(meshes[a].positions[i], meshes[a].positions[i + 2]), 1.0f);
-                ASSERT_GE(meshes[a].positions[i + 1], 0.0f);
-                ASSERT_LE(meshes[a].positions[i + 1], 1.0f);
+            const auto& t = frame.transforms[a];
+            for (std::size_t i = 0; i < frame.mesh.positions.size(); i += 3) {
+                const float x = frame.mesh.positions[i], y = frame.mesh.positions[i + 1],
+                            z = frame.mesh.positions[i + 2];
+                const float cx = t[0] * x + t[1] * y + t[2] * z + t[3], cy = t[4] * x + t[5] * y + t[6] * z + t[7],
+                            cz = t[8] * x + t[9] * y + t[10] * z + t[11];
+                ASSERT_LE(std::hypot(cx, cz), 1.0f);
+                ASSERT_GE(cy, 0.0f);
+                ASSERT_LE(cy, 1.0f);
             }
-            const gp::CylinderImage ray = gp::cylinder_raycast(meshes[a], w, h);
+            const gp::CylinderImage ray = gp::cylinder_raycast(frame.mesh, w, h, t);
             std::size_t differ = 0, seen = 0;
             for (std::size_t i = 0; i < std::size_t(w) * h; ++i) {
                 const float expected = ray.covered[i] && ray.distance[i] > 0.0f ? ray.distance[i] : 0.0f;

@@ -8,6 +8,7 @@
 #include "gimg/geometry/mesh.h"
 #include "gimg/passes/cylinder.h"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <filesystem>
@@ -63,16 +64,21 @@ std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32
 // The features of many meshes: each aligned by fit_cylinder_frame, projected by the GPU Z-buffer and
 // reduced by a compute pass in the same graph (reduce_cylinder_image is its CPU twin), in batches;
 // with 3 cylinders, the model's principal axes each take the cylinder's axis in turn. Panorama:
-// its three images (panorama_cylinder_meshes) as the Z-buffer leaves them, empty and negative
+// its three images (panorama_frame) as the Z-buffer leaves them, empty and negative
 // distances (surfaces seen through the axis) as 0.
 std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vector<geo::Mesh>& meshes,
                                                   const RetrievalOptions& options = {});
 
-// Panorama's three cylinder meshes of one model (main, second, third principal axis on the
-// cylinder's): radii over R = max(3 mean distance, the farthest point from that axis), heights
-// over [-H, H] with H = max(R, the farthest point along it), so the model lies inside. A mesh with
-// no area takes its frame and mean distance from its vertices.
-std::vector<CylinderMesh> panorama_cylinder_meshes(const geo::Mesh& mesh);
+// Panorama's frame of one model: the mesh in its area-weighted principal frame, scaled by its mean
+// distance from the centroid (a mesh with no area takes both from its vertices), and the three
+// transforms into the cylinder (main, second, third principal axis on the cylinder's): radii over
+// R = max(3, the farthest point from that axis), heights over [-H, H] with H = max(R, the farthest
+// point along it), so the model lies inside. One upload, three images.
+struct PanoramaFrame {
+    CylinderMesh mesh;
+    std::array<CylinderTransform, 3> transforms;
+};
+PanoramaFrame panorama_frame(const geo::Mesh& mesh);
 
 // PCA leaves each axis's sign open, so one model can come out turned over. BestOfFour compares a
 // query in the four poses the two free signs give (turned end over end, turned half way about
