@@ -57,24 +57,36 @@ const char* descriptor_name(RetrievalDescriptor d) {
 
 std::vector<float> spectra(const RetrievalOptions& options, const std::vector<float>& image);
 
+// cos and sin of 2 pi m / n, m = 0 .. n - 1.
+void turns(std::size_t n, std::vector<double>& cosine, std::vector<double>& sine) {
+    cosine.resize(n), sine.resize(n);
+    for (std::size_t m = 0; m < n; ++m) {
+        cosine[m] = std::cos(2.0 * 3.14159265358979323846 * double(m) / double(n));
+        sine[m] = std::sin(2.0 * 3.14159265358979323846 * double(m) / double(n));
+    }
+}
+
+// Per row of a w-wide image of `rows` rows, its DFT over the row (theta), k = 0 .. kmax.
+template <typename T>
+std::vector<std::complex<double>> theta_dft(const T* image, std::size_t w, std::size_t rows, std::size_t kmax,
+                                            const std::vector<double>& cosine, const std::vector<double>& sine) {
+    std::vector<std::complex<double>> out(rows * (kmax + 1));
+    for (std::size_t v = 0; v < rows; ++v)
+        for (std::size_t k = 0; k <= kmax; ++k) {
+            std::complex<double> z = 0.0;
+            for (std::size_t u = 0; u < w; ++u)
+                z += double(image[v * w + u]) * std::complex<double>(cosine[k * u % w], -sine[k * u % w]);
+            out[v * (kmax + 1) + k] = z;
+        }
+    return out;
+}
+
 // |F(kh, kt)| of a W x H image for kh, kt in 0 .. band, each averaged with |F(-kh, kt)| so that
 // the image turned end over end (or mirrored in theta) has the same values.
 std::vector<double> low_band(const double* image, std::uint32_t w, std::uint32_t h, std::uint32_t band) {
-    constexpr double kTwoPi = 2.0 * 3.14159265358979323846;
-    std::vector<double> cos_w(w), sin_w(w), cos_h(h), sin_h(h);
-    for (std::uint32_t i = 0; i < w; ++i) cos_w[i] = std::cos(kTwoPi * i / w), sin_w[i] = std::sin(kTwoPi * i / w);
-    for (std::uint32_t i = 0; i < h; ++i) cos_h[i] = std::cos(kTwoPi * i / h), sin_h[i] = std::sin(kTwoPi * i / h);
-    // Per row, the DFT over theta (real input), k = 0 .. band.
-    std::vector<double> re(std::size_t(h) * (band + 1)), im(re.size());
-    for (std::uint32_t y = 0; y < h; ++y) {
-        const double* row = image + std::size_t(y) * w;
-        for (std::uint32_t kt = 0; kt <= band; ++kt) {
-            double a = 0.0, b = 0.0;
-            for (std::uint32_t x = 0, i = 0; x < w; ++x, i = i + kt >= w ? i + kt - w : i + kt)
-                a += row[x] * cos_w[i], b -= row[x] * sin_w[i];
-            re[std::size_t(y) * (band + 1) + kt] = a, im[std::size_t(y) * (band + 1) + kt] = b;
-        }
-    }
+    std::vector<double> cos_w, sin_w, cos_h, sin_h;
+    turns(w, cos_w, sin_w), turns(h, cos_h, sin_h);
+    const std::vector<std::complex<double>> rows = theta_dft(image, w, h, band, cos_w, sin_w);
     std::vector<double> out;
     out.reserve(std::size_t(band + 1) * (band + 1));
     for (std::uint32_t kh = 0; kh <= band; ++kh)
@@ -82,8 +94,8 @@ std::vector<double> low_band(const double* image, std::uint32_t w, std::uint32_t
             // Over height, e^{-i 2 pi kh y / h} (up) and its conjugate (down).
             double up_re = 0.0, up_im = 0.0, down_re = 0.0, down_im = 0.0;
             for (std::uint32_t y = 0, i = 0; y < h; ++y, i = i + kh >= h ? i + kh - h : i + kh) {
-                const double r = re[std::size_t(y) * (band + 1) + kt], m = im[std::size_t(y) * (band + 1) + kt];
-                const double c = cos_h[i], sn = sin_h[i];
+                const std::complex<double> z = rows[std::size_t(y) * (band + 1) + kt];
+                const double r = z.real(), m = z.imag(), c = cos_h[i], sn = sin_h[i];
                 up_re += r * c + m * sn, up_im += m * c - r * sn;
                 down_re += r * c - m * sn, down_im += m * c + r * sn;
             }
@@ -168,20 +180,11 @@ namespace {
 // ThetaSpectrum or Spectrum2D of a reduced image.
 std::vector<float> spectra(const RetrievalOptions& options, const std::vector<float>& image) {
     const std::size_t r = options.reduced;
-    std::vector<double> cosine(r), sine(r);  // of 2 pi m / r
-    for (std::size_t m = 0; m < r; ++m) {
-        cosine[m] = std::cos(2.0 * 3.14159265358979323846 * double(m) / double(r));
-        sine[m] = std::sin(2.0 * 3.14159265358979323846 * double(m) / double(r));
-    }
+    std::vector<double> cosine, sine;
+    turns(r, cosine, sine);
     // Per row (the cylinders' rows one after another), the DFT over theta, k = 0 .. r / 2.
-    std::vector<std::complex<double>> rows(options.cylinders * r * (r / 2 + 1));
-    for (std::size_t v = 0; v < options.cylinders * r; ++v)
-        for (std::size_t k = 0; k <= r / 2; ++k) {
-            std::complex<double> z = 0.0;
-            for (std::size_t u = 0; u < r; ++u)
-                z += double(image[v * r + u]) * std::complex<double>(cosine[k * u % r], -sine[k * u % r]);
-            rows[v * (r / 2 + 1) + k] = z;
-        }
+    const std::vector<std::complex<double>> rows =
+        theta_dft(image.data(), r, options.cylinders * r, r / 2, cosine, sine);
     std::vector<float> out;
     if (options.descriptor == RetrievalDescriptor::ThetaSpectrum) {
         for (const auto& z : rows) out.push_back(float(std::abs(z)));
