@@ -97,7 +97,7 @@ void bind_retrieval(py::module_& m) {
             passes::RetrievalOptions o;
             o.size = size, o.reduced = reduced, o.variance = variance;
             if (descriptor == "panorama")
-                o.descriptor = passes::RetrievalDescriptor::Panorama, o.cylinders = 3;
+                o.descriptor = passes::RetrievalDescriptor::Panorama;
             else if (descriptor == "spectrum2d-slope")
                 o.descriptor = passes::RetrievalDescriptor::Spectrum2DSlope;
             else if (descriptor != "image")

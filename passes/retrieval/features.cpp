@@ -87,26 +87,22 @@ std::vector<float> reduce_cylinder_image(const CylinderImage& image, std::uint32
 }
 
 PanoramaFrame panorama_frame(const geo::Mesh& mesh) {
-    double area = 0.0;
-    for (const auto& t : mesh.triangles)
-        area += 0.5 * glm::length(glm::cross(mesh.positions[t[1]] - mesh.positions[t[0]],
-                                             mesh.positions[t[2]] - mesh.positions[t[0]]));
-    // A mesh with no area (a flat strip of collinear points) still gets images, as the thesis's
-    // descriptor gives it one: its frame from the vertices, its scale from their mean distance.
-    const bool flat = !(area > 0.0);
-    const geo::PcaAlignment pca =
-        geo::compute_pca_alignment(mesh, flat ? geo::PcaWeighting::Vertices : geo::PcaWeighting::SurfaceArea);
+    // compute_pca_alignment gives a mesh with no area (a flat strip) the identity about its vertices'
+    // centroid, so it still gets images, as the thesis's descriptor gives it one.
+    const geo::PcaAlignment pca = geo::compute_pca_alignment(mesh, geo::PcaWeighting::SurfaceArea);
     std::vector<glm::dvec3> q(mesh.positions.size());
     for (std::size_t i = 0; i < q.size(); ++i) q[i] = pca.transform.apply_point(mesh.positions[i]);
-    // The surface's mean distance from the centroid, by area (each triangle at its centroid).
-    double weight = 0.0, mean = 0.0;
+    // The surface's mean distance from the centroid, by area (each triangle at its centroid); the
+    // triangles counted alike when none has area.
+    double area = 0.0, mean = 0.0, plain = 0.0;
     for (const auto& t : mesh.triangles) {
-        const double a = flat ? 1.0 : 0.5 * glm::length(glm::cross(q[t[1]] - q[t[0]], q[t[2]] - q[t[0]]));
-        weight += a;
-        mean += a * glm::length((q[t[0]] + q[t[1]] + q[t[2]]) / 3.0);
+        const double a = 0.5 * glm::length(glm::cross(q[t[1]] - q[t[0]], q[t[2]] - q[t[0]]));
+        const double d = glm::length((q[t[0]] + q[t[1]] + q[t[2]]) / 3.0);
+        area += a, mean += a * d, plain += d;
     }
-    mean = weight > 0.0 && mean > 0.0 ? mean / weight : 1.0;
+    mean = area > 0.0 ? mean / area : mesh.triangles.empty() ? 0.0 : plain / double(mesh.triangles.size());
     if (!std::isfinite(mean)) throw geo::InputError("retrieval: the mesh's coordinates are not finite");
+    if (!(mean > 0.0)) mean = 1.0;
     PanoramaFrame out;
     out.mesh.positions.reserve(3 * q.size());
     for (auto& p : q) {

@@ -205,6 +205,35 @@ std::vector<float> spectra(const RetrievalOptions& options, const std::vector<fl
 
 }  // namespace
 
+std::vector<std::vector<float>> describe_features(const RetrievalOptions& options,
+                                                  const std::vector<std::vector<float>>& features) {
+    for (const auto& f : features)
+        if (f.size() != feature_size(options)) throw geo::InputError("retrieval: features of different sizes");
+    std::vector<std::vector<float>> out(features.size());
+    geo::parallel_for_chunks(features.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) out[i] = describe_feature(options, features[i]);
+    });
+    return out;
+}
+
+ShapeDatabase panorama_database(std::vector<std::vector<float>> descriptors, std::vector<std::string> paths,
+                                std::vector<std::string> labels) {
+    const std::size_t n = descriptors.size();
+    if (n < 2) throw geo::InputError("retrieval: a database needs at least 2 models, got " + std::to_string(n));
+    if (paths.size() != n || labels.size() != n) throw geo::InputError("retrieval: paths and labels per model");
+    ShapeDatabase db;
+    db.options.descriptor = RetrievalDescriptor::Panorama;
+    db.options.cylinders = 3;
+    db.k = std::uint32_t(descriptor_size(db.options));
+    db.variance_kept = 1.0;
+    for (const auto& d : descriptors)
+        if (d.size() != db.k) throw geo::InputError("retrieval: a descriptor of another size");
+    db.coefficients = std::move(descriptors);
+    db.paths = std::move(paths);
+    db.labels = std::move(labels);
+    return db;
+}
+
 ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& features, std::vector<std::string> paths,
                                    std::vector<std::string> labels, const RetrievalOptions& options) {
     const std::size_t n = features.size(), d = descriptor_size(options);
@@ -212,21 +241,8 @@ ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& featur
     if (paths.size() != n || labels.size() != n) throw geo::InputError("retrieval: paths and labels per model");
     if (!(options.variance > 0.0 && options.variance <= 1.0))
         throw geo::InputError("retrieval: the variance share must be in (0, 1]");
-    if (options.descriptor == RetrievalDescriptor::Panorama) {
-        ShapeDatabase db;
-        db.options = options;
-        db.k = std::uint32_t(d);
-        db.variance_kept = 1.0;
-        for (const auto& f : features)
-            if (f.size() != feature_size(options)) throw geo::InputError("retrieval: features of different sizes");
-        db.coefficients.resize(n);
-        geo::parallel_for_chunks(n, 1, [&](std::size_t, std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i) db.coefficients[i] = describe_feature(options, features[i]);
-        });
-        db.paths = std::move(paths);
-        db.labels = std::move(labels);
-        return db;
-    }
+    if (options.descriptor == RetrievalDescriptor::Panorama)
+        return panorama_database(describe_features(options, features), std::move(paths), std::move(labels));
     Eigen::MatrixXd x(n, d);
     for (std::size_t i = 0; i < n; ++i) {
         if (features[i].size() != feature_size(options))

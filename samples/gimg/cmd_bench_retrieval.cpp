@@ -10,7 +10,6 @@
 #include "json_output.h"
 #include "timing.h"
 
-#include "gimg/geometry/parallel_for.h"
 #include "gimg/geometry/shapes.h"
 #include "gimg/passes/retrieval.h"
 
@@ -48,7 +47,7 @@ void run_retrieval_bench(const RetrievalBenchOptions& o, const GlobalOptions& gl
     std::mt19937_64 rng(23);
     passes::RetrievalOptions options;
     const bool panorama = o.descriptor == "panorama";
-    if (panorama) options.descriptor = passes::RetrievalDescriptor::Panorama, options.cylinders = 3;
+    if (panorama) options.descriptor = passes::RetrievalDescriptor::Panorama;
     // Panorama's features (three raw images) are large: each chunk is kept as its descriptors.
     std::vector<std::vector<float>> features;
     double feature_ms = 0.0;
@@ -60,10 +59,7 @@ void run_retrieval_bench(const RetrievalBenchOptions& o, const GlobalOptions& gl
         std::vector<std::vector<float>> chunk;
         feature_ms += time_ms([&] {
             chunk = passes::cylinder_features(*ctx, copies, options);
-            if (panorama)
-                geo::parallel_for_chunks(chunk.size(), 1, [&](std::size_t, std::size_t begin, std::size_t end) {
-                    for (std::size_t i = begin; i < end; ++i) chunk[i] = passes::describe_feature(options, chunk[i]);
-                });
+            if (panorama) chunk = passes::describe_features(options, chunk);
         });
         for (auto& f : chunk) features.push_back(std::move(f));
         done += n;
@@ -82,16 +78,10 @@ void run_retrieval_bench(const RetrievalBenchOptions& o, const GlobalOptions& gl
             database_sizes.push_back(size);
     for (std::uint32_t size : database_sizes) {
         const std::vector<std::vector<float>> subset(features.begin(), features.begin() + size);
-        passes::ShapeDatabase db;
-        if (panorama) {  // the database build_shape_database makes: the descriptors as they are
-            db.options = options;
-            db.k = std::uint32_t(subset.front().size());
-            db.coefficients = subset;
-            db.paths = db.labels = std::vector<std::string>(size);
-        } else {
-            db = passes::build_shape_database(subset, std::vector<std::string>(size), std::vector<std::string>(size),
-                                              options);
-        }
+        const passes::ShapeDatabase db =
+            panorama ? passes::panorama_database(subset, std::vector<std::string>(size), std::vector<std::string>(size))
+                     : passes::build_shape_database(subset, std::vector<std::string>(size),
+                                                    std::vector<std::string>(size), options);
         std::vector<double> project, match;
         for (int run = 0; run < 5; ++run) {
             std::vector<float> f;

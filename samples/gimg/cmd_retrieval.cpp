@@ -92,7 +92,6 @@ void resolve_feature_options(IndexOptions& o) {
                              : o.descriptor == "spectrum2d-slope" ? passes::RetrievalDescriptor::Spectrum2DSlope
                              : o.descriptor == "panorama"         ? passes::RetrievalDescriptor::Panorama
                                                                   : passes::RetrievalDescriptor::Image;
-    if (o.retrieval.descriptor == passes::RetrievalDescriptor::Panorama) o.retrieval.cylinders = 3;
     if (o.retrieval.cylinders == 2) throw geo::InputError("--cylinders takes 1 or 3");
     if (o.retrieval.reduced % 2 != 0 || o.retrieval.size % o.retrieval.reduced != 0)
         throw geo::InputError("--size must be a multiple of --reduced, and --reduced even");

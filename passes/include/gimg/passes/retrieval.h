@@ -70,10 +70,10 @@ std::vector<std::vector<float>> cylinder_features(Context& ctx, const std::vecto
                                                   const RetrievalOptions& options = {});
 
 // Panorama's frame of one model: the mesh in its area-weighted principal frame, scaled by its mean
-// distance from the centroid (a mesh with no area takes both from its vertices), and the three
-// transforms into the cylinder (main, second, third principal axis on the cylinder's): radii over
-// R = max(3, the farthest point from that axis), heights over [-H, H] with H = max(R, the farthest
-// point along it), so the model lies inside. One upload, three images.
+// distance from the centroid (a mesh with no area: the identity frame about its vertices'
+// centroid), and the three transforms into the cylinder (main, second, third principal axis on
+// the cylinder's): radii over R = max(3, the farthest point from that axis), heights over [-H, H]
+// with H = max(R, the farthest point along it), so the model lies inside. One upload, three images.
 struct PanoramaFrame {
     CylinderMesh mesh;
     std::array<CylinderTransform, 3> transforms;
@@ -97,10 +97,17 @@ struct ShapeDatabase {
 };
 
 // PCA of the centred descriptors of the features (reduced images; Eigen's SVD; Panorama keeps its
-// descriptors as they are); throws geo::InputError for fewer than 2 models or features of
-// different sizes.
+// descriptors as they are: panorama_database); throws geo::InputError for fewer than 2 models or
+// features of different sizes.
 ShapeDatabase build_shape_database(const std::vector<std::vector<float>>& features, std::vector<std::string> paths,
                                    std::vector<std::string> labels, const RetrievalOptions& options);
+// Every feature's descriptor, the features spread over the cores.
+std::vector<std::vector<float>> describe_features(const RetrievalOptions& options,
+                                                  const std::vector<std::vector<float>>& features);
+// A Panorama database of descriptors already made (describe_features), for callers that keep
+// descriptors rather than the larger features.
+ShapeDatabase panorama_database(std::vector<std::vector<float>> descriptors, std::vector<std::string> paths,
+                                std::vector<std::string> labels);
 
 // The k coefficients of a feature (a reduced image).
 std::vector<float> project_feature(const ShapeDatabase& db, const std::vector<float>& feature);
