@@ -16,12 +16,7 @@ namespace gimg::passes::polycube {
 
 namespace {
 
-struct Pieces {
-    std::vector<std::vector<std::uint32_t>> triangles;
-    std::vector<std::uint32_t> slab;
-    std::vector<std::set<std::int32_t>> contours;
-    std::vector<bool> disk_like;  // genus 0: chi = 2 - loops
-};
+using Pieces = SlabPieces;
 
 // Components of triangles of the same slab joined across edges; their contour sets.
 Pieces slab_pieces(const std::vector<glm::uvec3>& tris, const std::vector<std::uint32_t>& slab,
@@ -69,9 +64,10 @@ Pieces slab_pieces(const std::vector<glm::uvec3>& tris, const std::vector<std::u
     return p;
 }
 
-// The sliced mesh's slab pieces with the contours each touches.
-Pieces mesh_slab_pieces(const SlicedMesh& sliced, const std::vector<Contour>& contours,
-                        const std::vector<double>& plane_z) {
+}  // namespace
+
+SlabPieces mesh_slab_pieces(const SlicedMesh& sliced, const std::vector<Contour>& contours,
+                            const std::vector<double>& plane_z) {
     std::vector<std::int32_t> contour_of(sliced.mesh.vertex_count(), -1);
     for (std::size_t c = 0; c < contours.size(); ++c)
         for (std::uint32_t v : contours[c].vertices) contour_of[v] = std::int32_t(c);
@@ -85,11 +81,8 @@ Pieces mesh_slab_pieces(const SlicedMesh& sliced, const std::vector<Contour>& co
     return slab_pieces(sliced.mesh.triangles, mesh_slab, [&](std::uint32_t v) { return contour_of[v]; });
 }
 
-}  // namespace
-
-JoinedContours joined_contours(const SlicedMesh& sliced, const std::vector<Contour>& contours,
+JoinedContours joined_contours(const SlabPieces& ms, const std::vector<Contour>& contours,
                                const std::vector<double>& plane_z) {
-    const Pieces ms = mesh_slab_pieces(sliced, contours, plane_z);
     JoinedContours joined(plane_z.size() + 1);
     for (std::size_t i = 0; i < ms.triangles.size(); ++i) {
         const std::uint32_t slab = ms.slab[i];
@@ -132,13 +125,12 @@ std::vector<std::vector<std::int32_t>> match_loops(const PolycubeSurface& surfac
     return loop_contour;
 }
 
-SlabCheck check_slabs(const SlicedMesh& sliced, const std::vector<Contour>& contours, const PolycubeSurface& surface,
+SlabCheck check_slabs(const SlabPieces& ms, const std::vector<Contour>& contours, const PolycubeSurface& surface,
                       const std::vector<std::vector<std::int32_t>>& loop_contour, const std::vector<double>& plane_z) {
     SlabCheck check;
     std::vector<std::size_t> contours_on(plane_z.size(), 0);
     for (const auto& c : contours) ++contours_on[c.plane];
     // The connectivity check: every slab piece of the mesh (genus 0) against the polycube's.
-    const Pieces ms = mesh_slab_pieces(sliced, contours, plane_z);
     std::map<std::uint32_t, std::int32_t> surface_contour;
     for (std::size_t p = 0; p < plane_z.size(); ++p)
         for (std::size_t l = 0; l < surface.loops[p].size(); ++l)

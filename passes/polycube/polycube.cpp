@@ -107,13 +107,14 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         const ClosureCounts closed = close_contours(sliced.mesh, contours, o.k, mean_edge);
 
         double excess = 0.0;
-        const JoinedContours joined = joined_contours(sliced, contours, plane_z);
+        const SlabPieces mesh_pieces = mesh_slab_pieces(sliced, contours, plane_z);
+        const JoinedContours joined = joined_contours(mesh_pieces, contours, plane_z);
         Layers layers = stacked_regions(contours, plane_z, box, o.da, o.max_level, joined, excess, st.cells_carved);
         st.cells_filled = make_manifold(layers);
         surface = polycube_surface(layers);
 
         loop_contour = match_loops(surface, contours, plane_z.size());
-        SlabCheck check = check_slabs(sliced, contours, surface, loop_contour, plane_z);
+        SlabCheck check = check_slabs(mesh_pieces, contours, surface, loop_contour, plane_z);
         pairs = std::move(check.pairs);
         if (round == 0)
             for (std::size_t r = 0; r < std::min<std::size_t>(check.reasons.size(), 4); ++r)

@@ -142,7 +142,20 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
 
 namespace gimg::passes::polycube {
 
-JoinedContours joined_contours(const SlicedMesh& sliced, const std::vector<Contour>& contours,
+// Pieces of one slab each joined across edges: their triangles, slab, the contours they touch and
+// whether each is of genus 0 (chi = 2 - loops).
+struct SlabPieces {
+    std::vector<std::vector<std::uint32_t>> triangles;
+    std::vector<std::uint32_t> slab;
+    std::vector<std::set<std::int32_t>> contours;
+    std::vector<bool> disk_like;
+};
+// The sliced mesh's slab pieces (slab 0 below plane 0, i + 1 above plane i), once per round for
+// joined_contours and check_slabs.
+SlabPieces mesh_slab_pieces(const SlicedMesh& sliced, const std::vector<Contour>& contours,
+                            const std::vector<double>& plane_z);
+
+JoinedContours joined_contours(const SlabPieces& mesh_pieces, const std::vector<Contour>& contours,
                                const std::vector<double>& plane_z);
 
 // Per plane, per loop of the walls at that plane: the contour it stands for (the nearest, one to
@@ -160,8 +173,9 @@ struct SlabCheck {
     std::vector<std::string> reasons;
     std::size_t mesh_pieces = 0;
 };
-SlabCheck check_slabs(const SlicedMesh& sliced, const std::vector<Contour>& contours, const PolycubeSurface& surface,
-                      const std::vector<std::vector<std::int32_t>>& loop_contour, const std::vector<double>& plane_z);
+SlabCheck check_slabs(const SlabPieces& mesh_pieces, const std::vector<Contour>& contours,
+                      const PolycubeSurface& surface, const std::vector<std::vector<std::int32_t>>& loop_contour,
+                      const std::vector<double>& plane_z);
 
 // Step 5: `iterations` sweeps of chart smoothing over every vertex's image (and the axis of the
 // polycube face it lies on); returns the moves kept.
