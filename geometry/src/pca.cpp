@@ -17,74 +17,76 @@ namespace {
 class MomentSource {
 public:
     MomentSource(const Mesh& mesh, PcaWeighting weighting) : mesh_(mesh), weighting_(weighting) {
+        glm::dvec3 sum(0.0);
         if (weighting_ == PcaWeighting::SurfaceArea) {
             areas_.assign(mesh.face_count(), 0.0);
             for (std::size_t f = 0; f < mesh.face_count(); ++f) {
                 const glm::uvec3& t = mesh.triangles[f];
-                areas_[f] = 0.5 * glm::length(glm::cross(mesh.positions[t.y] - mesh.positions[t.x],
-                                                         mesh.positions[t.z] - mesh.positions[t.x]));
+                const glm::dvec3 &a = mesh.positions[t.x], &b = mesh.positions[t.y], &c = mesh.positions[t.z];
+                areas_[f] = 0.5 * glm::length(glm::cross(b - a, c - a));
                 total_weight_ += areas_[f];
+                sum += areas_[f] * (a + b + c) / 3.0;
             }
         } else {
             total_weight_ = double(mesh.vertex_count());
+            for (const glm::dvec3& p : mesh_.positions) sum += p;
         }
+        centroid_ = sum / total_weight_;
     }
 
     double total_weight() const { return total_weight_; }
-
-    glm::dvec3 centroid() const {
-        glm::dvec3 sum(0.0);
-        if (weighting_ == PcaWeighting::Vertices) {
-            for (const glm::dvec3& p : mesh_.positions) sum += p;
-        } else {
-            for (std::size_t f = 0; f < mesh_.face_count(); ++f) {
-                const glm::uvec3& t = mesh_.triangles[f];
-                sum += areas_[f] * (mesh_.positions[t.x] + mesh_.positions[t.y] + mesh_.positions[t.z]) / 3.0;
-            }
-        }
-        return sum / total_weight_;
-    }
+    glm::dvec3 centroid() const { return centroid_; }
 
     // E[(x - c)(x - c)^T]. Over a triangle with corners a, b, c (relative to the centroid):
     // E[x x^T] = (a a^T + b b^T + c c^T + s s^T) / 12 with s = a + b + c.
     Eigen::Matrix3d covariance(const glm::dvec3& center) const {
-        Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-        auto outer = [](const glm::dvec3& v) {
-            const Eigen::Vector3d e(v.x, v.y, v.z);
-            return Eigen::Matrix3d(e * e.transpose());
-        };
+        double cov[3][3] = {};  // the upper triangle; mirrored at the end
         if (weighting_ == PcaWeighting::Vertices) {
-            for (const glm::dvec3& p : mesh_.positions) cov += outer(p - center);
+            for (const glm::dvec3& p : mesh_.positions) {
+                const glm::dvec3 d = p - center;
+                for (int i = 0; i < 3; ++i)
+                    for (int j = i; j < 3; ++j) cov[i][j] += d[i] * d[j];
+            }
+        } else {
+            for (std::size_t f = 0; f < mesh_.face_count(); ++f) {
+                const glm::uvec3& t = mesh_.triangles[f];
+                const glm::dvec3 a = mesh_.positions[t.x] - center, b = mesh_.positions[t.y] - center,
+                                 c = mesh_.positions[t.z] - center, s = a + b + c;
+                const double w = areas_[f] / 12.0;
+                for (int i = 0; i < 3; ++i)
+                    for (int j = i; j < 3; ++j)
+                        cov[i][j] += w * (a[i] * a[j] + b[i] * b[j] + c[i] * c[j] + s[i] * s[j]);
+            }
+        }
+        Eigen::Matrix3d out;
+        for (int i = 0; i < 3; ++i)
+            for (int j = i; j < 3; ++j) out(i, j) = out(j, i) = cov[i][j] / total_weight_;
+        return out;
+    }
+
+    // E[((x - c) . axis)^3] for two axes. Over a triangle with projections p, q, r of its corners:
+    // E[(l1 p + l2 q + l3 r)^3] = h3(p, q, r) / 10, h3 the sum of all ten cubic monomials
+    // (moments of the uniform barycentric distribution, Dirichlet(1, 1, 1)).
+    glm::dvec2 third_moments(const glm::dvec3& center, const glm::dvec3& first, const glm::dvec3& second) const {
+        glm::dvec2 sum(0.0);
+        const glm::dvec3 axes[2] = {first, second};
+        if (weighting_ == PcaWeighting::Vertices) {
+            for (const glm::dvec3& p : mesh_.positions)
+                for (int k = 0; k < 2; ++k) {
+                    const double d = glm::dot(p - center, axes[k]);
+                    sum[k] += d * d * d;
+                }
         } else {
             for (std::size_t f = 0; f < mesh_.face_count(); ++f) {
                 const glm::uvec3& t = mesh_.triangles[f];
                 const glm::dvec3 a = mesh_.positions[t.x] - center, b = mesh_.positions[t.y] - center,
                                  c = mesh_.positions[t.z] - center;
-                cov += (areas_[f] / 12.0) * (outer(a) + outer(b) + outer(c) + outer(a + b + c));
-            }
-        }
-        return cov / total_weight_;
-    }
-
-    // E[((x - c) . axis)^3]. Over a triangle with projections p, q, r of its corners:
-    // E[(l1 p + l2 q + l3 r)^3] = h3(p, q, r) / 10, h3 the sum of all ten cubic monomials
-    // (moments of the uniform barycentric distribution, Dirichlet(1, 1, 1)).
-    double third_moment(const glm::dvec3& center, const glm::dvec3& axis) const {
-        double sum = 0.0;
-        if (weighting_ == PcaWeighting::Vertices) {
-            for (const glm::dvec3& p : mesh_.positions) {
-                const double d = glm::dot(p - center, axis);
-                sum += d * d * d;
-            }
-        } else {
-            for (std::size_t f = 0; f < mesh_.face_count(); ++f) {
-                const glm::uvec3& t = mesh_.triangles[f];
-                const double p = glm::dot(mesh_.positions[t.x] - center, axis);
-                const double q = glm::dot(mesh_.positions[t.y] - center, axis);
-                const double r = glm::dot(mesh_.positions[t.z] - center, axis);
-                const double h3 =
-                    p * p * p + q * q * q + r * r * r + p * p * (q + r) + q * q * (p + r) + r * r * (p + q) + p * q * r;
-                sum += areas_[f] * h3 / 10.0;
+                for (int k = 0; k < 2; ++k) {
+                    const double p = glm::dot(a, axes[k]), q = glm::dot(b, axes[k]), r = glm::dot(c, axes[k]);
+                    const double h3 = p * p * p + q * q * q + r * r * r + p * p * (q + r) + q * q * (p + r) +
+                                      r * r * (p + q) + p * q * r;
+                    sum[k] += areas_[f] * h3 / 10.0;
+                }
             }
         }
         return sum / total_weight_;
@@ -95,11 +97,11 @@ private:
     PcaWeighting weighting_;
     std::vector<double> areas_;
     double total_weight_ = 0.0;
+    glm::dvec3 centroid_{0.0};
 };
 
-// Picks the sign of `axis` as documented in pca.h.
-glm::dvec3 oriented(const MomentSource& source, const glm::dvec3& center, glm::dvec3 axis, double variance) {
-    const double m3 = source.third_moment(center, axis);
+// Picks the sign of `axis` as documented in pca.h, from its third moment m3.
+glm::dvec3 oriented(double m3, glm::dvec3 axis, double variance) {
     const double sigma = std::sqrt(std::max(variance, 0.0));
     if (std::abs(m3) > 1e-6 * sigma * sigma * sigma && sigma > 0.0) return m3 > 0.0 ? axis : -axis;
     int largest = 0;
@@ -131,8 +133,9 @@ PcaAlignment compute_pca_alignment(const Mesh& mesh, PcaWeighting weighting) {
     glm::dvec3 main = glm::normalize(column(2));
     glm::dvec3 second = column(1);
     second = glm::normalize(second - glm::dot(second, main) * main);  // exact orthogonality
-    main = oriented(source, result.centroid, main, values[2]);
-    second = oriented(source, result.centroid, second, values[1]);
+    const glm::dvec2 m3 = source.third_moments(result.centroid, main, second);
+    main = oriented(m3[0], main, values[2]);
+    second = oriented(m3[1], second, values[1]);
     // Eq. A.9: the third axis is the cross product of the second and the main axis, never an
     // independently signed eigenvector; with x = second, y = main this is z = x cross y, a proper
     // rotation. (Read literally, the paper's R = [v1, v2, v2 x v1] with v1 -> x, v2 -> y has

@@ -9,6 +9,7 @@
 #include "gimg/geometry/pca.h"
 #include "gimg/geometry/surface_sampling.h"
 
+#include <glm/common.hpp>
 #include <glm/geometric.hpp>
 
 #include "retrieval/reduce_comp.h"
@@ -111,20 +112,24 @@ PanoramaFrame panorama_frame(const geo::Mesh& mesh) {
     }
     out.mesh.triangles.reserve(3 * mesh.triangles.size());
     for (const auto& t : mesh.triangles) out.mesh.triangles.insert(out.mesh.triangles.end(), {t.x, t.y, t.z});
+    // Per principal axis, the farthest used vertex from it (squared) and along it: a stray point
+    // does not count.
+    std::vector<char> used(q.size(), 0);
+    for (const auto& t : mesh.triangles) used[t.x] = used[t.y] = used[t.z] = 1;
+    glm::dvec3 off_axis(0.0), along(0.0);  // off_axis[i]: squared distance from axis i
+    for (std::size_t i = 0; i < q.size(); ++i) {
+        if (!used[i]) continue;
+        const glm::dvec3 p(out.mesh.positions[3 * i], out.mesh.positions[3 * i + 1], out.mesh.positions[3 * i + 2]);
+        off_axis = glm::max(off_axis, glm::dvec3(p.y * p.y + p.z * p.z, p.x * p.x + p.z * p.z, p.x * p.x + p.y * p.y));
+        along = glm::max(along, glm::abs(p));
+    }
     // (u, axis, v) right-handed (cyclic permutations of the principal frame), so faces keep facing out.
     const glm::dvec3 e[3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
     for (int a = 0; a < 3; ++a) {
-        const glm::dvec3 axis = a == 0 ? e[1] : a == 1 ? e[0] : e[2];
+        const int i = a == 0 ? 1 : a == 1 ? 0 : 2;
+        const glm::dvec3 axis = e[i];
         const glm::dvec3 u = a == 0 ? e[0] : a == 1 ? e[2] : e[1], v = glm::cross(u, axis);
-        double radius = 0.0, reach = 0.0;  // over the vertices faces use: a stray point does not count
-        for (const auto& t : mesh.triangles)
-            for (int k = 0; k < 3; ++k) {
-                const glm::dvec3 p(out.mesh.positions[3 * t[k]], out.mesh.positions[3 * t[k] + 1],
-                                   out.mesh.positions[3 * t[k] + 2]);
-                radius = std::max(radius, std::sqrt(glm::dot(p, u) * glm::dot(p, u) + glm::dot(p, v) * glm::dot(p, v)));
-                reach = std::max(reach, std::abs(glm::dot(p, axis)));
-            }
-        const double r = std::max(3.0, 1.001 * radius), h = std::max(r, 1.001 * reach);
+        const double r = std::max(3.0, 1.001 * std::sqrt(off_axis[i])), h = std::max(r, 1.001 * along[i]);
         out.transforms[a] = {float(u.x / r),          float(u.y / r),          float(u.z / r),          0.0f,
                              float(0.5 * axis.x / h), float(0.5 * axis.y / h), float(0.5 * axis.z / h), 0.5f,
                              float(v.x / r),          float(v.y / r),          float(v.z / r),          0.0f};
@@ -150,16 +155,19 @@ std::vector<std::vector<float>> panorama_features(Context& ctx, const std::vecto
     zbuffer.reserve(all_vertices, all_faces);
     const std::vector<std::uint32_t> ids = zbuffer.add_meshes(frames);  // one upload a model, three images
     frames = {};
+    // Batches of at most 85 models (255 images) an execution, all of about one size: a small last
+    // batch would still read back a whole atlas.
+    const std::size_t batches = (ids.size() + 84) / 85, batch = batches > 0 ? (ids.size() + batches - 1) / batches : 1;
     std::vector<std::vector<float>> out(meshes.size());
-    constexpr std::size_t kBatch = 85;  // models an execution: 255 images
-    for (std::size_t begin = 0; begin < ids.size(); begin += kBatch) {
+    for (std::size_t begin = 0; begin < ids.size(); begin += batch) {
+        const std::size_t end = std::min(ids.size(), begin + batch);
         std::vector<CylinderZBuffer::Job> jobs;
-        for (std::size_t m = begin; m < std::min(ids.size(), begin + kBatch); ++m)
+        for (std::size_t m = begin; m < end; ++m)
             for (std::size_t a = 0; a < 3; ++a) jobs.push_back({ids[m], transforms[m][a]});
         const std::vector<CylinderImage> images = zbuffer.project(jobs);
         for (std::size_t k = 0; k < images.size(); ++k) {
             auto& f = out[begin + k / 3];
-            for (std::size_t i = 0; i < images[k].distance.size(); ++i)
+            for (std::size_t i = 0; i < images[k].distance.size(); ++i)  // surfaces seen through the axis: 0
                 f.push_back(images[k].covered[i] && images[k].distance[i] > 0.0f ? images[k].distance[i] : 0.0f);
         }
     }

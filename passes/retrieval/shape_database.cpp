@@ -10,7 +10,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <fstream>
 #include <limits>
 
@@ -57,50 +56,76 @@ const char* descriptor_name(RetrievalDescriptor d) {
 
 std::vector<float> spectra(const RetrievalOptions& options, const std::vector<float>& image);
 
-// cos and sin of 2 pi m / n, m = 0 .. n - 1.
-void turns(std::size_t n, std::vector<double>& cosine, std::vector<double>& sine) {
-    cosine.resize(n), sine.resize(n);
-    for (std::size_t m = 0; m < n; ++m) {
-        cosine[m] = std::cos(2.0 * 3.14159265358979323846 * double(m) / double(n));
-        sine[m] = std::sin(2.0 * 3.14159265358979323846 * double(m) / double(n));
-    }
-}
-
-// Per row of a w-wide image of `rows` rows, its DFT over the row (theta), k = 0 .. kmax.
-template <typename T>
-std::vector<std::complex<double>> theta_dft(const T* image, std::size_t w, std::size_t rows, std::size_t kmax,
-                                            const std::vector<double>& cosine, const std::vector<double>& sine) {
-    std::vector<std::complex<double>> out(rows * (kmax + 1));
-    for (std::size_t v = 0; v < rows; ++v)
+// cos and sin of 2 pi k m / n for m = 0 .. n - 1 (rows) and k = 0 .. kmax (columns): the DFT's turns
+// as matrices, so each transform is a matrix product.
+struct Turns {
+    Eigen::MatrixXd cosine, sine;
+};
+Turns turns(std::size_t n, std::size_t kmax) {
+    Turns t{Eigen::MatrixXd(n, kmax + 1), Eigen::MatrixXd(n, kmax + 1)};
+    for (std::size_t m = 0; m < n; ++m)
         for (std::size_t k = 0; k <= kmax; ++k) {
-            std::complex<double> z = 0.0;
-            for (std::size_t u = 0; u < w; ++u)
-                z += double(image[v * w + u]) * std::complex<double>(cosine[k * u % w], -sine[k * u % w]);
-            out[v * (kmax + 1) + k] = z;
+            const double a = 2.0 * 3.14159265358979323846 * double(k * m % n) / double(n);
+            t.cosine(Eigen::Index(m), Eigen::Index(k)) = std::cos(a);
+            t.sine(Eigen::Index(m), Eigen::Index(k)) = std::sin(a);
         }
-    return out;
+    return t;
 }
 
-// |F(kh, kt)| of a W x H image for kh, kt in 0 .. band, each averaged with |F(-kh, kt)| so that
-// the image turned end over end (or mirrored in theta) has the same values.
-std::vector<double> low_band(const double* image, std::uint32_t w, std::uint32_t h, std::uint32_t band) {
-    std::vector<double> cos_w, sin_w, cos_h, sin_h;
-    turns(w, cos_w, sin_w), turns(h, cos_h, sin_h);
-    const std::vector<std::complex<double>> rows = theta_dft(image, w, h, band, cos_w, sin_w);
-    std::vector<double> out;
-    out.reserve(std::size_t(band + 1) * (band + 1));
-    for (std::uint32_t kh = 0; kh <= band; ++kh)
-        for (std::uint32_t kt = 0; kt <= band; ++kt) {
-            // Over height, e^{-i 2 pi kh y / h} (up) and its conjugate (down).
-            double up_re = 0.0, up_im = 0.0, down_re = 0.0, down_im = 0.0;
-            for (std::uint32_t y = 0, i = 0; y < h; ++y, i = i + kh >= h ? i + kh - h : i + kh) {
-                const std::complex<double> z = rows[std::size_t(y) * (band + 1) + kt];
-                const double r = z.real(), m = z.imag(), c = cos_h[i], sn = sin_h[i];
-                up_re += r * c + m * sn, up_im += m * c - r * sn;
-                down_re += r * c - m * sn, down_im += m * c + r * sn;
-            }
-            out.push_back(0.5 * (std::hypot(up_re, up_im) + std::hypot(down_re, down_im)));
-        }
+// A complex matrix as its two parts.
+struct Complex {
+    Eigen::MatrixXd re, im;
+};
+
+// sum_m x(m, j) cos(2 pi k m / n) and the same with sin, over the n rows of x, for every column j
+// and the turns' frequencies k ((kmax + 1) x columns each). For n even by the transform's symmetry,
+// cos(2 pi k (n - m) / n) = cos(2 pi k m / n) and sin(...) = -sin(2 pi k m / n): the sums x_m +
+// x_{n - m} meet the cosines and the differences the sines, half the products.
+struct CosSin {
+    Eigen::MatrixXd c, s;
+};
+CosSin cos_sin_sums(const Eigen::MatrixXd& x, const Turns& t) {
+    const Eigen::Index n = x.rows(), half = n / 2;
+    if (n % 2 != 0) return {t.cosine.transpose() * x, t.sine.transpose() * x};
+    Eigen::MatrixXd sum(half + 1, x.cols());
+    sum.row(0) = x.row(0);
+    sum.row(half) = x.row(half);
+    sum.middleRows(1, half - 1) = x.middleRows(1, half - 1) + x.bottomRows(half - 1).colwise().reverse();
+    const Eigen::MatrixXd difference = x.middleRows(1, half - 1) - x.bottomRows(half - 1).colwise().reverse();
+    return {t.cosine.topRows(half + 1).transpose() * sum, t.sine.middleRows(1, half - 1).transpose() * difference};
+}
+
+// Per row of a w-wide image of `rows` rows, its DFT over the row (theta) at the turns' frequencies:
+// rows x (kmax + 1).
+template <typename T>
+Complex theta_dft(const T* image, std::size_t w, std::size_t rows, const Turns& theta) {
+    // The image's rows are the columns of a column-major w x rows map.
+    using Columns = Eigen::Matrix<T, Eigen::Dynamic, Eigen::Dynamic>;
+    const Eigen::MatrixXd x =
+        Eigen::Map<const Columns>(image, Eigen::Index(w), Eigen::Index(rows)).template cast<double>();
+    const CosSin t = cos_sin_sums(x, theta);
+    return {t.c.transpose(), -t.s.transpose()};
+}
+
+// The DFT over height (the h rows of `rows`) at the turns' frequencies kh: `up` with e^{-i 2 pi kh
+// y / h}, `down` with its conjugate (the frequency -kh): (kmax + 1) x rows' columns each.
+void height_dft(const Complex& rows, const Turns& height, Complex* up, Complex* down) {
+    const CosSin r = cos_sin_sums(rows.re, height), i = cos_sin_sums(rows.im, height);
+    up->re = r.c + i.s, up->im = i.c - r.s;
+    if (down) down->re = r.c - i.s, down->im = i.c + r.s;
+}
+
+// |F(kh, kt)| of a W x H image for kh, kt in 0 .. band (the turns), each averaged with |F(-kh, kt)|
+// so that the image turned end over end (or mirrored in theta) has the same values; kh outer.
+std::vector<double> low_band(const double* image, const Turns& theta, const Turns& height) {
+    const auto w = std::size_t(theta.cosine.rows()), h = std::size_t(height.cosine.rows());
+    Complex up, down;
+    height_dft(theta_dft(image, w, h, theta), height, &up, &down);
+    const Eigen::MatrixXd both = 0.5 * ((up.re.array().square() + up.im.array().square()).sqrt() +
+                                        (down.re.array().square() + down.im.array().square()).sqrt());
+    std::vector<double> out(std::size_t(both.size()));
+    Eigen::Map<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(out.data(), both.rows(),
+                                                                                       both.cols()) = both;
     return out;
 }
 
@@ -110,6 +135,7 @@ std::vector<double> low_band(const double* image, std::uint32_t w, std::uint32_t
 std::vector<float> panorama_descriptor(const std::vector<float>& images) {
     constexpr std::uint32_t w = kPanoramaWidth, h = kPanoramaHeight;
     constexpr double kStepTheta = 2.0 * 3.14159265358979323846 / w, kStepHeight = 2.0 / h;
+    static const Turns theta = turns(w, kPanoramaBand), height = turns(h, kPanoramaBand);
     std::vector<float> out;
     for (std::size_t c = 0; c < 3; ++c) {
         const float* d = images.data() + c * w * h;
@@ -128,7 +154,7 @@ std::vector<float> panorama_descriptor(const std::vector<float>& images) {
                     1.0 / std::sqrt(1.0 + along_theta * along_theta + along_height * along_height);
             }
         for (const std::vector<double>* channel : {&distance, &facing}) {
-            const std::vector<double> band = low_band(channel->data(), w, h, kPanoramaBand);
+            const std::vector<double> band = low_band(channel->data(), theta, height);
             double sum = 0.0;
             for (double v : band) sum += v;
             for (double v : band) out.push_back(float(sum > 0.0 ? v / sum : 0.0));
@@ -180,26 +206,27 @@ namespace {
 // ThetaSpectrum or Spectrum2D of a reduced image.
 std::vector<float> spectra(const RetrievalOptions& options, const std::vector<float>& image) {
     const std::size_t r = options.reduced;
-    std::vector<double> cosine, sine;
-    turns(r, cosine, sine);
     // Per row (the cylinders' rows one after another), the DFT over theta, k = 0 .. r / 2.
-    const std::vector<std::complex<double>> rows =
-        theta_dft(image.data(), r, options.cylinders * r, r / 2, cosine, sine);
+    const Complex rows = theta_dft(image.data(), r, options.cylinders * r, turns(r, r / 2));
     std::vector<float> out;
+    const auto magnitude = [&](const Complex& z) {  // row after row
+        for (Eigen::Index i = 0; i < z.re.rows(); ++i)
+            for (Eigen::Index j = 0; j < z.re.cols(); ++j) out.push_back(float(std::hypot(z.re(i, j), z.im(i, j))));
+    };
     if (options.descriptor == RetrievalDescriptor::ThetaSpectrum) {
-        for (const auto& z : rows) out.push_back(float(std::abs(z)));
+        magnitude(rows);
         return out;
     }
-    // Spectrum2D: each cylinder's row spectra transformed again over height.
-    for (std::size_t c = 0; c < options.cylinders; ++c)
-        for (std::size_t l = 0; l < r; ++l)
-            for (std::size_t k = 0; k <= r / 2; ++k) {
-                std::complex<double> z = 0.0;
-                for (std::size_t v = 0; v < r; ++v)
-                    z +=
-                        rows[(c * r + v) * (r / 2 + 1) + k] * std::complex<double>(cosine[l * v % r], -sine[l * v % r]);
-                out.push_back(float(std::abs(z)));
-            }
+    // Spectrum2D: each cylinder's row spectra transformed again over height, l = 0 .. r - 1.
+    const Turns height = turns(r, r - 1);
+    for (std::size_t c = 0; c < options.cylinders; ++c) {
+        const auto block = [&](const Eigen::MatrixXd& m) {
+            return Eigen::MatrixXd(m.middleRows(Eigen::Index(c * r), Eigen::Index(r)));
+        };
+        Complex z;
+        height_dft({block(rows.re), block(rows.im)}, height, &z, nullptr);
+        magnitude(z);
+    }
     return out;
 }
 
