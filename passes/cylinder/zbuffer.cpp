@@ -54,6 +54,12 @@ struct JobGpu {
 static_assert(sizeof(JobGpu) == 80);
 constexpr std::uint32_t kTexelsPerJob = sizeof(JobGpu) / 16;  // classify_body.glsl's load_job
 
+// Texels of `jobs` jobs followed by the job table of `faces` faces (job_texels.glsl).
+std::size_t job_texel_count(std::uint64_t jobs, std::uint64_t faces) {
+    const std::uint64_t blocks = (faces + GIMG_CYL_JOB_BLOCK - 1) / GIMG_CYL_JOB_BLOCK;
+    return std::size_t(jobs * kTexelsPerJob + (blocks + 3) / 4);
+}
+
 // Mirrors the Args block of shaders/cylinder/piece_passes.glsl.
 struct PieceArgs {
     std::uint32_t vertex_count, instance_count, first_vertex, first_instance;  // VkDrawIndirectCommand
@@ -111,6 +117,7 @@ struct Geometry {
 struct Batch {
     Buffer jobs_upload;
     std::uint32_t job_capacity = 0, rect_capacity = 0, tiles_per_row = 1, atlas_width = 0, atlas_height = 0;
+    std::size_t job_texels = 0;  // the jobs and the job table
     ClassifyPush classify{};
     DrawPush draw{};
 };
@@ -207,7 +214,9 @@ struct CylinderZBuffer::State {
                                   "); project fewer at a time");
         b->atlas_width = columns * width;
         b->atlas_height = rows * height;
-        const ImageDesc texels = texel_array_desc(std::size_t(b->job_capacity) * kTexelsPerJob, Format::RGBA32U, "");
+        // The job table sits right after the batch's jobs: room for it after every job slot.
+        b->job_texels = job_texel_count(b->job_capacity, b->rect_capacity / GIMG_CYL_RECTS_PER_FACE);
+        const ImageDesc texels = texel_array_desc(b->job_texels, Format::RGBA32U, "");
         b->jobs_upload = ctx.create_buffer({VkDeviceSize(texels.width) * texels.height * 16, "cylinder jobs upload"},
                                            MemoryUsage::Upload);
         return b;
@@ -230,7 +239,14 @@ struct CylinderZBuffer::State {
             g.pad0 = g.pad1 = 0;
             prefix += m.face_count;
         }
+        // The job table: each block's first face's job.
+        std::vector<std::uint32_t> table((job_texel_count(jobs.size(), faces) - jobs.size() * kTexelsPerJob) * 4, 0);
+        for (std::size_t k = 0, block = 0; k < jobs.size(); ++k)
+            for (const std::uint64_t end = std::uint64_t(gpu[k].face_prefix) + gpu[k].face_count;
+                 block < table.size() && std::uint64_t(block) * GIMG_CYL_JOB_BLOCK < end; ++block)
+                table[block] = std::uint32_t(k);
         ctx.upload(b.jobs_upload, gpu.data(), gpu.size() * sizeof(JobGpu));
+        ctx.upload(b.jobs_upload, table.data(), table.size() * 4, gpu.size() * sizeof(JobGpu));
         b.classify = {std::uint32_t(faces), std::uint32_t(jobs.size()), width, height, b.rect_capacity, small_pixels,
                       b.atlas_width};
         b.draw = {{float(b.atlas_width), float(b.atlas_height)}, {width, height}};
@@ -245,8 +261,7 @@ struct CylinderZBuffer::State {
         auto pos = g.import_image(geo_ptr->positions), tri = g.import_image(geo_ptr->triangles);
         auto dirs = g.import_image(*dirs_ptr);
         auto jobs_in = g.import_buffer(bt->jobs_upload);
-        auto job_texels = g.create_image(
-            texel_array_desc(std::size_t(bt->job_capacity) * kTexelsPerJob, Format::RGBA32U, name + " job texels"));
+        auto job_texels = g.create_image(texel_array_desc(bt->job_texels, Format::RGBA32U, name + " job texels"));
         const VkDeviceSize jobs_bytes = VkDeviceSize(bt->job_capacity) * sizeof(JobGpu);
         auto jobs = g.create_buffer({jobs_bytes, name + " jobs"});
         auto rects = g.create_buffer({VkDeviceSize(bt->rect_capacity) * 16, name + " rectangles"});

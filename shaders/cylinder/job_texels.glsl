@@ -16,3 +16,5 @@ CylinderJob load_job(uint k) {
 }
 
 uint job_face_prefix(uint k) { return imageLoad(job_texels, texel(5 * k + 3)).z; }
+// After the job_count jobs, four a texel: the job of face b * GIMG_CYL_JOB_BLOCK, for every block b.
+uint job_of_block(uint b, uint job_count) { return imageLoad(job_texels, texel(5 * job_count + b / 4))[b % 4]; }
