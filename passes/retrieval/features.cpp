@@ -165,10 +165,13 @@ std::vector<std::vector<float>> panorama_features(Context& ctx, const std::vecto
         for (std::size_t m = begin; m < end; ++m)
             for (std::size_t a = 0; a < 3; ++a) jobs.push_back({ids[m], transforms[m][a]});
         const std::vector<CylinderImage> images = zbuffer.project(jobs);
+        const std::size_t pixels = std::size_t(kPanoramaWidth) * kPanoramaHeight;
         for (std::size_t k = 0; k < images.size(); ++k) {
             auto& f = out[begin + k / 3];
-            for (std::size_t i = 0; i < images[k].distance.size(); ++i)  // surfaces seen through the axis: 0
-                f.push_back(images[k].covered[i] && images[k].distance[i] > 0.0f ? images[k].distance[i] : 0.0f);
+            f.resize(3 * pixels);
+            for (std::size_t i = 0; i < pixels; ++i)  // surfaces seen through the axis: 0
+                f[k % 3 * pixels + i] =
+                    images[k].covered[i] && images[k].distance[i] > 0.0f ? images[k].distance[i] : 0.0f;
         }
     }
     return out;
