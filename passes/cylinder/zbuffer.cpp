@@ -54,10 +54,9 @@ struct JobGpu {
 static_assert(sizeof(JobGpu) == 80);
 constexpr std::uint32_t kTexelsPerJob = sizeof(JobGpu) / 16;  // classify_body.glsl's load_job
 
-// Texels of `jobs` jobs followed by the job table of `faces` faces (job_texels.glsl).
-std::size_t job_texel_count(std::uint64_t jobs, std::uint64_t faces) {
-    const std::uint64_t blocks = (faces + GIMG_CYL_JOB_BLOCK - 1) / GIMG_CYL_JOB_BLOCK;
-    return std::size_t(jobs * kTexelsPerJob + (blocks + 3) / 4);
+// Blocks of the job table for `faces` faces (job_texels.glsl: four a texel, after the jobs).
+std::size_t job_blocks(std::uint64_t faces) {
+    return std::size_t((faces + GIMG_CYL_JOB_BLOCK - 1) / GIMG_CYL_JOB_BLOCK);
 }
 
 // Mirrors the Args block of shaders/cylinder/piece_passes.glsl.
@@ -215,7 +214,8 @@ struct CylinderZBuffer::State {
         b->atlas_width = columns * width;
         b->atlas_height = rows * height;
         // The job table sits right after the batch's jobs: room for it after every job slot.
-        b->job_texels = job_texel_count(b->job_capacity, b->rect_capacity / GIMG_CYL_RECTS_PER_FACE);
+        b->job_texels = std::size_t(b->job_capacity) * kTexelsPerJob +
+                        (job_blocks(b->rect_capacity / GIMG_CYL_RECTS_PER_FACE) + 3) / 4;
         const ImageDesc texels = texel_array_desc(b->job_texels, Format::RGBA32U, "");
         b->jobs_upload = ctx.create_buffer({VkDeviceSize(texels.width) * texels.height * 16, "cylinder jobs upload"},
                                            MemoryUsage::Upload);
@@ -239,12 +239,12 @@ struct CylinderZBuffer::State {
             g.pad0 = g.pad1 = 0;
             prefix += m.face_count;
         }
-        // The job table: each block's first face's job.
-        std::vector<std::uint32_t> table((job_texel_count(jobs.size(), faces) - jobs.size() * kTexelsPerJob) * 4, 0);
-        for (std::size_t k = 0, block = 0; k < jobs.size(); ++k)
-            for (const std::uint64_t end = std::uint64_t(gpu[k].face_prefix) + gpu[k].face_count;
-                 block < table.size() && std::uint64_t(block) * GIMG_CYL_JOB_BLOCK < end; ++block)
-                table[block] = std::uint32_t(k);
+        // The job table: per block, job_of of its first face (the last job whose prefix <= it).
+        std::vector<std::uint32_t> table(job_blocks(faces));
+        for (std::size_t block = 0, k = 0; block < table.size(); ++block) {
+            while (k + 1 < gpu.size() && gpu[k + 1].face_prefix <= block * GIMG_CYL_JOB_BLOCK) ++k;
+            table[block] = std::uint32_t(k);
+        }
         ctx.upload(b.jobs_upload, gpu.data(), gpu.size() * sizeof(JobGpu));
         ctx.upload(b.jobs_upload, table.data(), table.size() * 4, gpu.size() * sizeof(JobGpu));
         b.classify = {std::uint32_t(faces), std::uint32_t(jobs.size()), width, height, b.rect_capacity, small_pixels,
@@ -514,7 +514,9 @@ std::vector<CylinderImage> CylinderZBuffer::project_batch(std::span<const Job> j
     PieceArgs args{};
     s.ctx.download(s.args_readback, &args, sizeof args);
     last_rects_ = args.rect_count;
-    const std::size_t atlas_pixels = std::size_t(b.atlas_width) * b.atlas_height;
+    // Only the atlas rows this batch's tiles fill: a small batch in a large plan reads little.
+    const std::size_t tile_rows = (jobs.size() + b.tiles_per_row - 1) / b.tiles_per_row;
+    const std::size_t atlas_pixels = std::size_t(b.atlas_width) * tile_rows * s.height;
     std::vector<std::uint32_t> keys(atlas_pixels);
     s.ctx.download(s.keys_readback, keys.data(), atlas_pixels * 4);
     std::vector<float> raster_t;

@@ -155,9 +155,7 @@ std::vector<std::vector<float>> panorama_features(Context& ctx, const std::vecto
     zbuffer.reserve(all_vertices, all_faces);
     const std::vector<std::uint32_t> ids = zbuffer.add_meshes(frames);  // one upload a model, three images
     frames = {};
-    // Batches of at most 85 models (255 images) an execution, all of about one size: a small last
-    // batch would still read back a whole atlas.
-    const std::size_t batches = (ids.size() + 84) / 85, batch = batches > 0 ? (ids.size() + batches - 1) / batches : 1;
+    constexpr std::size_t batch = 85;  // models an execution: 255 images
     std::vector<std::vector<float>> out(meshes.size());
     for (std::size_t begin = 0; begin < ids.size(); begin += batch) {
         const std::size_t end = std::min(ids.size(), begin + batch);

@@ -3,6 +3,6 @@
 #define GIMG_CYL_EMPTY (-4.0)          // colour of pixels no triangle covers (d is in [-1, 1])
 #define GIMG_CYL_RECTS_PER_FACE 4u     // two pieces (front, back) x two seam copies
 #define GIMG_CYL_CLASSIFY_GROUP 64u
-#define GIMG_CYL_JOB_BLOCK 256u      // faces a block of the job table (classify_body.glsl job_of)
+#define GIMG_CYL_JOB_BLOCK 256u        // faces a block of the job table (classify_body.glsl job_of)
 #define GIMG_CYL_LARGE_GROUP 64u       // lanes sharing one large piece's pixels
 #define GIMG_CYL_MAX_GROUPS 65535u     // workgroups of one indirect dispatch (maxComputeWorkGroupCount)
