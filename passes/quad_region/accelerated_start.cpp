@@ -2,6 +2,7 @@
 // flattening of the region, the bilinear normalisation of eq. (3) maps them onto the square, and a
 // few sweeps of eq. (4) correct for sides that are not straight.
 #include "gimg/geometry/adjacency.h"
+#include "gimg/geometry/parallel_for.h"
 #include "gimg/passes/quad_region.h"
 
 #include <glm/geometric.hpp>
@@ -90,7 +91,10 @@ std::size_t dijkstra_start(const QuadRegion& region, const geo::MeshAdjacency& a
     std::vector<std::uint8_t> u0(n, 0), v0(n, 0);
     for (std::size_t i = 0; i < n; ++i) u0[i] = region.side[i] == 4, v0[i] = region.side[i] == 1;
     u0[region.corners[0]] = v0[region.corners[1]] = 1;  // each side's end corner belongs to the next side
-    const std::vector<double> s = distances_from(mesh, adj, u0), t = distances_from(mesh, adj, v0);
+    std::vector<double> s, t;                           // the two searches are independent: one a core
+    geo::parallel_for_chunks(2, 1, [&](std::size_t side, std::size_t, std::size_t) {
+        (side ? t : s) = distances_from(mesh, adj, side ? v0 : u0);
+    });
     const double s0 = s[region.corners[1]], t0 = t[region.corners[3]];
     const double s1 = s[region.corners[2]], t1 = t[region.corners[2]];
     // S(v): s along the u = 1 side against v; T(u): t along the v = 1 side against u.

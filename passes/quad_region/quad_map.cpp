@@ -1,6 +1,7 @@
 // The region's map: boundary values by chord length, Floater's or chord-length weights, a flat or
 // accelerated start, and one of three solvers (the paper's relaxation, BiCGSTAB, SparseLU).
 #include "gimg/geometry/error.h"
+#include "gimg/geometry/parallel_for.h"
 #include "gimg/passes/parameterize.h"
 #include "gimg/passes/quad_region.h"
 #include "gimg/passes/solvers.h"
@@ -95,10 +96,14 @@ QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOpt
     switch (o.solver) {
         case QuadSolver::Iterate: {
             const detail::ColouredRows rows = detail::colour_rows(adj, w, interior);
-            for (int field = 0; field < 2; ++field) {
-                (field ? out.iterations_v : out.iterations_u) =
-                    ctx ? detail::relax_gpu(*ctx, rows, o.relaxation, o.tau, o.max_sweeps, out.uv, field)
-                        : detail::relax_cpu(rows, o.relaxation, o.tau, o.max_sweeps, out.uv, field);
+            if (ctx) {
+                out.iterations_u = detail::relax_gpu(*ctx, rows, o.relaxation, o.tau, o.max_sweeps, out.uv, 0);
+                out.iterations_v = detail::relax_gpu(*ctx, rows, o.relaxation, o.tau, o.max_sweeps, out.uv, 1);
+            } else {  // u and v are independent systems: one a core
+                geo::parallel_for_chunks(2, 1, [&](std::size_t field, std::size_t, std::size_t) {
+                    (field ? out.iterations_v : out.iterations_u) =
+                        detail::relax_cpu(rows, o.relaxation, o.tau, o.max_sweeps, out.uv, int(field));
+                });
             }
             break;
         }
