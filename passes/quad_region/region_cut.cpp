@@ -321,17 +321,20 @@ private:
                     "faces on its left (corners counter-clockwise seen from outside)");
         }
         QuadRegion r;
-        std::unordered_map<std::uint32_t, std::uint32_t> index;
+        // Each vertex or inserted point's index in the region (kNone: not in it), a table rather
+        // than a hash map: the region touches a few corners of each of its thousands of nodes.
+        std::vector<std::uint32_t> index(mesh_.vertex_count() + point_pos_.size(), kNone);
         for (std::uint32_t node : region_nodes) {
             const glm::uvec3 t = triangle(node);
             glm::uvec3 out;
             for (int c = 0; c < 3; ++c) {
-                const auto [it, fresh] = index.try_emplace(t[c], std::uint32_t(r.mesh.positions.size()));
-                if (fresh) {
+                std::uint32_t& id = index[t[c]];
+                if (id == kNone) {
+                    id = std::uint32_t(r.mesh.positions.size());
                     r.mesh.positions.push_back(pos(t[c]));
                     r.original.push_back(is_vertex(t[c]) ? t[c] : kInsertedNode);
                 }
-                out[c] = it->second;
+                out[c] = id;
             }
             r.mesh.triangles.push_back(out);
         }
@@ -349,15 +352,20 @@ private:
             }
             r.outside.triangles.push_back(out);
         }
+        const auto region_index = [&](std::uint32_t id) {
+            if (index[id] == kNone)
+                throw geo::InputError("the sides do not bound one region: a side point lies outside it");
+            return index[id];
+        };
         r.side.assign(r.mesh.positions.size(), 0);
         for (int i = 0; i < n_; ++i)
-            for (std::size_t k = 0; k + 1 < paths[i].size(); ++k) r.side[index.at(paths[i][k])] = std::uint8_t(i + 1);
+            for (std::size_t k = 0; k + 1 < paths[i].size(); ++k)
+                r.side[region_index(paths[i][k])] = std::uint8_t(i + 1);
         r.corner_count = std::uint32_t(n_);
-        for (int i = 0; i < n_; ++i) r.corners[i] = index.at(corners_[i]);
+        for (int i = 0; i < n_; ++i) r.corners[i] = region_index(corners_[i]);
         r.merged = merged_;
         r.fallback_sides = fallbacks_;
-        for (std::uint32_t p = 0; p < point_pos_.size(); ++p)
-            r.inserted += index.count(std::uint32_t(mesh_.vertex_count()) + p);
+        for (std::uint32_t p = 0; p < point_pos_.size(); ++p) r.inserted += index[mesh_.vertex_count() + p] != kNone;
         check_region_disk(r.mesh);
         return r;
     }
