@@ -5,7 +5,6 @@
 #include "commands.h"
 #include "gpu_context.h"
 #include "json_output.h"
-#include "quad_corners.h"
 #include "size_option.h"
 
 #include "gimg/geometry/adjacency.h"
@@ -35,7 +34,7 @@ namespace {
 // Four corners (a quad region), or three (a triangle region, barycentric coordinates), or auto[:F].
 std::vector<std::uint32_t> parse_corners(const std::string& text, const geo::Mesh& mesh) {
     if (text == "auto") {
-        const auto c = automatic_corners(mesh);
+        const auto c = passes::flattest_square_corners(mesh);
         return {c.begin(), c.end()};
     }
     if (text.rfind("auto:", 0) == 0) {
@@ -44,7 +43,7 @@ std::vector<std::uint32_t> parse_corners(const std::string& text, const geo::Mes
         if (*end || !(side > 0.0 && side <= 2.0))
             throw geo::InputError(
                 "--corners auto:F takes the square's side F in bounding-box diagonals (0 to 2), got '" + text + "'");
-        const auto c = automatic_corners(mesh, side);
+        const auto c = passes::flattest_square_corners(mesh, side);
         return {c.begin(), c.end()};
     }
     std::vector<std::uint32_t> c;

@@ -17,6 +17,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <random>
 
 using namespace gimg;
@@ -234,6 +235,29 @@ TEST(QuadRegionCut, SidesLieOnTheirPlanesAndCloseOneLoop) {
         for (int k = 0; k < 3; ++k)
             EXPECT_GT(glm::distance(r.mesh.positions[t[k]], r.mesh.positions[t[(k + 1) % 3]]), 0.0);
     EXPECT_NO_THROW(gp::check_disk_mesh(r.mesh));  // one boundary loop: the four sides
+}
+
+TEST(QuadRegionCut, AutomaticCornersGatherTheSquareNotTheRestOfTheMesh) {
+    // On camel at 0.25 diagonals the square around the flattest vertex is wider than the head, its
+    // sides run round it, and corners counter-clockwise about the normal put the body on their left.
+    GIMG_REQUIRE_SHARED_MESH(path, "camel.off");
+    const geo::Mesh camel = geo::load_mesh(path);
+    const auto area = [](const geo::Mesh& m) {
+        const std::vector<double> a = geo::face_areas(m);
+        return std::accumulate(a.begin(), a.end(), 0.0);
+    };
+    std::array<std::uint32_t, 4> corners = gp::flattest_square_corners(camel, 0.25);
+    const gp::QuadRegionCutter cutter(camel);
+    const gp::QuadRegion square = cutter.cut(corners, false);
+    EXPECT_LT(area(square.mesh), 0.25 * area(camel));
+    std::swap(corners[1], corners[3]);  // the other way round: the rest of the camel
+    EXPECT_GT(area(cutter.cut(corners, false).mesh), 0.75 * area(camel));
+    // Its map spreads over the square: no tenth of the square's width holds half the vertices.
+    const gp::QuadMap m = gp::map_quad_region(nullptr, square, {.solver = gp::QuadSolver::Direct});
+    EXPECT_EQ(m.flipped, 0u);
+    std::array<std::size_t, 10> columns{};
+    for (const auto& p : m.uv) ++columns[std::min<std::size_t>(9, std::size_t(p.x * 10.0))];
+    EXPECT_LT(*std::max_element(columns.begin(), columns.end()), m.uv.size() / 2);
 }
 
 TEST(QuadRegionCut, RefusesCornersThatSpanNoRegion) {

@@ -103,6 +103,13 @@ std::vector<glm::dvec3> barycentric_map(Context* ctx, const QuadRegion& triangle
 // Chord-length weights: lambda_j proportional to 1 / |P_j - P_i| (same layout as floater_weights).
 std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency);
 
+// Corners for trying a region out (`gimg quadmap --corners auto`): a square of side `side` times
+// the bounding-box diagonal around the flattest interior vertex (least k1^2 + k2^2 summed over its
+// ring), corners counter-clockwise seen along its normal. Where the square is wider than the part
+// it sits on, its sides run round that part and their left is the rest of the mesh; a region of
+// more than half the mesh's area is therefore taken the other way round.
+std::array<std::uint32_t, 4> flattest_square_corners(const geo::Mesh& mesh, double side = 0.2);
+
 // The accelerated start (sec. 3): Dijkstra distances s, t from the u = 0 and v = 0 sides, eq. (3)
 // inverted in closed form, then at most 3 sweeps of eq. (4). `adjacency` is the region mesh's.
 // Returns the sweeps used.

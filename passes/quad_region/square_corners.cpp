@@ -1,23 +1,19 @@
-#pragma once
-// Corners for a quad region when the user names none (`--corners auto`, and the benchmark's regions).
+// Corners for trying a region out: a square around the mesh's flattest vertex.
+#include "gimg/passes/quad_region.h"
 
-#include "gimg/geometry/adjacency.h"
 #include "gimg/geometry/curvature.h"
 #include "gimg/geometry/error.h"
-#include "gimg/geometry/mesh.h"
 #include "gimg/geometry/normals.h"
 
 #include <glm/geometric.hpp>
 
-#include <array>
 #include <cmath>
-#include <cstdint>
+#include <numeric>
+#include <utility>
 
-namespace gimg::cli {
+namespace gimg::passes {
 
-// --corners auto: a square of side `side` times the diagonal around the flattest interior vertex
-// (least k1^2 + k2^2 summed over its ring), corners counter-clockwise seen along its normal.
-inline std::array<std::uint32_t, 4> automatic_corners(const geo::Mesh& mesh, double side = 0.2) {
+std::array<std::uint32_t, 4> flattest_square_corners(const geo::Mesh& mesh, double side) {
     const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
     const geo::VertexCurvature k = geo::compute_curvature(mesh, adj);
     const std::vector<glm::dvec3> normals = geo::vertex_normals(mesh);
@@ -30,7 +26,7 @@ inline std::array<std::uint32_t, 4> automatic_corners(const geo::Mesh& mesh, dou
         for (std::uint32_t w : adj.neighbors(v)) sum += k.principal_square_sum[w];
         if (sum < best) best = sum, centre = v;
     }
-    if (centre == geo::kInvalidIndex) throw geo::InputError("--corners auto: the mesh has no interior vertex");
+    if (centre == geo::kInvalidIndex) throw geo::InputError("automatic corners: the mesh has no interior vertex");
     const glm::dvec3 n = normals[centre], c = mesh.positions[centre];
     const glm::dvec3 e1 =
         glm::normalize(glm::cross(n, std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
@@ -44,7 +40,19 @@ inline std::array<std::uint32_t, 4> automatic_corners(const geo::Mesh& mesh, dou
             if (glm::dot(normals[v], n) > 0.0 && glm::distance(mesh.positions[v], target) < nearest)
                 nearest = glm::distance(mesh.positions[v], target), corners[i] = v;
     }
+    // Where the square is wider than the part it sits on (camel's head at 0.25), the sides run round
+    // that part and their left is the rest of the mesh: camel's body, which the map squeezes into a
+    // point. The square is the smaller side, so a region of more than half the mesh's area is taken
+    // the other way round. Corners whose sides cannot be cut are left for the caller's cut to refuse.
+    try {
+        const QuadRegion region = QuadRegionCutter(mesh).cut(corners, false);
+        const auto area = [](const geo::Mesh& m) {
+            const std::vector<double> a = geo::face_areas(m);
+            return std::accumulate(a.begin(), a.end(), 0.0);
+        };
+        if (area(region.mesh) > 0.5 * area(mesh)) std::swap(corners[1], corners[3]);
+    } catch (const geo::InputError&) {}
     return corners;
 }
 
-}  // namespace gimg::cli
+}  // namespace gimg::passes
