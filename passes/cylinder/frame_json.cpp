@@ -2,6 +2,7 @@
 #include "frame_json.h"
 
 #include "gimg/geometry/error.h"
+#include "json_problem.h"
 
 #include <glm/mat3x3.hpp>
 #include <glm/matrix.hpp>
@@ -33,7 +34,7 @@ nlohmann::json read_frame_json(const std::filesystem::path& path) {
     try {
         return nlohmann::json::parse(in);
     } catch (const nlohmann::json::exception& e) {
-        throw geo::InputError(path.string() + " is not a gimg frame.json: " + e.what());
+        throw geo::InputError(path.string() + " is not a gimg frame.json: " + detail::json_problem(e));
     }
 }
 
@@ -45,7 +46,7 @@ CylinderFrame frame_of(const nlohmann::json& j, const std::filesystem::path& pat
         for (int k = 0; k < 3; ++k) f.translation[k] = j.at("translation").at(k).get<double>();
         f.scale = j.at("scale").get<double>();
     } catch (const nlohmann::json::exception& e) {
-        throw geo::InputError(path.string() + " is not a gimg frame.json: " + e.what());
+        throw geo::InputError(path.string() + " is not a gimg frame.json: " + detail::json_problem(e));
     }
     if (!(f.scale > 0.0) || !std::isfinite(f.scale)) throw geo::InputError(path.string() + ": scale must be positive");
     for (int k = 0; k < 3; ++k)

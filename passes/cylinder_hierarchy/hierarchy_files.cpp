@@ -8,6 +8,7 @@
 
 #include "cylinder/frame_json.h"
 #include "launch_rays.h"
+#include "json_problem.h"
 
 #include <algorithm>
 #include <cmath>
@@ -106,7 +107,7 @@ HierarchyFiles read_hierarchy_files(const std::filesystem::path& exr_path) {
         h.size = j.at("hierarchy").at("size").get<std::uint32_t>();
         h.reach = j.at("hierarchy").value("reach", 0.0);
     } catch (const nlohmann::json::exception& e) {
-        throw geo::InputError(frame_path.string() + ": bad \"hierarchy\": " + e.what());
+        throw geo::InputError(frame_path.string() + ": bad \"hierarchy\": " + detail::json_problem(e));
     }
     check_hierarchy_sizes(h.base, h.size);
     if (exr.width != h.size || exr.height != h.size)

@@ -4,6 +4,7 @@
 #include "gimg/geometry/atomic_file.h"
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/parallel_for.h"
+#include "json_problem.h"
 
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
@@ -412,7 +413,7 @@ ShapeDatabase read_shape_database(const std::filesystem::path& path) {
             db.coefficients.push_back(m.at("coefficients").get<std::vector<float>>());
         }
     } catch (const nlohmann::json::exception& e) {
-        throw geo::InputError(path.string() + " is not a gimg shape database: " + e.what());
+        throw geo::InputError(path.string() + " is not a gimg shape database: " + detail::json_problem(e));
     }
     const std::size_t d = descriptor_size(db.options);
     const bool panorama = db.options.descriptor == RetrievalDescriptor::Panorama;
