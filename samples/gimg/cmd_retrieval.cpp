@@ -25,6 +25,7 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <string>
 
 namespace gimg::cli {
 
@@ -115,6 +116,21 @@ void run_features(IndexOptions o, const GlobalOptions& global) {
 
 // One PCA over the features `gimg batch features` wrote per shard: the same database as `gimg
 // index` of the whole collection, the models in the same (path) order.
+// What the database keeps, and the name of the step that made it: PCA's k and kept variance, or
+// panorama's descriptors (no PCA).
+std::string database_summary(const passes::ShapeDatabase& db) {
+    char text[128];
+    if (db.options.descriptor == passes::RetrievalDescriptor::Panorama)
+        std::snprintf(text, sizeof text, "descriptors of %u values (no PCA)", db.k);
+    else
+        std::snprintf(text, sizeof text, "k = %u components holding %.1f %% of the variance", db.k,
+                      100.0 * db.variance_kept);
+    return text;
+}
+const char* database_step(const passes::ShapeDatabase& db) {
+    return db.options.descriptor == passes::RetrievalDescriptor::Panorama ? "descriptors" : "PCA";
+}
+
 void run_index_from_shards(IndexOptions o, const GlobalOptions& global) {
     std::vector<nlohmann::json> results;
     for (auto& [model, line] : read_batch_results(o.shards))
@@ -151,8 +167,8 @@ void run_index_from_shards(IndexOptions o, const GlobalOptions& global) {
     const double pca_ms = time_ms([&] { db = passes::build_shape_database(features, paths, names, o.retrieval); });
     passes::write_shape_database(o.out, db);
     if (!global.quiet)
-        std::printf("%s: %zu models from the shards, k = %u components holding %.1f %% of the variance (PCA %.0f ms)\n",
-                    o.out.c_str(), db.size(), db.k, 100.0 * db.variance_kept, pca_ms);
+        std::printf("%s: %zu models from the shards, %s (%s %.0f ms)\n", o.out.c_str(), db.size(),
+                    database_summary(db).c_str(), database_step(db), pca_ms);
     write_json(o.json, {{"models", db.size()}, {"k", db.k}, {"variance_kept", db.variance_kept}, {"pca_ms", pca_ms}});
 }
 
@@ -184,10 +200,10 @@ void run_index(IndexOptions o, const GlobalOptions& global) {
     const double pca_ms = time_ms([&] { db = passes::build_shape_database(features, paths, labels, o.retrieval); });
     passes::write_shape_database(o.out, db);
     if (!global.quiet) {
-        std::printf("%s: %zu models indexed (%zu skipped), k = %u components holding %.1f %% of the variance\n",
-                    o.out.c_str(), db.size(), failed.size(), db.k, 100.0 * db.variance_kept);
-        std::printf("load %.0f ms, images and reduction %.0f ms (%.0f models/s), PCA %.0f ms\n", load_ms, feature_ms,
-                    1000.0 * double(db.size()) / std::max(feature_ms, 1e-9), pca_ms);
+        std::printf("%s: %zu models indexed (%zu skipped), %s\n", o.out.c_str(), db.size(), failed.size(),
+                    database_summary(db).c_str());
+        std::printf("load %.0f ms, images and reduction %.0f ms (%.0f models/s), %s %.0f ms\n", load_ms, feature_ms,
+                    1000.0 * double(db.size()) / std::max(feature_ms, 1e-9), database_step(db), pca_ms);
         for (const auto& f : failed)
             std::printf("skipped %s: %s\n", f["path"].get<std::string>().c_str(),
                         f["error"].get<std::string>().c_str());
