@@ -114,8 +114,6 @@ void run_features(IndexOptions o, const GlobalOptions& global) {
                         {"feature", feature}});
 }
 
-// One PCA over the features `gimg batch features` wrote per shard: the same database as `gimg
-// index` of the whole collection, the models in the same (path) order.
 // What the database keeps, and the name of the step that made it: PCA's k and kept variance, or
 // panorama's descriptors (no PCA).
 std::string database_summary(const passes::ShapeDatabase& db) {
@@ -131,6 +129,8 @@ const char* database_step(const passes::ShapeDatabase& db) {
     return db.options.descriptor == passes::RetrievalDescriptor::Panorama ? "descriptors" : "PCA";
 }
 
+// One PCA over the features `gimg batch features` wrote per shard: the same database as `gimg
+// index` of the whole collection, the models in the same (path) order.
 void run_index_from_shards(IndexOptions o, const GlobalOptions& global) {
     std::vector<nlohmann::json> results;
     for (auto& [model, line] : read_batch_results(o.shards))
