@@ -23,6 +23,34 @@ namespace gimg::passes {
 namespace {
 
 constexpr std::uint32_t kNone = 0xffffffffu;
+// face_across: an edge whose faces are not one pair facing each other (a non-manifold edge, or
+// neighbours of opposite orientation), looked up the general way.
+constexpr std::uint32_t kAcrossUnknown = 0xfffffffeu;
+
+// Per face and edge slot c (corner c to corner c + 1): the other face of that edge, which holds it
+// the other way round; kNone on the boundary; kAcrossUnknown where it is not that simple. The
+// flood through the untouched faces reads one entry instead of the edge's faces and their corners.
+std::vector<std::uint32_t> face_across(const geo::Mesh& mesh, const geo::MeshAdjacency& adj) {
+    std::vector<std::uint32_t> across(3 * mesh.face_count(), kNone);
+    for (std::size_t f = 0; f < mesh.face_count(); ++f)
+        for (int c = 0; c < 3; ++c) {
+            const std::uint32_t e = adj.face_edges[3 * f + c];
+            if (e == geo::kInvalidIndex) {
+                across[3 * f + c] = kAcrossUnknown;
+                continue;
+            }
+            const auto faces = adj.faces_of_edge(e);
+            if (faces.size() == 1) continue;
+            const std::uint32_t g = faces.size() == 2 ? (faces[0] == f ? faces[1] : faces[0]) : kNone;
+            const std::uint32_t a = mesh.triangles[f][c], b = mesh.triangles[f][(c + 1) % 3];
+            bool reversed = false;
+            if (g != kNone && g != f)
+                for (int k = 0; k < 3; ++k)
+                    reversed = reversed || (mesh.triangles[g][k] == b && mesh.triangles[g][(k + 1) % 3] == a);
+            across[3 * f + c] = reversed ? g : kAcrossUnknown;
+        }
+    return across;
+}
 constexpr double kMergeT = 0.05;  // a crossing within 5 % of an edge's end takes the vertex (the spec's choice)
 
 struct Segment {
@@ -32,9 +60,10 @@ struct Segment {
 class RegionCutter {
 public:
     RegionCutter(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, const std::vector<glm::dvec3>& face_normals,
-                 double diagonal, std::vector<std::uint32_t> corners, bool with_outside)
-        : mesh_(mesh), adj_(adj), face_n_(face_normals), diagonal_(diagonal), corners_(std::move(corners)),
-          n_(int(corners_.size())), with_outside_(with_outside) {}
+                 const std::vector<std::uint32_t>& across, double diagonal, std::vector<std::uint32_t> corners,
+                 bool with_outside)
+        : mesh_(mesh), adj_(adj), face_n_(face_normals), across_(across), diagonal_(diagonal),
+          corners_(std::move(corners)), n_(int(corners_.size())), with_outside_(with_outside) {}
 
     QuadRegion cut() {
         std::vector<glm::dvec3> normal(corners_.size(), glm::dvec3(0.0));
@@ -292,6 +321,15 @@ private:
                 if (node < nf) {  // an untouched face: its edges are mesh edges
                     const std::uint32_t e = adj_.face_edges[3 * node + c];
                     if (e == geo::kInvalidIndex || barrier_edge[e]) continue;
+                    if (const std::uint32_t g = across_[3 * node + c]; g != kAcrossUnknown) {
+                        if (g == kNone) continue;
+                        if (!is_touched[g])
+                            o = g;
+                        else if (const auto it = piece_by_edge.find(key(b, a)); it != piece_by_edge.end())
+                            o = it->second;
+                        if (o != kNone && !in[o]) in[o] = 1, stack.push_back(o), region_nodes.push_back(o);
+                        continue;
+                    }
                     // As holding(b, a): a piece first (only a touched face's pieces can hold a mesh edge).
                     const auto faces = adj_.faces_of_edge(e);
                     if (std::any_of(faces.begin(), faces.end(), [&](std::uint32_t g) { return is_touched[g] != 0; }))
@@ -479,6 +517,7 @@ private:
     const geo::Mesh& mesh_;
     const geo::MeshAdjacency& adj_;
     const std::vector<glm::dvec3>& face_n_;
+    const std::vector<std::uint32_t>& across_;  // face_across
     double diagonal_;
     std::vector<std::uint32_t> corners_;
     int n_;
@@ -494,7 +533,7 @@ private:
 
 QuadRegionCutter::QuadRegionCutter(const geo::Mesh& mesh)
     : mesh_(&mesh), adjacency_(geo::build_adjacency(mesh)), face_normals_(geo::face_normals(mesh)),
-      diagonal_(mesh.bounds().diagonal()) {}
+      face_across_(face_across(mesh, adjacency_)), diagonal_(mesh.bounds().diagonal()) {}
 
 QuadRegion QuadRegionCutter::cut(const std::array<std::uint32_t, 4>& corners, bool outside) const {
     return cut_polygon({corners.begin(), corners.end()}, outside);
@@ -512,7 +551,7 @@ QuadRegion QuadRegionCutter::cut_polygon(const std::vector<std::uint32_t>& corne
         for (std::size_t j = 0; j < i; ++j)
             if (corners[i] == corners[j]) throw geo::InputError("the corners must be distinct vertices");
     }
-    return RegionCutter(*mesh_, adjacency_, face_normals_, diagonal_, corners, outside).cut();
+    return RegionCutter(*mesh_, adjacency_, face_normals_, face_across_, diagonal_, corners, outside).cut();
 }
 
 QuadRegion cut_quad_region(const geo::Mesh& mesh, const std::array<std::uint32_t, 4>& corners) {

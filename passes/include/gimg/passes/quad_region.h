@@ -60,6 +60,7 @@ private:
     const geo::Mesh* mesh_;
     geo::MeshAdjacency adjacency_;
     std::vector<glm::dvec3> face_normals_;
+    std::vector<std::uint32_t> face_across_;  // per face edge: the face across it (region_cut.cpp)
     double diagonal_;
 };
 
