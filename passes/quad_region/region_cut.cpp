@@ -32,23 +32,27 @@ constexpr std::uint32_t kAcrossUnknown = 0xfffffffeu;
 // flood through the untouched faces reads one entry instead of the edge's faces and their corners.
 std::vector<std::uint32_t> face_across(const geo::Mesh& mesh, const geo::MeshAdjacency& adj) {
     std::vector<std::uint32_t> across(3 * mesh.face_count(), kNone);
-    for (std::size_t f = 0; f < mesh.face_count(); ++f)
-        for (int c = 0; c < 3; ++c) {
-            const std::uint32_t e = adj.face_edges[3 * f + c];
-            if (e == geo::kInvalidIndex) {
-                across[3 * f + c] = kAcrossUnknown;
-                continue;
-            }
-            const auto faces = adj.faces_of_edge(e);
-            if (faces.size() == 1) continue;
-            const std::uint32_t g = faces.size() == 2 ? (faces[0] == f ? faces[1] : faces[0]) : kNone;
-            const std::uint32_t a = mesh.triangles[f][c], b = mesh.triangles[f][(c + 1) % 3];
-            bool reversed = false;
-            if (g != kNone && g != f)
-                for (int k = 0; k < 3; ++k)
-                    reversed = reversed || (mesh.triangles[g][k] == b && mesh.triangles[g][(k + 1) % 3] == a);
-            across[3 * f + c] = reversed ? g : kAcrossUnknown;
+    auto slot = [&](std::uint32_t f, std::uint32_t e) {
+        int c = 0;
+        while (c < 2 && adj.face_edges[3 * std::size_t(f) + c] != e) ++c;
+        return 3 * std::size_t(f) + c;
+    };
+    for (std::size_t i = 0; i < across.size(); ++i)
+        if (adj.face_edges[i] == geo::kInvalidIndex) across[i] = kAcrossUnknown;
+    for (std::uint32_t e = 0; e < adj.edge_count(); ++e) {
+        const auto faces = adj.faces_of_edge(e);
+        if (faces.size() < 2) continue;
+        if (faces.size() > 2) {
+            for (std::uint32_t f : faces) across[slot(f, e)] = kAcrossUnknown;
+            continue;
         }
+        const std::size_t sf = slot(faces[0], e), sg = slot(faces[1], e);
+        const glm::uvec3 &tf = mesh.triangles[faces[0]], &tg = mesh.triangles[faces[1]];
+        const int cf = int(sf % 3), cg = int(sg % 3);
+        const bool opposed = faces[0] != faces[1] && tf[cf] == tg[(cg + 1) % 3] && tf[(cf + 1) % 3] == tg[cg];
+        across[sf] = opposed ? faces[1] : kAcrossUnknown;
+        across[sg] = opposed ? faces[0] : kAcrossUnknown;
+    }
     return across;
 }
 constexpr double kMergeT = 0.05;  // a crossing within 5 % of an edge's end takes the vertex (the spec's choice)
