@@ -294,10 +294,14 @@ private:
             for (int c = 0; c < 3; ++c)
                 piece_by_edge[key(pieces[k][c], pieces[k][(c + 1) % 3])] = std::uint32_t(nf) + k;
         auto triangle = [&](std::uint32_t node) { return node < nf ? mesh_.triangles[node] : pieces[node - nf]; };
+        // The piece holding the directed edge a -> b, or kNone.
+        auto piece = [&](std::uint32_t a, std::uint32_t b) {
+            const auto it = piece_by_edge.find(key(a, b));
+            return it != piece_by_edge.end() ? it->second : kNone;
+        };
         // The node (untouched face or piece) holding the directed edge a -> b, or kNone.
         auto holding = [&](std::uint32_t a, std::uint32_t b) {
-            const auto it = piece_by_edge.find(key(a, b));
-            if (it != piece_by_edge.end()) return it->second;
+            if (const std::uint32_t p = piece(a, b); p != kNone) return p;
             if (!is_vertex(a) || !is_vertex(b)) return kNone;
             const std::uint32_t e = adj_.find_edge(a, b);
             if (e == geo::kInvalidIndex) return kNone;
@@ -325,25 +329,21 @@ private:
                 if (node < nf) {  // an untouched face: its edges are mesh edges
                     const std::uint32_t e = adj_.face_edges[3 * node + c];
                     if (e == geo::kInvalidIndex || barrier_edge[e]) continue;
-                    if (const std::uint32_t g = across_[3 * node + c]; g != kAcrossUnknown) {
-                        if (g == kNone) continue;
-                        if (!is_touched[g])
-                            o = g;
-                        else if (const auto it = piece_by_edge.find(key(b, a)); it != piece_by_edge.end())
-                            o = it->second;
-                        if (o != kNone && !in[o]) in[o] = 1, stack.push_back(o), region_nodes.push_back(o);
-                        continue;
-                    }
                     // As holding(b, a): a piece first (only a touched face's pieces can hold a mesh edge).
-                    const auto faces = adj_.faces_of_edge(e);
-                    if (std::any_of(faces.begin(), faces.end(), [&](std::uint32_t g) { return is_touched[g] != 0; }))
-                        if (const auto it = piece_by_edge.find(key(b, a)); it != piece_by_edge.end()) o = it->second;
-                    for (std::size_t i = 0; i < faces.size() && o == kNone; ++i) {
-                        const std::uint32_t g = faces[i];
-                        if (is_touched[g]) continue;
-                        const glm::uvec3& u = mesh_.triangles[g];
-                        for (int k = 0; k < 3 && o == kNone; ++k)
-                            if (u[k] == b && u[(k + 1) % 3] == a) o = g;
+                    if (const std::uint32_t across = across_[3 * node + c]; across != kAcrossUnknown) {
+                        if (across != kNone) o = is_touched[across] ? piece(b, a) : across;  // kNone: boundary
+                    } else {
+                        const auto faces = adj_.faces_of_edge(e);
+                        if (std::any_of(faces.begin(), faces.end(),
+                                        [&](std::uint32_t g) { return is_touched[g] != 0; }))
+                            o = piece(b, a);
+                        for (std::size_t i = 0; i < faces.size() && o == kNone; ++i) {
+                            const std::uint32_t g = faces[i];
+                            if (is_touched[g]) continue;
+                            const glm::uvec3& u = mesh_.triangles[g];
+                            for (int k = 0; k < 3 && o == kNone; ++k)
+                                if (u[k] == b && u[(k + 1) % 3] == a) o = g;
+                        }
                     }
                 } else {
                     if (barrier.count(key(std::min(a, b), std::max(a, b)))) continue;

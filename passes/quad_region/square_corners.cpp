@@ -13,8 +13,9 @@
 
 namespace gimg::passes {
 
-std::array<std::uint32_t, 4> flattest_square_corners(const geo::Mesh& mesh, double side) {
-    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+std::array<std::uint32_t, 4> flattest_square_corners(const QuadRegionCutter& cutter, double side) {
+    const geo::Mesh& mesh = cutter.mesh();
+    const geo::MeshAdjacency& adj = cutter.adjacency();
     const geo::VertexCurvature k = geo::compute_curvature(mesh, adj);
     const std::vector<glm::dvec3> normals = geo::vertex_normals(mesh);
     const double half = 0.5 * side * mesh.bounds().diagonal();
@@ -45,7 +46,7 @@ std::array<std::uint32_t, 4> flattest_square_corners(const geo::Mesh& mesh, doub
     // point. The square is the smaller side, so a region of more than half the mesh's area is taken
     // the other way round. Corners whose sides cannot be cut are left for the caller's cut to refuse.
     try {
-        const QuadRegion region = QuadRegionCutter(mesh).cut(corners, false);
+        const QuadRegion region = cutter.cut(corners, false);
         const auto area = [](const geo::Mesh& m) {
             const std::vector<double> a = geo::face_areas(m);
             return std::accumulate(a.begin(), a.end(), 0.0);

@@ -58,13 +58,15 @@ void run_quad_bench(const QuadBenchOptions& o, const GlobalOptions& global) {
         const std::string path = spec.substr(0, colon);
         const double side = std::stod(spec.substr(colon + 1));
         const geo::Mesh mesh = geo::load_mesh(path);
-        const std::array<std::uint32_t, 4> corners = passes::flattest_square_corners(mesh, side);
+        const std::array<std::uint32_t, 4> corners =
+            passes::flattest_square_corners(passes::QuadRegionCutter(mesh), side);
         passes::QuadRegion region;
         std::vector<double> prepare_ms, cut_ms, flat_ms, fast_ms, relax_gpu_ms, start_ms, gpu_ms, cpu_ms, direct_ms,
             total_ms, cgal_ms;
         passes::QuadMap flat, fast, gpu, exact;
         for (std::uint64_t r = 0; r < o.runs; ++r) {
-            // The mesh's adjacency and normals (once per mesh, kept by an editor), then the cut itself.
+            // The mesh's adjacency, normals and face-across table (once per mesh, kept by an editor),
+            // then the cut itself.
             std::optional<passes::QuadRegionCutter> cutter;
             prepare_ms.push_back(time_ms([&] { cutter.emplace(mesh); }));
             cut_ms.push_back(time_ms([&] { region = cutter->cut(corners, false); }));

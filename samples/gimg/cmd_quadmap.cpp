@@ -32,9 +32,9 @@ namespace gimg::cli {
 namespace {
 
 // Four corners (a quad region), or three (a triangle region, barycentric coordinates), or auto[:F].
-std::vector<std::uint32_t> parse_corners(const std::string& text, const geo::Mesh& mesh) {
+std::vector<std::uint32_t> parse_corners(const std::string& text, const passes::QuadRegionCutter& cutter) {
     if (text == "auto") {
-        const auto c = passes::flattest_square_corners(mesh);
+        const auto c = passes::flattest_square_corners(cutter);
         return {c.begin(), c.end()};
     }
     if (text.rfind("auto:", 0) == 0) {
@@ -43,7 +43,7 @@ std::vector<std::uint32_t> parse_corners(const std::string& text, const geo::Mes
         if (*end || !(side > 0.0 && side <= 2.0))
             throw geo::InputError(
                 "--corners auto:F takes the square's side F in bounding-box diagonals (0 to 2), got '" + text + "'");
-        const auto c = passes::flattest_square_corners(mesh, side);
+        const auto c = passes::flattest_square_corners(cutter, side);
         return {c.begin(), c.end()};
     }
     std::vector<std::uint32_t> c;
@@ -180,14 +180,15 @@ void run_triangle(const QuadOptions& o, const GlobalOptions& global, const passe
 
 void run_quadmap(const QuadOptions& o, const GlobalOptions& global) {
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
-    const std::vector<std::uint32_t> corners = parse_corners(o.corners, mesh);
+    const passes::QuadRegionCutter cutter(mesh);
+    const std::vector<std::uint32_t> corners = parse_corners(o.corners, cutter);
     auto ctx = open_context(global);
     const std::filesystem::path dir(o.out);
     if (corners.size() == 3) {
-        run_triangle(o, global, passes::cut_triangle_region(mesh, {corners[0], corners[1], corners[2]}), *ctx);
+        run_triangle(o, global, cutter.cut_triangle({corners[0], corners[1], corners[2]}), *ctx);
         return;
     }
-    const passes::QuadRegion region = passes::cut_quad_region(mesh, four_corners(corners));
+    const passes::QuadRegion region = cutter.cut(four_corners(corners));
     const passes::QuadMap m = passes::map_quad_region(o.cpu ? nullptr : ctx.get(), region, map_options(o));
     geo::Mesh out = region.mesh;
     out.texcoords = m.uv;
@@ -248,7 +249,8 @@ void run_deform(const QuadOptions& o, const GlobalOptions& global) {
         feature.heights = first;
     }
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
-    const passes::QuadRegion region = passes::cut_quad_region(mesh, four_corners(parse_corners(o.corners, mesh)));
+    const passes::QuadRegionCutter cutter(mesh);
+    const passes::QuadRegion region = cutter.cut(four_corners(parse_corners(o.corners, cutter)));
     auto ctx = open_context(global);
     const passes::QuadMap m = passes::map_quad_region(o.cpu ? nullptr : ctx.get(), region, map_options(o));
     for (auto& d : lattice.offsets) d *= mesh.bounds().diagonal();  // given in bounding-box diagonals

@@ -248,8 +248,8 @@ TEST(QuadRegionCut, AutomaticCornersGatherTheSquareNotTheRestOfTheMesh) {
         const std::vector<double> a = geo::face_areas(m);
         return std::accumulate(a.begin(), a.end(), 0.0);
     };
-    std::array<std::uint32_t, 4> corners = gp::flattest_square_corners(camel, 0.25);
     const gp::QuadRegionCutter cutter(camel);
+    std::array<std::uint32_t, 4> corners = gp::flattest_square_corners(cutter, 0.25);
     const gp::QuadRegion square = cutter.cut(corners, false);
     EXPECT_LT(area(square.mesh), 0.25 * area(camel));
     std::swap(corners[1], corners[3]);  // the other way round: the rest of the camel

@@ -54,6 +54,8 @@ public:
     // over the whole mesh).
     QuadRegion cut(const std::array<std::uint32_t, 4>& corners, bool outside = true) const;
     QuadRegion cut_triangle(const std::array<std::uint32_t, 3>& corners, bool outside = true) const;
+    const geo::Mesh& mesh() const { return *mesh_; }
+    const geo::MeshAdjacency& adjacency() const { return adjacency_; }
 
 private:
     QuadRegion cut_polygon(const std::vector<std::uint32_t>& corners, bool outside) const;
@@ -109,7 +111,8 @@ std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacenc
 // ring), corners counter-clockwise seen along its normal. Where the square is wider than the part
 // it sits on, its sides run round that part and their left is the rest of the mesh; a region of
 // more than half the mesh's area is therefore taken the other way round.
-std::array<std::uint32_t, 4> flattest_square_corners(const geo::Mesh& mesh, double side = 0.2);
+// The cutter's mesh and adjacency serve both the choice and the trial cut.
+std::array<std::uint32_t, 4> flattest_square_corners(const QuadRegionCutter& cutter, double side = 0.2);
 
 // The accelerated start (sec. 3): Dijkstra distances s, t from the u = 0 and v = 0 sides, eq. (3)
 // inverted in closed form, then at most 3 sweeps of eq. (4). `adjacency` is the region mesh's.
