@@ -67,12 +67,15 @@ void bind_surface_maps(py::module_& m) {
             const geo::Mesh mesh = to_mesh(positions, faces);
             if (corners.size() != 4) throw geo::InputError("corners: four vertex indices, counter-clockwise");
             if (weights != "floater" && weights != "chord") throw geo::InputError("weights must be floater or chord");
-            if (start != "dijkstra" && start != "flat") throw geo::InputError("start must be dijkstra or flat");
+            if (start != "overrelaxed" && start != "dijkstra" && start != "flat")
+                throw geo::InputError("start must be overrelaxed, dijkstra or flat");
             if (solver != "krylov" && solver != "iterate" && solver != "direct")
                 throw geo::InputError("solver must be krylov, iterate or direct");
             const passes::QuadMapOptions o{
                 .weights = weights == "chord" ? passes::QuadWeights::Chord : passes::QuadWeights::Floater,
-                .start = start == "flat" ? passes::QuadStart::Flat : passes::QuadStart::Dijkstra,
+                .start = start == "flat"       ? passes::QuadStart::Flat
+                         : start == "dijkstra" ? passes::QuadStart::Dijkstra
+                                               : passes::QuadStart::Overrelaxed,
                 .solver = solver == "iterate"  ? passes::QuadSolver::Iterate
                           : solver == "direct" ? passes::QuadSolver::Direct
                                                : passes::QuadSolver::Krylov};
@@ -97,7 +100,7 @@ void bind_surface_maps(py::module_& m) {
             return d;
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("corners"), py::arg("weights") = "floater",
-        py::arg("start") = "dijkstra", py::arg("solver") = "krylov",
+        py::arg("start") = "overrelaxed", py::arg("solver") = "krylov",
         "A four-sided region's map onto the unit square (gimg quadmap). Returns a dict: the region's positions and "
         "faces (inserted points included), uv, original (the mesh's vertex per region vertex, -1 for an inserted "
         "point), iterations_u, iterations_v, flipped");

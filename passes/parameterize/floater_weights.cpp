@@ -39,7 +39,8 @@ void ordered_ring(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, std::uin
 struct RowScratch {
     std::vector<std::pair<std::uint32_t, std::uint32_t>> steps;
     std::vector<std::uint32_t> ring;
-    std::vector<double> angle, lambda;
+    std::vector<double> angle, lambda, length;
+    std::vector<glm::dvec3> direction;
     std::vector<glm::dvec2> q;
 };
 
@@ -53,17 +54,22 @@ std::size_t floater_row(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, st
     const std::size_t d = ring.size();
     // Geodesic polar map: lengths kept, angles scaled to sum to 2 pi.
     std::vector<double>& angle = scratch.angle;
+    std::vector<double>& length = scratch.length;
+    std::vector<glm::dvec3>& direction = scratch.direction;
     angle.assign(d + 1, 0.0);
+    length.resize(d), direction.resize(d);
     for (std::size_t k = 0; k < d; ++k) {
-        const glm::dvec3 a = glm::normalize(mesh.positions[ring[k]] - mesh.positions[v]);
-        const glm::dvec3 b = glm::normalize(mesh.positions[ring[(k + 1) % d]] - mesh.positions[v]);
-        angle[k + 1] = angle[k] + std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+        const glm::dvec3 e = mesh.positions[ring[k]] - mesh.positions[v];
+        length[k] = glm::length(e);
+        direction[k] = e / length[k];
     }
+    for (std::size_t k = 0; k < d; ++k)
+        angle[k + 1] = angle[k] + std::acos(std::clamp(glm::dot(direction[k], direction[(k + 1) % d]), -1.0, 1.0));
     std::vector<glm::dvec2>& q = scratch.q;
     q.resize(d);
     for (std::size_t k = 0; k < d; ++k) {
         const double phi = angle[k] * 2.0 * std::numbers::pi / angle[d];
-        q[k] = glm::distance(mesh.positions[ring[k]], mesh.positions[v]) * glm::dvec2(std::cos(phi), std::sin(phi));
+        q[k] = length[k] * glm::dvec2(std::cos(phi), std::sin(phi));
     }
     // For each neighbour l, the ring edge (r, r + 1) that the ray from q_l through the origin
     // crosses: the origin lies in triangle (q_l, q_r, q_r+1).
@@ -71,17 +77,23 @@ std::size_t floater_row(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, st
     lambda.assign(d, 0.0);
     std::size_t found = 0;
     for (std::size_t l = 0; l < d; ++l) {
-        for (std::size_t r = 0; r < d; ++r) {
+        // The ray leaves the ring about opposite q_l: try the edges from there outward (one or two
+        // tries instead of d / 2 on average).
+        for (std::size_t j = 0; j < d; ++j) {
+            const std::size_t r = (l + d + d / 2 - 1 + (j % 2 ? (j + 1) / 2 : d - j / 2)) % d;
             const std::size_t s = (r + 1) % d;
             if (r == l || s == l) continue;
             const double area = cross2(q[r] - q[l], q[s] - q[l]);
             if (area <= 0.0) continue;
-            const double wl = cross2(q[r], q[s]) / area;  // origin's coordinate of q_l
-            const double wr = cross2(q[s], q[l]) / area;  // of q_r
-            const double ws = cross2(q[l], q[r]) / area;  // of q_s
-            // A ray through a ring vertex touches two triangles: take the first.
-            if (wl < -1e-12 || wr < -1e-12 || ws < -1e-12) continue;
-            lambda[l] += std::max(wl, 0.0), lambda[r] += std::max(wr, 0.0), lambda[s] += std::max(ws, 0.0);
+            const double nl = cross2(q[r], q[s]);  // area times the origin's coordinate of q_l
+            const double nr = cross2(q[s], q[l]);  // of q_r
+            const double ns = cross2(q[l], q[r]);  // of q_s
+            // A ray through a ring vertex touches two triangles: take the first tried (both give
+            // the same coordinates, the third being 0).
+            const double tolerance = -1e-12 * area;
+            if (nl < tolerance || nr < tolerance || ns < tolerance) continue;
+            lambda[l] += std::max(nl / area, 0.0), lambda[r] += std::max(nr / area, 0.0);
+            lambda[s] += std::max(ns / area, 0.0);
             ++found;
             break;
         }
@@ -94,8 +106,7 @@ std::size_t floater_row(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, st
     if (found < d) {
         fell = 1;
         sum = 0.0;
-        for (std::size_t k = 0; k < d; ++k)
-            sum += lambda[k] = 1.0 / glm::distance(mesh.positions[ring[k]], mesh.positions[v]);
+        for (std::size_t k = 0; k < d; ++k) sum += lambda[k] = 1.0 / length[k];
     }
     if (!(sum > 0.0)) throw geo::InputError("vertex " + std::to_string(v) + ": its one-ring flattens to nothing");
     const auto nb = adj.neighbors(v);
@@ -109,8 +120,12 @@ std::size_t floater_row(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, st
 }  // namespace
 
 std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, std::size_t* fallbacks) {
+    return floater_weights(mesh, adj, adj.interior_vertices(), fallbacks);
+}
+
+std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adj,
+                                    const std::vector<std::uint8_t>& interior, std::size_t* fallbacks) {
     std::vector<double> slot(adj.vertex_vertices.size(), 0.0);
-    const std::vector<std::uint8_t> interior = adj.interior_vertices();
     // Each vertex writes only its own row: chunks of vertices on every core. Errors are kept per
     // chunk and the first chunk's is thrown, so the message does not depend on the threads.
     constexpr std::size_t kGrain = 512;

@@ -38,14 +38,32 @@ std::vector<double> distances_from(const geo::Mesh& mesh, const geo::MeshAdjacen
 
 // A piecewise-linear function through (x, y) points, sorted by x; clamped beyond the ends.
 struct Polyline {
-    std::vector<std::pair<double, double>> points;
-    double operator()(double x) const {
-        if (x <= points.front().first) return points.front().second;
-        if (x >= points.back().first) return points.back().second;
-        const auto it = std::lower_bound(points.begin(), points.end(), std::pair{x, -1e300});
-        const auto& [x1, y1] = *it;
-        const auto& [x0, y0] = *(it - 1);
-        return x1 > x0 ? y0 + (y1 - y0) * (x - x0) / (x1 - x0) : y1;
+    std::vector<double> x, y;
+    void add(double px, double py) { x.push_back(px), y.push_back(py); }
+    void sort() {
+        std::vector<std::size_t> order(x.size());
+        for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+        std::sort(order.begin(), order.end(),
+                  [&](std::size_t a, std::size_t b) { return x[a] < x[b] || (x[a] == x[b] && y[a] < y[b]); });
+        std::vector<double> sx, sy;
+        for (std::size_t i : order) sx.push_back(x[i]), sy.push_back(y[i]);
+        x = std::move(sx), y = std::move(sy);
+    }
+    double operator()(double at) const {
+        if (at <= x.front()) return y.front();
+        if (at >= x.back()) return y.back();
+        // The first point at or after `at`, by a branch-free binary search: the lookups of eq. (4)
+        // land at random along the side, so branches mispredict half the time.
+        const double* base = x.data();
+        std::size_t len = x.size();
+        while (len > 1) {
+            const std::size_t half = len / 2;
+            base = base[half] < at ? base + half : base;
+            len -= half;
+        }
+        const std::size_t i = std::size_t(base - x.data()) + (*base < at);
+        const double x0 = x[i - 1], x1 = x[i];
+        return x1 > x0 ? y[i - 1] + (y[i] - y[i - 1]) * (at - x0) / (x1 - x0) : y[i];
     }
 };
 
@@ -100,29 +118,35 @@ std::size_t dijkstra_start(const QuadRegion& region, const geo::MeshAdjacency& a
     // S(v): s along the u = 1 side against v; T(u): t along the v = 1 side against u.
     Polyline big_s, big_t;
     for (std::size_t i = 0; i < n; ++i) {
-        if (region.side[i] == 2 || i == region.corners[2]) big_s.points.emplace_back(boundary_uv[i].y, s[i]);
-        if (region.side[i] == 3 || i == region.corners[3]) big_t.points.emplace_back(boundary_uv[i].x, t[i]);
+        if (region.side[i] == 2 || i == region.corners[2]) big_s.add(boundary_uv[i].y, s[i]);
+        if (region.side[i] == 3 || i == region.corners[3]) big_t.add(boundary_uv[i].x, t[i]);
     }
-    std::sort(big_s.points.begin(), big_s.points.end());
-    std::sort(big_t.points.begin(), big_t.points.end());
+    big_s.sort();
+    big_t.sort();
     uv = boundary_uv;
     for (std::size_t i = 0; i < n; ++i)
         if (region.side[i] == 0) uv[i] = bilinear_inverse({s[i], t[i]}, s0, t0, s1, t1);
     // Eq. (4): u <- k u + (1 - k) s / S(v), then v <- k v + (1 - k) t / T(u); at most 3 sweeps.
+    // Each vertex reads only its own values: chunks of vertices on both cores.
+    constexpr std::size_t kGrain = 1024;
+    std::vector<double> chunk_worst(geo::chunk_count(n, kGrain));
     std::size_t sweeps = 0;
     while (sweeps < 3) {
         ++sweeps;
-        double worst = 0.0;
-        for (std::size_t i = 0; i < n; ++i) {
-            if (region.side[i] != 0) continue;
-            const double su = std::clamp(s[i] / big_s(uv[i].y), 0.0, 1.0);
-            worst = std::max(worst, std::abs(su - uv[i].x));
-            uv[i].x = k * uv[i].x + (1.0 - k) * su;
-            const double tv = std::clamp(t[i] / big_t(uv[i].x), 0.0, 1.0);
-            worst = std::max(worst, std::abs(tv - uv[i].y));
-            uv[i].y = k * uv[i].y + (1.0 - k) * tv;
-        }
-        if (worst < tau) break;
+        geo::parallel_for_chunks(n, kGrain, [&](std::size_t chunk, std::size_t begin, std::size_t end) {
+            double worst = 0.0;
+            for (std::size_t i = begin; i < end; ++i) {
+                if (region.side[i] != 0) continue;
+                const double su = std::clamp(s[i] / big_s(uv[i].y), 0.0, 1.0);
+                worst = std::max(worst, std::abs(su - uv[i].x));
+                uv[i].x = k * uv[i].x + (1.0 - k) * su;
+                const double tv = std::clamp(t[i] / big_t(uv[i].x), 0.0, 1.0);
+                worst = std::max(worst, std::abs(tv - uv[i].y));
+                uv[i].y = k * uv[i].y + (1.0 - k) * tv;
+            }
+            chunk_worst[chunk] = worst;
+        });
+        if (*std::max_element(chunk_worst.begin(), chunk_worst.end()) < tau) break;
     }
     return sweeps;
 }

@@ -1,5 +1,5 @@
-// The region's map: boundary values by chord length, Floater's or chord-length weights, a flat or
-// accelerated start, and one of three solvers (the paper's relaxation, BiCGSTAB, SparseLU).
+// The region's map: boundary values by chord length, Floater's or chord-length weights, a flat,
+// accelerated or over-relaxed start, and one of three solvers (the paper's relaxation, BiCGSTAB, SparseLU).
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/parallel_for.h"
 #include "gimg/passes/parameterize.h"
@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 namespace gimg::passes {
 
@@ -43,6 +44,21 @@ std::vector<glm::dvec2> solve_direct(const LinearSystem& s) {
     std::vector<glm::dvec2> uv(s.a.size);
     for (std::size_t i = 0; i < uv.size(); ++i) uv[i] = {x(Eigen::Index(i), 0), x(Eigen::Index(i), 1)};
     return uv;
+}
+
+// Eq. (2) for u and v: on the GPU one after the other, on the CPU one a core (independent systems).
+std::array<std::size_t, 2> relax_both(Context* ctx, const detail::ColouredRows& rows, double k, double tau,
+                                      std::size_t max_sweeps, std::vector<glm::dvec2>& uv) {
+    std::array<std::size_t, 2> sweeps{};
+    if (ctx) {
+        for (int field = 0; field < 2; ++field)
+            sweeps[field] = detail::relax_gpu(*ctx, rows, k, tau, max_sweeps, uv, field);
+    } else {
+        geo::parallel_for_chunks(2, 1, [&](std::size_t field, std::size_t, std::size_t) {
+            sweeps[field] = detail::relax_cpu(rows, k, tau, max_sweeps, uv, int(field));
+        });
+    }
+    return sweeps;
 }
 
 }  // namespace
@@ -78,33 +94,39 @@ QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOpt
     }
     QuadMap out;
     auto t = Clock::now();
-    const std::vector<double> w = o.weights == QuadWeights::Floater ? floater_weights(mesh, adj, &out.weight_fallbacks)
-                                                                    : chord_weights(mesh, adj);
+    const std::vector<double> w = o.weights == QuadWeights::Floater
+                                      ? floater_weights(mesh, adj, interior, &out.weight_fallbacks)
+                                      : chord_weights(mesh, adj);
     out.weights_ms = ms_since(t);
 
     t = Clock::now();
     out.start = fixed;  // flat: 0.5 on every free vertex
-    if (o.start == QuadStart::Dijkstra)
+    if (o.start != QuadStart::Flat)
         out.start_sweeps = dijkstra_start(region, adj, fixed, o.relaxation, o.tau, out.start);
     if (warm.size() == n)
         for (std::size_t i = 0; i < n; ++i)
             if (interior[i] && !std::isnan(warm[i].x)) out.start[i] = warm[i];
+    std::optional<detail::ColouredRows> rows;
+    if (o.start == QuadStart::Overrelaxed || o.solver == QuadSolver::Iterate)
+        rows = detail::colour_rows(adj, w, interior);
+    if (o.start == QuadStart::Overrelaxed) {
+        std::vector<glm::dvec2> over = out.start;
+        relax_both(ctx, *rows, 1.0 - kOverrelaxation, 0.0, kOverrelaxedSweeps, over);
+        // The map lies in the square (positive weights summing to 1); sweeps that left it far
+        // behind diverged on this mesh, and the accelerated start stands.
+        const bool settled = std::all_of(over.begin(), over.end(), [](glm::dvec2 p) {
+            return p.x >= -0.5 && p.x <= 1.5 && p.y >= -0.5 && p.y <= 1.5;
+        });
+        if (settled) out.start = std::move(over), out.overrelaxed_sweeps = kOverrelaxedSweeps;
+    }
     out.start_ms = ms_since(t);
 
     t = Clock::now();
     out.uv = out.start;
     switch (o.solver) {
         case QuadSolver::Iterate: {
-            const detail::ColouredRows rows = detail::colour_rows(adj, w, interior);
-            if (ctx) {
-                out.iterations_u = detail::relax_gpu(*ctx, rows, o.relaxation, o.tau, o.max_sweeps, out.uv, 0);
-                out.iterations_v = detail::relax_gpu(*ctx, rows, o.relaxation, o.tau, o.max_sweeps, out.uv, 1);
-            } else {  // u and v are independent systems: one a core
-                geo::parallel_for_chunks(2, 1, [&](std::size_t field, std::size_t, std::size_t) {
-                    (field ? out.iterations_v : out.iterations_u) =
-                        detail::relax_cpu(rows, o.relaxation, o.tau, o.max_sweeps, out.uv, int(field));
-                });
-            }
+            const auto sweeps = relax_both(ctx, *rows, o.relaxation, o.tau, o.max_sweeps, out.uv);
+            out.iterations_u = sweeps[0], out.iterations_v = sweeps[1];
             break;
         }
         case QuadSolver::Krylov: {

@@ -37,32 +37,34 @@ ColouredRows colour_rows(const geo::MeshAdjacency& adj, const std::vector<double
                          const std::vector<std::uint8_t>& interior) {
     const std::size_t n = adj.vertex_count();
     std::vector<std::uint32_t> colour(n, 0xffffffffu);
-    std::uint32_t colours = 0;
+    std::vector<std::uint32_t> count;  // rows per colour
+    std::vector<std::uint8_t> used;    // scratch, reused from vertex to vertex
     for (std::uint32_t v = 0; v < n; ++v) {
         if (!interior[v]) continue;
-        std::vector<std::uint8_t> used(adj.neighbors(v).size() + 1, 0);
+        used.assign(adj.neighbors(v).size() + 1, 0);
         for (std::uint32_t w : adj.neighbors(v))
             if (interior[w] && colour[w] < used.size()) used[colour[w]] = 1;
         colour[v] = std::uint32_t(std::find(used.begin(), used.end(), 0) - used.begin());
-        colours = std::max(colours, colour[v] + 1);
+        if (colour[v] >= count.size()) count.resize(colour[v] + 1, 0);
+        ++count[colour[v]];
     }
+    // Rows by colour, then vertex: a counting sort.
     ColouredRows rows;
-    rows.offsets.push_back(0);
-    rows.first.assign(colours + 1, 0);
-    for (std::uint32_t c = 0; c < colours; ++c) {
-        rows.first[c] = std::uint32_t(rows.vertex.size());
-        for (std::uint32_t v = 0; v < n; ++v) {
-            if (colour[v] != c) continue;
-            rows.vertex.push_back(v);
-            const auto nb = adj.neighbors(v);
-            for (std::size_t j = 0; j < nb.size(); ++j) {
-                rows.columns.push_back(nb[j]);
-                rows.weights.push_back(weights[adj.vertex_vertex_offsets[v] + j]);
-            }
-            rows.offsets.push_back(std::uint32_t(rows.columns.size()));
-        }
+    rows.first.assign(count.size() + 1, 0);
+    for (std::size_t c = 0; c < count.size(); ++c) rows.first[c + 1] = rows.first[c] + count[c];
+    rows.vertex.resize(rows.first.back());
+    std::vector<std::uint32_t> fill(rows.first.begin(), rows.first.end() - 1);
+    for (std::uint32_t v = 0; v < n; ++v)
+        if (colour[v] != 0xffffffffu) rows.vertex[fill[colour[v]]++] = v;
+    rows.offsets.assign(1, 0);
+    rows.offsets.reserve(rows.vertex.size() + 1);
+    for (const std::uint32_t v : rows.vertex) {
+        const auto nb = adj.neighbors(v);
+        rows.columns.insert(rows.columns.end(), nb.begin(), nb.end());
+        rows.weights.insert(rows.weights.end(), weights.begin() + adj.vertex_vertex_offsets[v],
+                            weights.begin() + adj.vertex_vertex_offsets[v] + nb.size());
+        rows.offsets.push_back(std::uint32_t(rows.columns.size()));
     }
-    rows.first[colours] = std::uint32_t(rows.vertex.size());
     return rows;
 }
 
@@ -71,28 +73,41 @@ std::uint32_t ColouredRows::colour_count() const { return std::uint32_t(first.si
 std::size_t relax_cpu(const ColouredRows& rows, double k, double tau, std::size_t max_sweeps,
                       std::vector<glm::dvec2>& uv, int field) {
     const std::uint32_t limit = float_bits(tau);
-    // The field on its own, contiguous: half the memory traffic, and the other field can be relaxed
-    // at the same time on another core without sharing cache lines.
+    // The field on its own, renumbered so that row r's value is values[r] and the fixed vertices
+    // follow the rows: the rows read and write one contiguous array, and the other field can be
+    // relaxed on another core without sharing cache lines.
+    const std::size_t rows_n = rows.vertex.size();
+    std::vector<std::uint32_t> slot(uv.size(), 0xffffffffu);
+    for (std::size_t r = 0; r < rows_n; ++r) slot[rows.vertex[r]] = std::uint32_t(r);
+    std::uint32_t next = std::uint32_t(rows_n);
+    for (auto& s : slot)
+        if (s == 0xffffffffu) s = next++;
     std::vector<double> values(uv.size());
-    for (std::size_t i = 0; i < uv.size(); ++i) values[i] = uv[i][field];
+    for (std::size_t i = 0; i < uv.size(); ++i) values[slot[i]] = uv[i][field];
+    std::vector<std::uint32_t> columns(rows.columns.size());
+    for (std::size_t e = 0; e < columns.size(); ++e) columns[e] = slot[rows.columns[e]];
+    const std::uint32_t* offset = rows.offsets.data();
+    const std::uint32_t* column = columns.data();
+    const double* weight = rows.weights.data();
+    double* x = values.data();
     for (std::size_t done = 0; done < max_sweeps; done += kSweepsPerCheck) {
         std::size_t converged = 0;
         for (std::uint32_t s = 0; s < kSweepsPerCheck; ++s) {
-            std::uint32_t worst = 0;
-            for (std::size_t r = 0; r < rows.vertex.size(); ++r) {
+            // Rounding to float is monotonic: the float of the largest correction is the shader's
+            // largest float correction.
+            double worst = 0.0;
+            for (std::size_t r = 0; r < rows_n; ++r) {
                 // The shader's order of operations, rounded the same way (no fused multiply-add).
                 double mean = 0.0;
-                for (std::uint32_t e = rows.offsets[r]; e < rows.offsets[r + 1]; ++e)
-                    mean += rows.weights[e] * values[rows.columns[e]];
-                double& x = values[rows.vertex[r]];
-                worst = std::max(worst, float_bits(std::abs(mean - x)));
-                x = k * x + (1.0 - k) * mean;
+                for (std::uint32_t e = offset[r]; e < offset[r + 1]; ++e) mean += weight[e] * x[column[e]];
+                worst = std::max(worst, std::abs(mean - x[r]));
+                x[r] = k * x[r] + (1.0 - k) * mean;
             }
-            if (!converged && worst < limit) converged = done + s + 1;
+            if (!converged && tau > 0.0 && float_bits(worst) < limit) converged = done + s + 1;
         }
-        if (converged) {
-            for (std::size_t i = 0; i < uv.size(); ++i) uv[i][field] = values[i];
-            return converged;
+        if (converged || (tau == 0.0 && done + kSweepsPerCheck >= max_sweeps)) {
+            for (std::size_t i = 0; i < uv.size(); ++i) uv[i][field] = values[slot[i]];
+            return converged ? converged : done + kSweepsPerCheck;
         }
     }
     throw geo::InputError("the relaxation did not settle within " + std::to_string(max_sweeps) + " sweeps");
@@ -140,10 +155,14 @@ std::size_t relax_gpu(Context& ctx, const ColouredRows& rows, double k, double t
         std::vector<std::uint32_t> worst(kSweepsPerCheck);
         ctx.download(slot_buf, worst.data(), worst.size() * 4);
         for (std::uint32_t s = 0; s < kSweepsPerCheck; ++s)
-            if (worst[s] < limit) {
+            if (tau > 0.0 && worst[s] < limit) {
                 ctx.download(uv_buf, uv.data(), uv.size() * 16);
                 return done + s + 1;
             }
+        if (tau == 0.0 && done + kSweepsPerCheck >= max_sweeps) {
+            ctx.download(uv_buf, uv.data(), uv.size() * 16);
+            return done + kSweepsPerCheck;
+        }
     }
     throw geo::InputError("the relaxation did not settle within " + std::to_string(max_sweeps) + " sweeps");
 }

@@ -71,7 +71,7 @@ std::array<std::uint32_t, 4> four_corners(const std::vector<std::uint32_t>& c) {
 }
 
 struct QuadOptions {
-    std::string mesh, corners, out, json, weights = "floater", start = "dijkstra", solver = "krylov";
+    std::string mesh, corners, out, json, weights = "floater", start = "overrelaxed", solver = "krylov";
     std::string lattice, polar, offsets, paste;
     double relaxation = 0.05, tau = 1e-4, height = 0.05;
     bool cpu = false;
@@ -80,7 +80,9 @@ struct QuadOptions {
 passes::QuadMapOptions map_options(const QuadOptions& o) {
     passes::QuadMapOptions m;
     m.weights = o.weights == "chord" ? passes::QuadWeights::Chord : passes::QuadWeights::Floater;
-    m.start = o.start == "flat" ? passes::QuadStart::Flat : passes::QuadStart::Dijkstra;
+    m.start = o.start == "flat"       ? passes::QuadStart::Flat
+              : o.start == "dijkstra" ? passes::QuadStart::Dijkstra
+                                      : passes::QuadStart::Overrelaxed;
     m.solver = o.solver == "iterate"  ? passes::QuadSolver::Iterate
                : o.solver == "direct" ? passes::QuadSolver::Direct
                                       : passes::QuadSolver::Krylov;
@@ -133,6 +135,7 @@ nlohmann::json map_json(const passes::QuadRegion& region, const passes::QuadMap&
             {"iterations_u", m.iterations_u},
             {"iterations_v", m.iterations_v},
             {"start_sweeps", m.start_sweeps},
+            {"overrelaxed_sweeps", m.overrelaxed_sweeps},
             {"weight_fallbacks", m.weight_fallbacks},
             {"flipped", m.flipped},
             {"weights_ms", m.weights_ms},
@@ -287,8 +290,10 @@ void add_map_options(CLI::App* cmd, QuadOptions& o) {
         ->required();
     cmd->add_option("--weights", o.weights, "floater (shape-preserving, default) or chord")
         ->check(CLI::IsMember({"floater", "chord"}));
-    cmd->add_option("--start", o.start, "dijkstra (the accelerated start, default) or flat (0.5)")
-        ->check(CLI::IsMember({"dijkstra", "flat"}));
+    cmd->add_option("--start", o.start,
+                    "overrelaxed (the accelerated start, then 40 over-relaxed sweeps; default), dijkstra (the "
+                    "paper's accelerated start) or flat (0.5)")
+        ->check(CLI::IsMember({"overrelaxed", "dijkstra", "flat"}));
     cmd->add_option("--solver", o.solver,
                     "krylov (BiCGSTAB on the GPU, default), iterate (the paper's relaxation) or direct (SparseLU)")
         ->check(CLI::IsMember({"krylov", "iterate", "direct"}));

@@ -192,7 +192,8 @@ TEST(QuadStart, OnAStructuredRectangleTheStartIsTheAnswer) {
     const std::array<std::uint32_t, 4> corners{0, 8, 53, 45};
     const gp::QuadRegion r = gp::cut_quad_region(grid, corners);
     ASSERT_EQ(r.mesh.vertex_count(), grid.vertex_count());
-    const gp::QuadMap m = gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Iterate});
+    const gp::QuadMap m =
+        gp::map_quad_region(nullptr, r, {.start = gp::QuadStart::Dijkstra, .solver = gp::QuadSolver::Iterate});
     for (std::size_t i = 0; i < m.start.size(); ++i) {
         EXPECT_NEAR(m.start[i].x, r.mesh.positions[i].x / 2.0, 1e-12);
         EXPECT_NEAR(m.start[i].y, r.mesh.positions[i].y / 1.25, 1e-12);
@@ -206,8 +207,53 @@ TEST(QuadStart, TheAcceleratedStartNeedsFarFewerSweeps) {
     const gp::QuadRegion r = gp::cut_quad_region(geo::load_mesh(path), kBunnyCorners);
     const gp::QuadMap flat =
         gp::map_quad_region(nullptr, r, {.start = gp::QuadStart::Flat, .solver = gp::QuadSolver::Iterate});
-    const gp::QuadMap fast = gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Iterate});
+    const gp::QuadMap fast =
+        gp::map_quad_region(nullptr, r, {.start = gp::QuadStart::Dijkstra, .solver = gp::QuadSolver::Iterate});
     EXPECT_GE(flat.iterations_u + flat.iterations_v, 3 * (fast.iterations_u + fast.iterations_v));
+}
+
+namespace {
+
+// The over-relaxed sweeps take out the smooth error that the paper's stopping rule stops on: the
+// relaxation after them needs a few sweeps, and its map lies closer to the exact one.
+void expect_overrelaxed_start_finishes_closer(const gp::QuadRegion& r, std::size_t most_sweeps) {
+    const gp::QuadMap direct = gp::map_quad_region(nullptr, r, {.solver = gp::QuadSolver::Direct});
+    auto gap = [&](const gp::QuadMap& m) {
+        double worst = 0.0;
+        for (std::size_t i = 0; i < m.uv.size(); ++i) worst = std::max(worst, glm::length(m.uv[i] - direct.uv[i]));
+        return worst;
+    };
+    const gp::QuadMap paper =
+        gp::map_quad_region(nullptr, r, {.start = gp::QuadStart::Dijkstra, .solver = gp::QuadSolver::Iterate});
+    const gp::QuadMap over =
+        gp::map_quad_region(nullptr, r, {.start = gp::QuadStart::Overrelaxed, .solver = gp::QuadSolver::Iterate});
+    EXPECT_EQ(over.overrelaxed_sweeps, gp::kOverrelaxedSweeps);
+    EXPECT_EQ(paper.overrelaxed_sweeps, 0u);
+    EXPECT_LE(std::max(over.iterations_u, over.iterations_v), most_sweeps);
+    EXPECT_GE(paper.iterations_u + paper.iterations_v, 4 * (over.iterations_u + over.iterations_v));
+    EXPECT_LT(gap(over), gap(paper));
+    EXPECT_EQ(over.flipped, 0u);
+}
+
+}  // namespace
+
+TEST(QuadStart, TheOverrelaxedStartFinishesInAFewSweepsAndCloser) {
+    // A curved, jittered sheet of 41 x 41 squares, the unit square cut from its middle.
+    geo::Mesh sheet = geo::make_grid(40, 40, 2.0, 2.0);
+    sheet.texcoords.clear();
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<double> jitter(-0.015, 0.015);
+    for (auto& p : sheet.positions) {
+        p -= glm::dvec3(0.5, 0.5, 0.0);
+        if (std::abs(p.x) < 1.49 && std::abs(p.y) < 1.49) p += glm::dvec3(jitter(rng), jitter(rng), 0.0);
+        p.z = 0.3 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y);
+    }
+    expect_overrelaxed_start_finishes_closer(gp::cut_quad_region(sheet, unit_corners(sheet)), 8);
+}
+
+TEST(QuadStart, TheOverrelaxedStartFinishesInAFewSweepsAndCloserOnBunny) {
+    GIMG_REQUIRE_SHARED_MESH(path, "bunny.off");
+    expect_overrelaxed_start_finishes_closer(gp::cut_quad_region(geo::load_mesh(path), kBunnyCorners), 8);
 }
 
 TEST(QuadRegionCut, SidesLieOnTheirPlanesAndCloseOneLoop) {
@@ -345,14 +391,20 @@ TEST_F(QuadRegion, TheRelaxationOnTheGpuIsItsCpuTwin) {
     geo::Mesh sheet = jittered_sheet();
     for (auto& p : sheet.positions) p.z = 0.2 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y);  // curved
     const gp::QuadRegion r = gp::cut_quad_region(sheet, unit_corners(sheet));
-    for (auto start : {gp::QuadStart::Flat, gp::QuadStart::Dijkstra}) {
+    for (auto start : {gp::QuadStart::Flat, gp::QuadStart::Dijkstra, gp::QuadStart::Overrelaxed}) {
         const gp::QuadMapOptions o{.start = start, .solver = gp::QuadSolver::Iterate};
         const gp::QuadMap gpu = gp::map_quad_region(&ctx(), r, o), cpu = gp::map_quad_region(nullptr, r, o);
         EXPECT_EQ(gpu.iterations_u, cpu.iterations_u);
         EXPECT_EQ(gpu.iterations_v, cpu.iterations_v);
-        EXPECT_GT(cpu.iterations_u, 1u);
+        EXPECT_EQ(gpu.overrelaxed_sweeps, cpu.overrelaxed_sweeps);
+        // The over-relaxed sweeps (no stopping rule) are the work there, and the starts must agree.
+        if (start == gp::QuadStart::Overrelaxed)
+            EXPECT_EQ(cpu.overrelaxed_sweeps, gp::kOverrelaxedSweeps);
+        else
+            EXPECT_GT(cpu.iterations_u, 1u);
         double worst = 0.0;
-        for (std::size_t i = 0; i < cpu.uv.size(); ++i) worst = std::max(worst, glm::length(gpu.uv[i] - cpu.uv[i]));
+        for (std::size_t i = 0; i < cpu.uv.size(); ++i)
+            worst = std::max({worst, glm::length(gpu.uv[i] - cpu.uv[i]), glm::length(gpu.start[i] - cpu.start[i])});
         EXPECT_LE(worst, 1e-12);
         EXPECT_EQ(gpu.flipped, 0u);
     }

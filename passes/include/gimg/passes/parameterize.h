@@ -54,6 +54,10 @@ SquareBoundary square_boundary(const geo::Mesh& mesh, const geo::MeshAdjacency& 
 // weights instead, counted in `fallbacks`.
 std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
                                     std::size_t* fallbacks = nullptr);
+// The same for the rows marked in `interior` (1: an interior vertex), for a caller that knows them
+// (adjacency.interior_vertices() walks every vertex's fan).
+std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
+                                    const std::vector<std::uint8_t>& interior, std::size_t* fallbacks = nullptr);
 
 enum class ParameterizeVariant { Tutte, Floater, Stretch, Density, Uniform3d, Curvature };
 const char* variant_name(ParameterizeVariant variant);  // "tutte", "floater", ...

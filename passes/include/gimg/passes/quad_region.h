@@ -6,7 +6,7 @@
 // where it crosses edges. The region is mapped with Floater's (or chord-length) weights, the
 // corners going to (0,0), (1,0), (1,1), (0,1), solved by the paper's relaxation (Gauss-Seidel in
 // colour order, a dispatch per colour) from a flat or an accelerated start (Dijkstra distances and
-// a bilinear normalisation), by the solver module's BiCGSTAB on the GPU, or by Eigen's SparseLU;
+// a bilinear normalisation, optionally followed by over-relaxed sweeps), by the solver module's BiCGSTAB on the GPU, or by Eigen's SparseLU;
 // and deformed by a lattice of offsets (clamped cubic B-splines, the outer layers fixed) or by a
 // pasted height along the normals.
 
@@ -67,12 +67,17 @@ private:
 };
 
 enum class QuadWeights { Floater, Chord };
-enum class QuadStart { Flat, Dijkstra };
+// Flat: 0.5 on every free vertex. Dijkstra: the paper's accelerated start. Overrelaxed: the
+// accelerated start, then kOverrelaxedSweeps sweeps of eq. (2) over-relaxed (k = 1 - omega,
+// omega = kOverrelaxation), which take out most of the smooth error the relaxation is slow on.
+enum class QuadStart { Flat, Dijkstra, Overrelaxed };
+inline constexpr std::size_t kOverrelaxedSweeps = 40;
+inline constexpr double kOverrelaxation = 1.8;
 enum class QuadSolver { Iterate, Krylov, Direct };
 
 struct QuadMapOptions {
     QuadWeights weights = QuadWeights::Floater;
-    QuadStart start = QuadStart::Dijkstra;
+    QuadStart start = QuadStart::Overrelaxed;
     QuadSolver solver = QuadSolver::Krylov;
     double relaxation = 0.05;  // k of eq. (2) and (4)
     double tau = 1e-4;         // eq. (2) stops when every correction is below tau
@@ -85,9 +90,10 @@ struct QuadMap {
     std::vector<glm::dvec2> start;  // the initial guess the solver started from
     std::size_t iterations_u = 0;   // sweeps of eq. (2) for u (Iterate), solver iterations (Krylov)
     std::size_t iterations_v = 0;
-    std::size_t start_sweeps = 0;      // sweeps of eq. (4) in the accelerated start
-    std::size_t weight_fallbacks = 0;  // vertices whose flattened star had no containing triangle
-    std::size_t flipped = 0;           // region triangles of negative area in (u, v)
+    std::size_t start_sweeps = 0;        // sweeps of eq. (4) in the accelerated start
+    std::size_t overrelaxed_sweeps = 0;  // over-relaxed sweeps of the start (0: none, or they diverged)
+    std::size_t weight_fallbacks = 0;    // vertices whose flattened star had no containing triangle
+    std::size_t flipped = 0;             // region triangles of negative area in (u, v)
     double weights_ms = 0.0, start_ms = 0.0, solve_ms = 0.0;
 };
 
