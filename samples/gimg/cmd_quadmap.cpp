@@ -201,10 +201,13 @@ void run_quadmap(const QuadOptions& o, const GlobalOptions& global) {
         std::printf("%s: region of %zu vertices (%zu points inserted on edges, %zu merged), %zu faces\n",
                     o.mesh.c_str(), region.mesh.vertex_count(), region.inserted, region.merged,
                     region.mesh.face_count());
+        const std::string sweeps = m.overrelaxed_sweeps ? std::to_string(m.start_sweeps) + " + " +
+                                                              std::to_string(m.overrelaxed_sweeps) + " over-relaxed"
+                                                        : std::to_string(m.start_sweeps);
         std::printf(
-            "%s weights (%.1f ms), %s start (%zu sweeps, %.1f ms), %s solve: u %zu, v %zu iterations, "
+            "%s weights (%.1f ms), %s start (%s sweeps, %.1f ms), %s solve: u %zu, v %zu iterations, "
             "%.1f ms; %zu flipped\n",
-            o.weights.c_str(), m.weights_ms, o.start.c_str(), m.start_sweeps, m.start_ms, o.solver.c_str(),
+            o.weights.c_str(), m.weights_ms, o.start.c_str(), sweeps.c_str(), m.start_ms, o.solver.c_str(),
             m.iterations_u, m.iterations_v, m.solve_ms, m.flipped);
         std::printf("wrote %s/{region.obj, checker.png}\n", o.out.c_str());
     }
