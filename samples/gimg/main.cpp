@@ -24,6 +24,8 @@ namespace {
 std::string first_line(const std::string& text) { return text.substr(0, text.find('\n')); }
 
 int fail(int code, const std::string& message) {
+    // What was printed before the error comes first, also when stdout is a buffered pipe.
+    std::fflush(stdout);
     std::fprintf(stderr, "gimg: error: %s\n", message.c_str());
     return code;
 }

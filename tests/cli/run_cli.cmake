@@ -1,6 +1,7 @@
 # Runs the gimg command line once and checks what it did; used by tests/cli/CMakeLists.txt.
 #   -DGIMG=<binary> -DARGS=<arguments, ;-separated> -DEXPECT_CODE=<exit code>
 #   [-DEXPECT_STDERR=<regex>] [-DEXPECT_STDOUT=<regex>]
+#   [-DEXPECT_OUTPUT=<regex>] (stdout and stderr of a second run, merged in the order written)
 #   [-DINPUT=<file to write first> -DINPUT_TEXT=<its contents>]
 #   [-DABSENT=<file that must not exist afterwards>]
 #   [-DJSON=<file> -DJSON_CHECKS=<key=value|...>]  (top-level keys, or key.N for list entries)
@@ -40,6 +41,12 @@ if(DEFINED EXPECT_STDERR)
   list(LENGTH newlines lines)
   if(NOT lines EQUAL 1)
     message(FATAL_ERROR "stderr is ${lines} lines, not one")
+  endif()
+endif()
+if(DEFINED EXPECT_OUTPUT)
+  execute_process(COMMAND "${GIMG}" ${ARGS} OUTPUT_VARIABLE merged ERROR_VARIABLE merged)
+  if(NOT merged MATCHES "${EXPECT_OUTPUT}")
+    message(FATAL_ERROR "stdout and stderr in order:\n${merged}\ndo not match '${EXPECT_OUTPUT}'")
   endif()
 endif()
 foreach(path IN ITEMS ${ABSENT})
