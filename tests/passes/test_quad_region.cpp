@@ -29,13 +29,13 @@ namespace {
 
 class QuadRegion : public gimg::test::GpuTest {};
 
-// A planar sheet over [-0.5, 1.5]^2 (20 x 20 squares), interior vertices jittered except those at
-// the unit square's corners.
-geo::Mesh jittered_sheet() {
-    geo::Mesh m = geo::make_grid(20, 20, 2.0, 2.0);
+// A planar sheet over [-0.5, 1.5]^2 (squares x squares), interior vertices jittered by up to
+// `amount` except those at the unit square's corners.
+geo::Mesh jittered_sheet(int squares = 20, double amount = 0.03, unsigned seed = 7) {
+    geo::Mesh m = geo::make_grid(squares, squares, 2.0, 2.0);
     m.texcoords.clear();
-    std::mt19937 rng(7);
-    std::uniform_real_distribution<double> jitter(-0.03, 0.03);
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> jitter(-amount, amount);
     for (auto& p : m.positions) {
         p -= glm::dvec3(0.5, 0.5, 0.0);
         const bool edge = std::abs(p.x) > 1.49 || std::abs(p.y) > 1.49;
@@ -238,16 +238,9 @@ void expect_overrelaxed_start_finishes_closer(const gp::QuadRegion& r, std::size
 }  // namespace
 
 TEST(QuadStart, TheOverrelaxedStartFinishesInAFewSweepsAndCloser) {
-    // A curved, jittered sheet of 41 x 41 squares, the unit square cut from its middle.
-    geo::Mesh sheet = geo::make_grid(40, 40, 2.0, 2.0);
-    sheet.texcoords.clear();
-    std::mt19937 rng(11);
-    std::uniform_real_distribution<double> jitter(-0.015, 0.015);
-    for (auto& p : sheet.positions) {
-        p -= glm::dvec3(0.5, 0.5, 0.0);
-        if (std::abs(p.x) < 1.49 && std::abs(p.y) < 1.49) p += glm::dvec3(jitter(rng), jitter(rng), 0.0);
-        p.z = 0.3 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y);
-    }
+    // A curved, jittered sheet of 40 x 40 squares, the unit square cut from its middle.
+    geo::Mesh sheet = jittered_sheet(40, 0.015, 11);
+    for (auto& p : sheet.positions) p.z = 0.3 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y);
     expect_overrelaxed_start_finishes_closer(gp::cut_quad_region(sheet, unit_corners(sheet)), 8);
 }
 
