@@ -1,5 +1,6 @@
 // The region's map: boundary values by chord length, Floater's or chord-length weights, a flat,
-// accelerated or over-relaxed start, and one of three solvers (the paper's relaxation, BiCGSTAB, SparseLU).
+// accelerated or over-relaxed start, and one of three solvers (the paper's relaxation, BiCGSTAB,
+// SparseLU).
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/parallel_for.h"
 #include "gimg/passes/parameterize.h"
@@ -12,6 +13,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <optional>

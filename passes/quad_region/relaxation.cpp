@@ -94,13 +94,14 @@ std::size_t relax_cpu(const ColouredRows& rows, double k, double tau, std::size_
         std::size_t converged = 0;
         for (std::uint32_t s = 0; s < kSweepsPerCheck; ++s) {
             // Rounding to float is monotonic: the float of the largest correction is the shader's
-            // largest float correction.
+            // largest float correction. A NaN sticks, as its float bits win the shader's atomicMax.
             double worst = 0.0;
             for (std::size_t r = 0; r < rows_n; ++r) {
                 // The shader's order of operations, rounded the same way (no fused multiply-add).
                 double mean = 0.0;
                 for (std::uint32_t e = offset[r]; e < offset[r + 1]; ++e) mean += weight[e] * x[column[e]];
-                worst = std::max(worst, std::abs(mean - x[r]));
+                const double correction = std::abs(mean - x[r]);
+                if (correction > worst || std::isnan(correction)) worst = std::isnan(worst) ? worst : correction;
                 x[r] = k * x[r] + (1.0 - k) * mean;
             }
             if (!converged && tau > 0.0 && float_bits(worst) < limit) converged = done + s + 1;

@@ -2,8 +2,8 @@
 // Eq. (2) of Kuriyama & Kaneko as Gauss-Seidel sweeps in colour order, on the GPU (one dispatch per
 // colour) and its CPU twin (the same rows in the same order, the same rounding). Sweeps run in
 // chunks of kSweepsPerCheck; the count returned is the first sweep whose largest correction (as a
-// float) is below tau, the map the one after that chunk. With tau = 0 they run max_sweeps (rounded up
-// to whole chunks) with no stopping rule, and return that count.
+// float) is below tau, the map the one after that chunk. With tau = 0 they run max_sweeps (rounded
+// up to whole chunks) with no stopping rule, and return that count.
 
 #include "gimg/engine/context.h"
 #include "gimg/geometry/adjacency.h"

@@ -6,9 +6,9 @@
 // where it crosses edges. The region is mapped with Floater's (or chord-length) weights, the
 // corners going to (0,0), (1,0), (1,1), (0,1), solved by the paper's relaxation (Gauss-Seidel in
 // colour order, a dispatch per colour) from a flat or an accelerated start (Dijkstra distances and
-// a bilinear normalisation, optionally followed by over-relaxed sweeps), by the solver module's BiCGSTAB on the GPU, or by Eigen's SparseLU;
-// and deformed by a lattice of offsets (clamped cubic B-splines, the outer layers fixed) or by a
-// pasted height along the normals.
+// a bilinear normalisation, by default followed by over-relaxed sweeps), by the solver module's
+// BiCGSTAB on the GPU, or by Eigen's SparseLU; and deformed by a lattice of offsets (clamped cubic
+// B-splines, the outer layers fixed) or by a pasted height along the normals.
 
 #include "gimg/engine/context.h"
 #include "gimg/engine/graph.h"
