@@ -1,7 +1,7 @@
-// gimg bench quadmap [--region MESH:SIDE]... [--runs N] [--json FILE]
+// gimg bench quadmap [--region MESH:SIDE|MESH:A,B,C,D]... [--runs N] [--json FILE]
 //
 // Kuriyama & Kaneko's table 1 redone: per region (a square of SIDE times the diagonal around the
-// mesh's flattest vertex), the relaxation's sweeps for u and v from the flat start and from the
+// mesh's flattest vertex, or four given corners), the relaxation's sweeps for u and v from the flat start and from the
 // accelerated start, with times; the same system by BiCGSTAB (GPU and CPU twin) and SparseLU; CGAL's
 // mean-value map of the same region (when built with CGAL); and the interactive editor's time per
 // corner move and per offset change. Medians of --runs runs. The whole map (cut and map_quad_region)
@@ -12,6 +12,7 @@
 #include "cgal_peer.h"
 #include "command_files.h"
 #include "commands.h"
+#include "corner_option.h"
 #include "gpu_context.h"
 #include "json_output.h"
 #include "timing.h"
@@ -40,7 +41,7 @@ void run_quad_bench(const QuadBenchOptions& o, const GlobalOptions& global) {
     std::vector<std::string> regions = o.regions;
     if (regions.empty())
         for (const char* r : {"bunny.off:0.25", "mannequin_devil.off:0.6", "bunny.off:0.35", "bunny.off:0.45",
-                              "camel.off:0.25", "bunny.off:0.65"})
+                              "camel.off:0.25", "bunny.off:0.65", "bunny.off:9955,8759,18272,3733"})
             regions.push_back((shared_mesh_dir() / r).string());
     auto context = open_context(global);
     Context& ctx = *context;
@@ -55,12 +56,14 @@ void run_quad_bench(const QuadBenchOptions& o, const GlobalOptions& global) {
     nlohmann::json rows = nlohmann::json::array();
     for (const std::string& spec : regions) {
         const auto colon = spec.rfind(':');
-        if (colon == std::string::npos) throw geo::InputError("--region takes MESH:SIDE, got '" + spec + "'");
-        const std::string path = spec.substr(0, colon);
-        const double side = std::stod(spec.substr(colon + 1));
+        if (colon == std::string::npos)
+            throw geo::InputError("--region takes MESH:SIDE or MESH:A,B,C,D, got '" + spec + "'");
+        const std::string path = spec.substr(0, colon), shape = spec.substr(colon + 1);
         const geo::Mesh mesh = geo::load_mesh(path);
-        const std::array<std::uint32_t, 4> corners =
-            passes::flattest_square_corners(passes::QuadRegionCutter(mesh), side);
+        const std::vector<std::uint32_t> given = parse_corners(
+            shape.find(',') == std::string::npos ? "auto:" + shape : shape, passes::QuadRegionCutter(mesh));
+        if (given.size() != 4) throw geo::InputError("--region " + spec + ": a quad region takes four corners");
+        const std::array<std::uint32_t, 4> corners{given[0], given[1], given[2], given[3]};
         passes::QuadRegion region;
         std::vector<double> prepare_ms, cut_ms, flat_ms, fast_ms, relax_gpu_ms, start_ms, over_start_ms, over_ms,
             gpu_ms, cpu_ms, direct_ms, paper_total_ms, total_ms, cgal_ms;
@@ -139,7 +142,8 @@ void run_quad_bench(const QuadBenchOptions& o, const GlobalOptions& global) {
             std::fflush(stdout);
         }
         rows.push_back({{"mesh", path},
-                        {"side", side},
+                        {"side", shape.find(',') == std::string::npos ? nlohmann::json(std::stod(shape))
+                                                                      : nlohmann::json(nullptr)},
                         {"corners", corners},
                         {"region_vertices", region.mesh.vertex_count()},
                         {"prepare_ms", median(prepare_ms)},
@@ -188,8 +192,9 @@ void add_bench_quadmap_command(CLI::App& bench, const GlobalOptions& global) {
                                      "(Kuriyama & Kaneko's table 1)");
     cmd->add_option(
         "--region", o->regions,
-        "MESH:SIDE, a square of SIDE times the diagonal around the flattest vertex (default: bunny at 0.25, "
-        "0.35, 0.45, 0.65; mannequin_devil at 0.6; camel at 0.25)");
+        "MESH:SIDE, a square of SIDE times the diagonal around the flattest vertex, or MESH:A,B,C,D, four "
+        "corner vertices (default: bunny at 0.25, 0.35, 0.45, 0.65; mannequin_devil at 0.6; camel at 0.25; "
+        "bunny's 11,333-vertex region 9955,8759,18272,3733)");
     add_count_option(cmd, "--runs", o->runs, 1, 1000, "Runs per case; medians (default 5)");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_quad_bench(*o, global); }); });

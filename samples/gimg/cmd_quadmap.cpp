@@ -3,6 +3,7 @@
 // Four-sided regions mapped onto the unit square, and deformed through that map (docs/quadmap.md).
 #include "command_files.h"
 #include "commands.h"
+#include "corner_option.h"
 #include "gpu_context.h"
 #include "json_output.h"
 #include "size_option.h"
@@ -25,45 +26,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
-#include <sstream>
 
 namespace gimg::cli {
 
 namespace {
-
-// Four corners (a quad region), or three (a triangle region, barycentric coordinates), or auto[:F].
-std::vector<std::uint32_t> parse_corners(const std::string& text, const passes::QuadRegionCutter& cutter) {
-    if (text == "auto") {
-        const auto c = passes::flattest_square_corners(cutter);
-        return {c.begin(), c.end()};
-    }
-    if (text.rfind("auto:", 0) == 0) {
-        char* end = nullptr;
-        const double side = std::strtod(text.c_str() + 5, &end);
-        if (*end || !(side > 0.0 && side <= 2.0))
-            throw geo::InputError(
-                "--corners auto:F takes the square's side F in bounding-box diagonals (0 to 2), got '" + text + "'");
-        const auto c = passes::flattest_square_corners(cutter, side);
-        return {c.begin(), c.end()};
-    }
-    std::vector<std::uint32_t> c;
-    std::istringstream in(text);
-    for (;;) {
-        long long v = -1;
-        if (!(in >> v) || v < 0 || v > 0xfffffffe) break;
-        c.push_back(std::uint32_t(v));
-        char comma = 0;
-        if (!(in >> comma)) {
-            if (c.size() == 3 || c.size() == 4) return c;
-            break;
-        }
-        if (comma != ',') break;
-    }
-    throw geo::InputError(
-        "--corners takes four vertex indices A,B,C,D (or three for a triangle), counter-clockwise, "
-        "or auto, got '" +
-        text + "'");
-}
 
 std::array<std::uint32_t, 4> four_corners(const std::vector<std::uint32_t>& c) {
     if (c.size() != 4) throw geo::InputError("deform takes a region of four corners");
