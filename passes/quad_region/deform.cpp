@@ -4,44 +4,64 @@
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/normals.h"
 #include "gimg/passes/quad_region.h"
+#include "lattice_weights.h"
 
 #include "quad_region/deform_comp.h"
 
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
+#include <span>
+#include <vector>
 
 namespace gimg::passes {
 
 namespace {
 
 // The N clamped cubic B-spline basis values at x in [0, 1]: knots 0,0,0,0, 1/(N-3), ..., 1,1,1,1
-// (Cox-de Boor).
-std::vector<double> cubic_basis(std::uint32_t n, double x) {
-    const std::uint32_t spans = n - 3;
-    std::vector<double> knots;
-    for (int i = 0; i < 3; ++i) knots.push_back(0.0);
-    for (std::uint32_t i = 0; i <= spans; ++i) knots.push_back(double(i) / spans);
-    for (int i = 0; i < 3; ++i) knots.push_back(1.0);
+// (Cox-de Boor), into b[0..N); `knot` holds N + 4 values and b N + 3.
+void cubic_basis(std::uint32_t n, double x, std::span<double> knot, std::span<double> b) {
+    const std::uint32_t spans = n - 3, knots = n + 4;
+    for (std::uint32_t i = 0; i < knots; ++i) knot[i] = i < 3 ? 0.0 : i <= 3 + spans ? double(i - 3) / spans : 1.0;
     x = std::clamp(x, 0.0, 1.0);
     // Degree 0: the one span holding x (the last span holds x = 1).
-    std::vector<double> b(knots.size() - 1, 0.0);
-    for (std::size_t i = 0; i + 1 < knots.size(); ++i)
-        if (knots[i] < knots[i + 1] && ((x >= knots[i] && x < knots[i + 1]) || (x == 1.0 && knots[i + 1] == 1.0)))
-            b[i] = 1.0;
-    for (int p = 1; p <= 3; ++p)
-        for (std::size_t i = 0; i + p + 1 < knots.size(); ++i) {
-            const double l = knots[i + p] > knots[i] ? (x - knots[i]) / (knots[i + p] - knots[i]) * b[i] : 0.0;
-            const double r = knots[i + p + 1] > knots[i + 1]
-                                 ? (knots[i + p + 1] - x) / (knots[i + p + 1] - knots[i + 1]) * b[i + 1]
+    for (std::uint32_t i = 0; i + 1 < knots; ++i)
+        b[i] = knot[i] < knot[i + 1] && ((x >= knot[i] && x < knot[i + 1]) || (x == 1.0 && knot[i + 1] == 1.0))
+                   ? 1.0
+                   : 0.0;
+    for (std::uint32_t p = 1; p <= 3; ++p)
+        for (std::uint32_t i = 0; i + p + 1 < knots; ++i) {
+            // Terms of a zero value are skipped (at most four values are not zero): the same sums
+            // but for the sign of a zero.
+            const double l =
+                b[i] != 0.0 && knot[i + p] > knot[i] ? (x - knot[i]) / (knot[i + p] - knot[i]) * b[i] : 0.0;
+            const double r = b[i + 1] != 0.0 && knot[i + p + 1] > knot[i + 1]
+                                 ? (knot[i + p + 1] - x) / (knot[i + p + 1] - knot[i + 1]) * b[i + 1]
                                  : 0.0;
             b[i] = l + r;
         }
-    b.resize(n);
-    return b;
 }
+
+// cubic_basis's values without an allocation for lattices of up to 60 control points a side (a
+// lattice edit evaluates two bases per region vertex).
+class BasisValues {
+public:
+    BasisValues(std::uint32_t n, double x) {
+        if (2 * n + 7 > local_.size()) heap_.resize(2 * n + 7);
+        const std::span<double> room = heap_.empty() ? std::span<double>(local_) : std::span<double>(heap_);
+        values_ = room.subspan(n + 4, n + 3);
+        cubic_basis(n, x, room.first(n + 4), values_);
+    }
+    double operator[](std::size_t i) const { return values_[i]; }
+
+private:
+    std::array<double, 128> local_;
+    std::vector<double> heap_;
+    std::span<double> values_;
+};
 
 void check_map(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv) {
     if (uv.size() != region.mesh.vertex_count())
@@ -112,7 +132,7 @@ glm::dvec3 PolarLattice::evaluate(glm::dvec2 uv) const {
                               std::to_string(rings) + " x " + std::to_string(sectors) + " control points");
     const glm::dvec2 rt = polar_coordinates(uv);
     if (rt.x >= 1.0) return glm::dvec3(0.0);
-    const std::vector<double> br = cubic_basis(rings, rt.x);
+    const BasisValues br(rings, rt.x);
     // Uniform periodic cubic B-spline in theta: the four control points around the span.
     const double x = rt.y / (2.0 * std::numbers::pi) * sectors;
     const auto span = std::uint32_t(std::floor(x)) % sectors;
@@ -138,7 +158,7 @@ glm::dvec3 OffsetLattice::evaluate(glm::dvec2 uv) const {
     if (offsets.size() != std::size_t(columns) * rows)
         throw geo::InputError("the lattice has " + std::to_string(offsets.size()) + " offsets for " +
                               std::to_string(columns) + " x " + std::to_string(rows) + " control points");
-    const std::vector<double> bu = cubic_basis(columns, uv.x), bv = cubic_basis(rows, uv.y);
+    const BasisValues bu(columns, uv.x), bv(rows, uv.y);
     auto free = [&](std::uint32_t i, std::uint32_t n) {
         return int(i) > fixed_layers && int(i) + 1 + fixed_layers < int(n);
     };
@@ -152,6 +172,44 @@ glm::dvec3 OffsetLattice::evaluate(glm::dvec2 uv) const {
 geo::Mesh deform_by_lattice(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,
                             const OffsetLattice& lattice) {
     return offset_region(mesh, region, uv, [&](glm::dvec2 p) { return lattice.evaluate(p); });
+}
+
+LatticeWeights::LatticeWeights(const OffsetLattice& shape, const std::vector<glm::dvec2>& uv)
+    : columns_(shape.columns), rows_(shape.rows), fixed_layers_(shape.fixed_layers) {
+    shape.evaluate({0.5, 0.5});  // the lattice's own checks
+    first_p_.resize(uv.size());
+    first_q_.resize(uv.size());
+    weight_.resize(uv.size());
+    // The first of at most four values that are not zero, kept inside the lattice.
+    auto first = [](const BasisValues& b, std::uint32_t n) {
+        std::uint32_t k = 0;
+        while (k + 4 < n && b[k] == 0.0) ++k;
+        return k;
+    };
+    for (std::size_t i = 0; i < uv.size(); ++i) {
+        const BasisValues bu(columns_, uv[i].x), bv(rows_, uv[i].y);
+        const std::uint32_t p0 = first(bu, columns_), q0 = first(bv, rows_);
+        first_p_[i] = p0;
+        first_q_[i] = q0;
+        for (std::uint32_t q = 0; q < 4; ++q)
+            for (std::uint32_t p = 0; p < 4; ++p) weight_[i][4 * q + p] = bu[p0 + p] * bv[q0 + q];
+    }
+}
+
+bool LatticeWeights::fits(const OffsetLattice& lattice) const {
+    return lattice.columns == columns_ && lattice.rows == rows_ && lattice.fixed_layers == fixed_layers_;
+}
+
+glm::dvec3 LatticeWeights::offset(std::size_t i, const OffsetLattice& lattice) const {
+    auto free = [&](std::uint32_t k, std::uint32_t n) {
+        return int(k) > fixed_layers_ && int(k) + 1 + fixed_layers_ < int(n);
+    };
+    glm::dvec3 f(0.0);
+    for (std::uint32_t q = first_q_[i]; q < first_q_[i] + 4; ++q)
+        for (std::uint32_t p = first_p_[i]; p < first_p_[i] + 4; ++p)
+            if (free(p, columns_) && free(q, rows_))
+                f += lattice.offsets[std::size_t(q) * columns_ + p] * weight_[i][4 * (q - first_q_[i]) + p - first_p_[i]];
+    return f;
 }
 
 geo::Mesh paste_feature(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv,

@@ -105,9 +105,10 @@ QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOpt
     out.start = fixed;  // flat: 0.5 on every free vertex
     if (o.start != QuadStart::Flat)
         out.start_sweeps = dijkstra_start(region, adj, fixed, o.relaxation, o.tau, out.start);
+    out.accelerated = out.start;
     if (warm.size() == n)
         for (std::size_t i = 0; i < n; ++i)
-            if (interior[i] && !std::isnan(warm[i].x)) out.start[i] = warm[i];
+            if (interior[i] && !std::isnan(warm[i].x)) out.start[i] += warm[i];
     std::optional<detail::ColouredRows> rows;
     if (o.start == QuadStart::Overrelaxed || o.solver == QuadSolver::Iterate)
         rows = detail::colour_rows(adj, w, interior);

@@ -21,6 +21,7 @@
 #include <numbers>
 #include <numeric>
 #include <random>
+#include <tuple>
 
 using namespace gimg;
 namespace gp = gimg::passes;
@@ -429,6 +430,100 @@ TEST_F(QuadRegion, TheDeformationPassIsItsCpuTwin) {
     const geo::Mesh pasted = gp::paste_feature(sheet, r, m.uv, map);
     EXPECT_GT(worst(pasted, sheet), 1e-5);
     EXPECT_LE(worst(gp::paste_feature_gpu(ctx(), sheet, r, m.uv, map), pasted), 1e-13);
+}
+
+namespace {
+
+gp::OffsetLattice random_lattice(std::uint32_t columns, std::uint32_t rows, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> offset(-0.1, 0.1);
+    gp::OffsetLattice lattice{.columns = columns, .rows = rows};
+    for (std::uint32_t k = 0; k < columns * rows; ++k) lattice.offsets.push_back({offset(rng), offset(rng), offset(rng)});
+    return lattice;
+}
+
+geo::Mesh curved_sheet() {
+    geo::Mesh sheet = jittered_sheet();
+    for (auto& p : sheet.positions) p.z = 0.2 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y);
+    return sheet;
+}
+
+}  // namespace
+
+TEST(QuadRegionEditor, AnOffsetEditGivesTheDeformationOfItsMap) {
+    // The editor keeps the basis values at its map's points; its result must be deform_by_lattice's.
+    const geo::Mesh sheet = curved_sheet();
+    gp::QuadRegionEditor editor(nullptr, sheet, unit_corners(sheet), {.solver = gp::QuadSolver::Iterate});
+    for (const auto& [columns, rows, seed] : {std::tuple{8u, 8u, 1u}, {8u, 8u, 2u}, {11u, 9u, 3u}, {4u, 6u, 4u}}) {
+        const gp::OffsetLattice lattice = random_lattice(columns, rows, seed);
+        const std::vector<glm::dvec3> edited = editor.set_lattice(lattice).positions;
+        const geo::Mesh fresh = gp::deform_by_lattice(sheet, editor.region(), editor.map().uv, lattice);
+        EXPECT_EQ(edited, fresh.positions) << columns << " x " << rows;
+        EXPECT_EQ(editor.deformed().triangles, sheet.triangles);
+        if (columns > 4) {
+            EXPECT_NE(edited, sheet.positions);  // it moved (a 4-wide lattice has no free control point)
+        }
+    }
+    // A lattice that does not fit is refused and the editor keeps its last result.
+    const std::vector<glm::dvec3> before = editor.deformed().positions;
+    gp::OffsetLattice bad = random_lattice(8, 8, 5);
+    bad.offsets.pop_back();
+    EXPECT_THROW(editor.set_lattice(bad), geo::InputError);
+    EXPECT_EQ(editor.deformed().positions, before);
+}
+
+TEST(QuadRegionEditor, AMovedCornerIsMappedAgainFromTheLastMap) {
+    const geo::Mesh sheet = curved_sheet();
+    const std::array<std::uint32_t, 4> corners = unit_corners(sheet);
+    const gp::QuadMapOptions options{.solver = gp::QuadSolver::Iterate};
+    gp::QuadRegionEditor editor(nullptr, sheet, corners, options);
+    const gp::OffsetLattice lattice = random_lattice(8, 8, 6);
+    editor.set_lattice(lattice);
+    // Corner 2, (1, 1), one vertex up: the region, the map and the deformation follow it.
+    const std::uint32_t moved = nearest(sheet, sheet.positions[corners[2]] + glm::dvec3(0.0, 0.1, 0.0));
+    ASSERT_NE(moved, corners[2]);
+    const std::array<std::uint32_t, 4> next{corners[0], corners[1], moved, corners[3]};
+    const geo::Mesh& deformed = editor.move_corner(2, moved);
+    const gp::QuadRegion region = gp::cut_quad_region(sheet, next);
+    ASSERT_EQ(editor.region().mesh.vertex_count(), region.mesh.vertex_count());
+    EXPECT_EQ(editor.region().original, region.original);
+    const gp::QuadMap exact = gp::map_quad_region(nullptr, region, {.solver = gp::QuadSolver::Direct});
+    double gap = 0.0;
+    for (std::size_t i = 0; i < exact.uv.size(); ++i) gap = std::max(gap, glm::length(editor.map().uv[i] - exact.uv[i]));
+    EXPECT_LT(gap, 0.01);  // within what the paper's tau allows
+    EXPECT_EQ(editor.map().flipped, 0u);
+    EXPECT_EQ(deformed.positions, gp::deform_by_lattice(sheet, region, editor.map().uv, lattice).positions);
+    // A corner that spans no region is refused and the editor stays as it was.
+    const std::size_t vertices = editor.region().mesh.vertex_count();
+    const std::vector<glm::dvec3> before = editor.deformed().positions;
+    EXPECT_THROW(editor.move_corner(1, corners[0]), geo::InputError);
+    EXPECT_EQ(editor.region().mesh.vertex_count(), vertices);
+    EXPECT_EQ(editor.deformed().positions, before);
+    EXPECT_THROW(editor.move_corner(4, moved), geo::InputError);
+}
+
+TEST(QuadRegionEditor, StartingFromTheLastMapSavesSweepsOnBunny) {
+    // The paper's start, each corner in turn moved to a neighbour: the last map's correction to its
+    // own accelerated start, added to the new region's, leaves the relaxation less to do than the
+    // new accelerated start alone. (The last map itself as the start does worse than that on this
+    // region: the moved corner shifts the whole square.)
+    GIMG_REQUIRE_SHARED_MESH(path, "bunny.off");
+    const geo::Mesh bunny = geo::load_mesh(path);
+    const geo::MeshAdjacency adj = geo::build_adjacency(bunny);
+    const gp::QuadMapOptions options{.start = gp::QuadStart::Dijkstra, .solver = gp::QuadSolver::Iterate};
+    std::size_t warm = 0, cold = 0;
+    for (int c = 0; c < 4; ++c) {
+        gp::QuadRegionEditor editor(nullptr, bunny, kBunnyCorners, options);
+        std::array<std::uint32_t, 4> next = kBunnyCorners;
+        next[std::size_t(c)] = adj.neighbors(kBunnyCorners[std::size_t(c)]).front();
+        editor.move_corner(c, next[std::size_t(c)]);
+        const gp::QuadMap fresh = gp::map_quad_region(nullptr, gp::cut_quad_region(bunny, next), options);
+        EXPECT_EQ(editor.map().flipped, 0u);
+        EXPECT_LT(editor.map().iterations_u + editor.map().iterations_v, fresh.iterations_u + fresh.iterations_v);
+        warm += editor.map().iterations_u + editor.map().iterations_v;
+        cold += fresh.iterations_u + fresh.iterations_v;
+    }
+    EXPECT_LT(2 * warm, cold);
 }
 
 TEST(QuadDeform, PolarCoordinatesAndTheConcentricLattice) {

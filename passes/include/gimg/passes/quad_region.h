@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,9 @@ struct QuadMapOptions {
 struct QuadMap {
     std::vector<glm::dvec2> uv;     // per region vertex
     std::vector<glm::dvec2> start;  // the initial guess the solver started from
+    // The accelerated start of eq. (3) and (4) (flat: 0.5 inside), before a warm start and the
+    // over-relaxed sweeps.
+    std::vector<glm::dvec2> accelerated;
     std::size_t iterations_u = 0;   // sweeps of eq. (2) for u (Iterate), solver iterations (Krylov)
     std::size_t iterations_v = 0;
     std::size_t start_sweeps = 0;        // sweeps of eq. (4) in the accelerated start
@@ -97,8 +101,10 @@ struct QuadMap {
     double weights_ms = 0.0, start_ms = 0.0, solve_ms = 0.0;
 };
 
-// The map of a region; with ctx == nullptr the relaxation and the Krylov solve run on their CPU twins. `warm`: per
-// region vertex a first guess to use instead of the start (NaN where there is none).
+// The map of a region; with ctx == nullptr the relaxation and the Krylov solve run on their CPU
+// twins. `warm`: per region vertex a correction added to the accelerated start (NaN where there is
+// none), such as the last map's uv - accelerated of the same vertex: after a corner moved, the
+// accelerated start follows the new square and the correction keeps what the last solve found.
 QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOptions& options = {},
                         const std::vector<glm::dvec2>& warm = {});
 
@@ -194,9 +200,12 @@ struct QuadDeformation {
 void add_quad_deformation(Graph& graph, BufferHandle positions, BufferHandle normals, BufferHandle original,
                           BufferHandle uv, BufferHandle offsets, BufferHandle heights, const QuadDeformation& what);
 
+class LatticeWeights;  // passes/quad_region/lattice_weights.h
+
 // Interactive editing: the mesh and its adjacency are kept; moving a corner re-cuts the region and
-// re-solves from the last map (the previous (u, v) of every vertex still in the region, the
-// accelerated start elsewhere); changing the offsets only re-evaluates the deformation.
+// re-solves from the last map (every vertex still in the region starts from the new accelerated
+// start plus the last map's correction to its own); changing the offsets only re-evaluates the
+// deformation, from basis values kept per map.
 class QuadRegionEditor {
 public:
     QuadRegionEditor(Context* ctx, geo::Mesh mesh, const std::array<std::uint32_t, 4>& corners,
@@ -212,6 +221,7 @@ public:
 
 private:
     void remap(const std::vector<glm::dvec2>& previous_by_vertex);
+    void deform();
     Context* ctx_;
     geo::Mesh mesh_;
     QuadRegionCutter cutter_;
@@ -220,6 +230,7 @@ private:
     QuadRegion region_;
     QuadMap map_;
     OffsetLattice lattice_;
+    std::shared_ptr<const LatticeWeights> weights_;  // the lattice's basis values at map_.uv
     geo::Mesh deformed_;
 };
 
