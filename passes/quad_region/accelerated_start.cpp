@@ -100,21 +100,27 @@ glm::dvec2 bilinear_inverse(glm::dvec2 st, double s0, double t0, double s1, doub
     return best;
 }
 
-std::size_t dijkstra_start(const QuadRegion& region, const geo::MeshAdjacency& adj,
-                           const std::vector<glm::dvec2>& boundary_uv, double k, double tau,
-                           std::vector<glm::dvec2>& uv) {
-    const geo::Mesh& mesh = region.mesh;
-    const std::size_t n = mesh.vertex_count();
+std::array<std::vector<double>, 2> side_distances(const QuadRegion& region, const geo::MeshAdjacency& adj) {
+    const std::size_t n = region.mesh.vertex_count();
     // Sides: 1 = W1 -> W2 (v = 0), 2 = W2 -> W3 (u = 1), 3 = W3 -> W4 (v = 1), 4 = W4 -> W1 (u = 0).
     std::vector<std::uint8_t> u0(n, 0), v0(n, 0);
     for (std::size_t i = 0; i < n; ++i) u0[i] = region.side[i] == 4, v0[i] = region.side[i] == 1;
     u0[region.corners[0]] = v0[region.corners[1]] = 1;  // each side's end corner belongs to the next side
-    std::vector<double> s, t;                           // the two searches are independent: one a core
+    std::array<std::vector<double>, 2> st;  // the two searches are independent: one a core
     geo::parallel_for_chunks(2, 1, [&](std::size_t side, std::size_t, std::size_t) {
-        (side ? t : s) = distances_from(mesh, adj, side ? v0 : u0);
+        st[side] = distances_from(region.mesh, adj, side ? v0 : u0);
     });
+    return st;
+}
+
+std::size_t dijkstra_start(const QuadRegion& region, const geo::MeshAdjacency& adj,
+                           const std::vector<glm::dvec2>& boundary_uv, double k, double tau,
+                           std::vector<glm::dvec2>& uv, bool* folded) {
+    const std::size_t n = region.mesh.vertex_count();
+    const auto [s, t] = side_distances(region, adj);
     const double s0 = s[region.corners[1]], t0 = t[region.corners[3]];
     const double s1 = s[region.corners[2]], t1 = t[region.corners[2]];
+    if (folded) *folded = !(s1 / s0 + t1 / t0 > 1.0);  // bilinear_inverse's test
     // S(v): s along the u = 1 side against v; T(u): t along the v = 1 side against u.
     Polyline big_s, big_t;
     for (std::size_t i = 0; i < n; ++i) {

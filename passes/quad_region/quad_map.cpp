@@ -104,7 +104,7 @@ QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOpt
     t = Clock::now();
     out.start = fixed;  // flat: 0.5 on every free vertex
     if (o.start != QuadStart::Flat)
-        out.start_sweeps = dijkstra_start(region, adj, fixed, o.relaxation, o.tau, out.start);
+        out.start_sweeps = dijkstra_start(region, adj, fixed, o.relaxation, o.tau, out.start, &out.start_folded);
     out.accelerated = out.start;
     if (warm.size() == n)
         for (std::size_t i = 0; i < n; ++i)

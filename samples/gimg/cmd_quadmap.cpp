@@ -101,6 +101,7 @@ nlohmann::json map_json(const passes::QuadRegion& region, const passes::QuadMap&
             {"iterations_u", m.iterations_u},
             {"iterations_v", m.iterations_v},
             {"start_sweeps", m.start_sweeps},
+            {"start_folded", m.start_folded},
             {"overrelaxed_sweeps", m.overrelaxed_sweeps},
             {"weight_fallbacks", m.weight_fallbacks},
             {"flipped", m.flipped},
@@ -175,6 +176,10 @@ void run_quadmap(const QuadOptions& o, const GlobalOptions& global) {
             "%.1f ms; %zu flipped\n",
             o.weights.c_str(), m.weights_ms, o.start.c_str(), sweeps.c_str(), m.start_ms, o.solver.c_str(),
             m.iterations_u, m.iterations_v, m.solve_ms, m.flipped);
+        if (m.start_folded)
+            std::printf(
+                "note: the corners fold the accelerated start's bilinear map (s1/s0 + t1/t0 <= 1, a dart-shaped "
+                "region); the start took the root nearest the linear guess\n");
         std::printf("wrote %s/{region.obj, checker.png}\n", o.out.c_str());
     }
     nlohmann::json j = map_json(region, m, o);

@@ -5,6 +5,7 @@
 #include "gpu_test.h"
 #include "test_data.h"
 
+#include "gimg/geometry/adjacency.h"
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/normals.h"
@@ -201,6 +202,45 @@ TEST(QuadStart, OnAStructuredRectangleTheStartIsTheAnswer) {
     }
     EXPECT_EQ(m.iterations_u, 1u);
     EXPECT_EQ(m.iterations_v, 1u);
+    EXPECT_FALSE(m.start_folded);
+}
+
+TEST(QuadStart, SideDistancesAreNoShorterThanStraightLines) {
+    // Dijkstra's s and t run along edges, so neither is below the straight distance to its side.
+    GIMG_REQUIRE_SHARED_MESH(path, "bunny.off");
+    const gp::QuadRegion r = gp::cut_quad_region(geo::load_mesh(path), kBunnyCorners);
+    const auto [s, t] = gp::side_distances(r, geo::build_adjacency(r.mesh));
+    // Side 4 (W4 -> W1) and W1 start s; side 1 (W1 -> W2) and W2 start t.
+    auto straight = [&](int side, std::uint32_t end_corner, std::size_t i) {
+        double d = glm::distance(r.mesh.positions[i], r.mesh.positions[end_corner]);
+        for (std::size_t j = 0; j < r.mesh.vertex_count(); ++j)
+            if (r.side[j] == side) d = std::min(d, glm::distance(r.mesh.positions[i], r.mesh.positions[j]));
+        return d;
+    };
+    std::size_t longer = 0;
+    for (std::size_t i = 0; i < r.mesh.vertex_count(); i += 7) {
+        const double ds = straight(4, r.corners[0], i), dt = straight(1, r.corners[1], i);
+        ASSERT_GE(s[i], ds - 1e-12);
+        ASSERT_GE(t[i], dt - 1e-12);
+        longer += s[i] > ds * (1.0 + 1e-9);
+    }
+    EXPECT_GT(longer, 0u);  // the edge paths bend: not the straight distance everywhere
+}
+
+TEST(QuadStart, ADartShapedRegionFoldsTheStartAndStillMaps) {
+    // W3 pulled in towards W1: s1 / s0 + t1 / t0 <= 1, eq. (3) folds, the start says so, and the
+    // map (a convex boundary and positive weights) is still an embedding.
+    const geo::Mesh sheet = jittered_sheet();
+    const gp::QuadRegion dart = gp::cut_quad_region(
+        sheet, {nearest(sheet, {0, 0, 0}), nearest(sheet, {1, 0, 0}), nearest(sheet, {0.3, 0.3, 0}),
+                nearest(sheet, {0, 1, 0})});
+    for (auto start : {gp::QuadStart::Dijkstra, gp::QuadStart::Overrelaxed}) {
+        const gp::QuadMap m = gp::map_quad_region(nullptr, dart, {.start = start, .solver = gp::QuadSolver::Iterate});
+        EXPECT_TRUE(m.start_folded);
+        EXPECT_EQ(m.flipped, 0u);
+        for (const auto& p : m.start) ASSERT_TRUE(p.x >= 0 && p.x <= 1 && p.y >= 0 && p.y <= 1);
+    }
+    EXPECT_FALSE(gp::map_quad_region(nullptr, gp::cut_quad_region(sheet, unit_corners(sheet))).start_folded);
 }
 
 TEST(QuadStart, TheAcceleratedStartNeedsFarFewerSweeps) {

@@ -95,6 +95,9 @@ struct QuadMap {
     std::size_t iterations_u = 0;   // sweeps of eq. (2) for u (Iterate), solver iterations (Krylov)
     std::size_t iterations_v = 0;
     std::size_t start_sweeps = 0;        // sweeps of eq. (4) in the accelerated start
+    // The corners' distances fold eq. (3) (s1 / s0 + t1 / t0 <= 1: a dart-shaped region), and the
+    // accelerated start took the root nearest the linear guess.
+    bool start_folded = false;
     std::size_t overrelaxed_sweeps = 0;  // over-relaxed sweeps of the start (0: none, or they diverged)
     std::size_t weight_fallbacks = 0;    // vertices whose flattened star had no containing triangle
     std::size_t flipped = 0;             // region triangles of negative area in (u, v)
@@ -126,12 +129,16 @@ std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacenc
 // The cutter's mesh and adjacency serve both the choice and the trial cut.
 std::array<std::uint32_t, 4> flattest_square_corners(const QuadRegionCutter& cutter, double side = 0.2);
 
+// Dijkstra's distances along the region's edges from the u = 0 side (s, first) and from the v = 0
+// side (t), each side a virtual source; `adjacency` is the region mesh's.
+std::array<std::vector<double>, 2> side_distances(const QuadRegion& region, const geo::MeshAdjacency& adjacency);
+
 // The accelerated start (sec. 3): Dijkstra distances s, t from the u = 0 and v = 0 sides, eq. (3)
 // inverted in closed form, then at most 3 sweeps of eq. (4). `adjacency` is the region mesh's.
-// Returns the sweeps used.
+// Returns the sweeps used; `folded` says whether eq. (3) folds on this region.
 std::size_t dijkstra_start(const QuadRegion& region, const geo::MeshAdjacency& adjacency,
                            const std::vector<glm::dvec2>& boundary_uv, double relaxation, double tau,
-                           std::vector<glm::dvec2>& uv);
+                           std::vector<glm::dvec2>& uv, bool* folded = nullptr);
 // Eq. (3): (s, t) from (u, v), and its inverse (the stable root; the fold-free case is
 // s1 / s0 + t1 / t0 > 1, otherwise the root nearest (s / s0, t / t0) in the square, and `folded`).
 glm::dvec2 bilinear_forward(glm::dvec2 uv, double s0, double t0, double s1, double t1);
