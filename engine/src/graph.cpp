@@ -158,6 +158,8 @@ ImageHandle Graph::create_image(const ImageDesc& desc) {
 
 BufferHandle Graph::import_buffer(Buffer& buffer) {
     if (!buffer) data_->fail("import of an empty Buffer");
+    for (std::uint32_t i = 0; i < data_->resources.size(); ++i)
+        if (data_->resources[i].imported_buffer == &buffer) return {i, data_->resources[i].version};
     ResourceDecl r;
     r.buffer_desc = {buffer.size(), buffer.name().empty() ? "imported buffer" : buffer.name()};
     r.imported_buffer = &buffer;
@@ -167,6 +169,8 @@ BufferHandle Graph::import_buffer(Buffer& buffer) {
 
 ImageHandle Graph::import_image(Image& image) {
     if (!image) data_->fail("import of an empty Image");
+    for (std::uint32_t i = 0; i < data_->resources.size(); ++i)
+        if (data_->resources[i].imported_image == &image) return {i, data_->resources[i].version};
     ResourceDecl r;
     r.image = true;
     r.image_desc = image.desc();

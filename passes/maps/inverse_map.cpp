@@ -1,5 +1,6 @@
 // Pi^{-1} (sec. 2.4): the original triangles' images placed in planar charts of the base domain
 // and bucketed, so that any point of a base triangle finds the original triangle over it.
+#include "gimg/engine/texel_array.h"
 #include "gimg/engine/upload.h"
 #include "gimg/geometry/bvh.h"
 #include "gimg/geometry/error.h"
@@ -13,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 
 namespace gimg::passes {
@@ -310,41 +312,60 @@ std::vector<glm::dvec3> evaluate_inverse_map(const geo::Mesh& mesh, const Invers
     return out;
 }
 
+namespace {
+
+// `values` as RGBA32UI texels, 16 bytes each (the last padded with zeros).
+template <class T>
+Image upload_as_texels(Context& ctx, const std::vector<T>& values, const std::string& name) {
+    std::vector<glm::uvec4> texels((values.size() * sizeof(T) + 15) / 16, glm::uvec4(0u));
+    std::memcpy(texels.data(), values.data(), values.size() * sizeof(T));
+    return upload_texel_array(ctx, texels, Format::RGBA32U, name);
+}
+
+}  // namespace
+
+// Packing (shaders/maps/inverse_map.comp reads it): face charts 8 uints a face in 2 texels; corner
+// coordinates and triangle coordinates a dvec2 a texel; chart boxes 2 texels (origin, cell size);
+// chart grids a texel; cell offsets, items and triangle faces R32UI; positions 2 texels a vertex
+// (x, y and z, 0); faces a texel (a, b, c, 0).
 InverseMapBuffers upload_inverse_map(Context& ctx, const geo::Mesh& mesh, const InverseMap& m) {
-    std::vector<double> positions;
-    positions.reserve(3 * mesh.vertex_count());
-    for (const glm::dvec3& p : mesh.positions) positions.insert(positions.end(), {p.x, p.y, p.z});
-    return {upload_buffer(ctx, m.face_charts, "maps face charts"),
-            upload_buffer(ctx, m.corner_coords, "maps corner coords"),
-            upload_buffer(ctx, m.chart_box, "maps chart boxes"),
-            upload_buffer(ctx, m.chart_grid, "maps chart grids"),
-            upload_buffer(ctx, m.cell_offsets, "maps cell offsets"),
-            upload_buffer(ctx, m.cell_items, "maps cell items"),
-            upload_buffer(ctx, m.triangle_coords, "maps triangle coords"),
-            upload_buffer(ctx, m.triangle_face, "maps triangle faces"),
-            upload_buffer(ctx, positions, "maps original positions"),
-            upload_buffer(ctx, mesh.triangles, "maps original faces")};
+    std::vector<glm::dvec2> positions;
+    positions.reserve(2 * mesh.vertex_count());
+    for (const glm::dvec3& p : mesh.positions) positions.insert(positions.end(), {{p.x, p.y}, {p.z, 0.0}});
+    std::vector<glm::uvec4> faces;
+    faces.reserve(mesh.face_count());
+    for (const glm::uvec3& t : mesh.triangles) faces.emplace_back(t, 0u);
+    return {upload_as_texels(ctx, m.face_charts, "maps face charts"),
+            upload_as_texels(ctx, m.corner_coords, "maps corner coords"),
+            upload_as_texels(ctx, m.chart_box, "maps chart boxes"),
+            upload_as_texels(ctx, m.chart_grid, "maps chart grids"),
+            upload_texel_array(ctx, m.cell_offsets, Format::R32U, "maps cell offsets"),
+            upload_texel_array(ctx, m.cell_items, Format::R32U, "maps cell items"),
+            upload_as_texels(ctx, m.triangle_coords, "maps triangle coords"),
+            upload_texel_array(ctx, m.triangle_face, Format::R32U, "maps triangle faces"),
+            upload_as_texels(ctx, positions, "maps original positions"),
+            upload_texel_array(ctx, faces, Format::RGBA32U, "maps original faces")};
 }
 
 void add_inverse_map(Graph& graph, InverseMapBuffers& map, BufferHandle points, BufferHandle bary, BufferHandle out,
                      std::uint32_t count) {
     static const Spirv kInverse = GIMG_SPIRV(gimg_spv_maps_inverse_map_comp);
     struct Handles {
-        BufferHandle face_charts, corner_coords, chart_box, chart_grid, cell_offsets, cell_items, triangle_coords,
+        ImageHandle face_charts, corner_coords, chart_box, chart_grid, cell_offsets, cell_items, triangle_coords,
             triangle_face, positions, faces;
     };
-    Handles h{graph.import_buffer(map.face_charts),     graph.import_buffer(map.corner_coords),
-              graph.import_buffer(map.chart_box),       graph.import_buffer(map.chart_grid),
-              graph.import_buffer(map.cell_offsets),    graph.import_buffer(map.cell_items),
-              graph.import_buffer(map.triangle_coords), graph.import_buffer(map.triangle_face),
-              graph.import_buffer(map.positions),       graph.import_buffer(map.faces)};
+    Handles h{graph.import_image(map.face_charts),     graph.import_image(map.corner_coords),
+              graph.import_image(map.chart_box),       graph.import_image(map.chart_grid),
+              graph.import_image(map.cell_offsets),    graph.import_image(map.cell_items),
+              graph.import_image(map.triangle_coords), graph.import_image(map.triangle_face),
+              graph.import_image(map.positions),       graph.import_image(map.faces)};
     graph.add_compute_pass(
         "MAPS inverse map",
         [&](PassBuilder& b) {
-            for (BufferHandle r :
-                 {h.face_charts, h.corner_coords, h.chart_box, h.chart_grid, h.cell_offsets, h.cell_items,
-                  h.triangle_coords, h.triangle_face, h.positions, h.faces, points, bary})
+            for (ImageHandle r : {h.face_charts, h.corner_coords, h.chart_box, h.chart_grid, h.cell_offsets,
+                                  h.cell_items, h.triangle_coords, h.triangle_face, h.positions, h.faces})
                 b.read(r, Access::ComputeRead);
+            for (BufferHandle r : {points, bary}) b.read(r, Access::ComputeRead);
             out = b.write(out, Access::ComputeWrite);
         },
         [=](Cmd& c) {

@@ -348,11 +348,10 @@ BufferHandle add_wavelet_synthesis(Graph& graph, BufferHandle values, const Semi
 
 namespace {
 
-std::vector<glm::dvec3> run_gpu(Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters,
+std::vector<glm::dvec3> run_gpu(Context& ctx, const SemiRegularMesh& mesh, WaveletBuffers& buffers,
                                 const std::vector<glm::dvec3>& values, std::uint32_t level, bool synthesis) {
     const char* what = synthesis ? "wavelet synthesis" : "wavelet analysis";
     check_values(mesh, values.size(), level, what);
-    WaveletBuffers buffers = upload_wavelet_filters(ctx, mesh, filters);
     Buffer data = upload_buffer(ctx, values, "wavelet values");
     Graph g(ctx);
     BufferHandle h = g.import_buffer(data);
@@ -370,10 +369,24 @@ std::vector<glm::dvec3> run_gpu(Context& ctx, const SemiRegularMesh& mesh, const
 
 std::vector<glm::dvec3> wavelet_analysis_gpu(Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters,
                                              const std::vector<glm::dvec3>& values, std::uint32_t down_to) {
-    return run_gpu(ctx, mesh, filters, values, down_to, false);
+    check_values(mesh, values.size(), down_to, "wavelet analysis");
+    WaveletBuffers buffers = upload_wavelet_filters(ctx, mesh, filters);
+    return run_gpu(ctx, mesh, buffers, values, down_to, false);
 }
 
 std::vector<glm::dvec3> wavelet_synthesis_gpu(Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters,
+                                              const std::vector<glm::dvec3>& values, std::uint32_t from) {
+    check_values(mesh, values.size(), from, "wavelet synthesis");
+    WaveletBuffers buffers = upload_wavelet_filters(ctx, mesh, filters);
+    return run_gpu(ctx, mesh, buffers, values, from, true);
+}
+
+std::vector<glm::dvec3> wavelet_analysis_gpu(Context& ctx, const SemiRegularMesh& mesh, WaveletBuffers& filters,
+                                             const std::vector<glm::dvec3>& values, std::uint32_t down_to) {
+    return run_gpu(ctx, mesh, filters, values, down_to, false);
+}
+
+std::vector<glm::dvec3> wavelet_synthesis_gpu(Context& ctx, const SemiRegularMesh& mesh, WaveletBuffers& filters,
                                               const std::vector<glm::dvec3>& values, std::uint32_t from) {
     return run_gpu(ctx, mesh, filters, values, from, true);
 }

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 
 namespace gimg::cli {
 
@@ -39,13 +40,19 @@ MapsWavelets maps_wavelets(Context* ctx, const passes::SemiRegularMesh& remesh, 
     const std::uint32_t levels = remesh.levels();
     passes::WaveletFilters filters;
     w.filter_seconds = time_ms([&] { filters = passes::wavelet_filters(remesh, k); }) / 1e3;
+    // The filters go to the device once, with the first transform (and in its time).
+    std::optional<passes::WaveletBuffers> uploaded;
+    auto on_device = [&]() -> passes::WaveletBuffers& {
+        if (!uploaded) uploaded = passes::upload_wavelet_filters(*ctx, remesh, filters);
+        return *uploaded;
+    };
     auto analysis = [&](std::vector<glm::dvec3> x, std::uint32_t down_to) {
-        if (ctx) return passes::wavelet_analysis_gpu(*ctx, remesh, filters, x, down_to);
+        if (ctx) return passes::wavelet_analysis_gpu(*ctx, remesh, on_device(), x, down_to);
         passes::wavelet_analysis(remesh, filters, x, down_to);
         return x;
     };
     auto synthesis = [&](std::vector<glm::dvec3> x) {
-        if (ctx) return passes::wavelet_synthesis_gpu(*ctx, remesh, filters, x);
+        if (ctx) return passes::wavelet_synthesis_gpu(*ctx, remesh, on_device(), x);
         passes::wavelet_synthesis(remesh, filters, x);
         return x;
     };

@@ -146,6 +146,38 @@ TEST(PlanBarriers, ImportsStartFromTheirLastAccessAndExportsEndAtTheNext) {
     EXPECT_EQ(out[0].dst_access, VK_ACCESS_2_HOST_READ_BIT);
 }
 
+TEST(PlanBarriers, AnObjectImportedTwiceIsOneResource) {
+    // Two capabilities importing the same image (filters shared by two calls) must not see two
+    // resources: the second import would start from the first's initial layout again.
+    Graph g;
+    Image table = Image::unbacked({64, 1, Format::R32U, "table"}, Access::TransferDst);
+    Buffer out = Buffer::unbacked({64, "out"});
+    auto first = g.import_image(table);
+    auto o = g.import_buffer(out);
+    g.add_compute_pass(
+        "first reader",
+        [&](PassBuilder& b) {
+            b.read(first, Access::ComputeRead);
+            o = b.write(o, Access::ComputeWrite);
+        },
+        no_op);
+    const auto second = g.import_image(table);
+    EXPECT_EQ(second.id, first.id);
+    EXPECT_EQ(second.version, first.version);
+    EXPECT_EQ(g.import_buffer(out).version, o.version);  // the newest version of a written import
+    g.add_compute_pass(
+        "second reader",
+        [&](PassBuilder& b) {
+            b.read(second, Access::ComputeRead);
+            o = b.write(o, Access::ComputeWrite);
+        },
+        no_op);
+    g.export_buffer(o, Access::TransferSrc);
+    Plan plan = g.compile();
+    EXPECT_EQ(barriers_on(plan.pass("first reader").barriers, "table").size(), 1u) << plan.describe();
+    EXPECT_TRUE(barriers_on(plan.pass("second reader").barriers, "table").empty()) << plan.describe();
+}
+
 TEST(PlanLayouts, StorageSampledTransferTransitions) {
     Graph g;
     auto img = g.create_image({64, 32, Format::R32F, "img"});

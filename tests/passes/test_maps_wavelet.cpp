@@ -446,11 +446,13 @@ TEST_F(MapsWaveletGpu, AnalysisAndSynthesisEqualTheCpu) {
     const double tolerance = 1e-12 * diagonal(mesh.positions);
     for (int k : kAllWavelets) {
         const gp::WaveletFilters f = gp::wavelet_filters(mesh, k);
+        gp::WaveletBuffers uploaded = gp::upload_wavelet_filters(ctx(), mesh, f);  // kept across calls
         for (std::uint32_t level : {0u, 2u}) {
             std::vector<glm::dvec3> cpu = mesh.positions;
             gp::wavelet_analysis(mesh, f, cpu, level);
             const std::vector<glm::dvec3> gpu = gp::wavelet_analysis_gpu(ctx(), mesh, f, mesh.positions, level);
             EXPECT_LE(max_difference(gpu, cpu, cpu.size()), tolerance) << "analysis k " << k << " level " << level;
+            EXPECT_EQ(gp::wavelet_analysis_gpu(ctx(), mesh, uploaded, mesh.positions, level), gpu);
             // Synthesis of perturbed coefficients, so that it is not just undoing the analysis.
             std::vector<glm::dvec3> coefficients = cpu;
             for (std::size_t v = 0; v < coefficients.size(); v += 3) coefficients[v] *= 1.5;
@@ -459,6 +461,7 @@ TEST_F(MapsWaveletGpu, AnalysisAndSynthesisEqualTheCpu) {
             const std::vector<glm::dvec3> gpu_back = gp::wavelet_synthesis_gpu(ctx(), mesh, f, coefficients, level);
             EXPECT_LE(max_difference(gpu_back, back, back.size()), tolerance)
                 << "synthesis k " << k << " level " << level;
+            EXPECT_EQ(gp::wavelet_synthesis_gpu(ctx(), mesh, uploaded, coefficients, level), gpu_back);
             EXPECT_GT(max_difference(back, mesh.positions, back.size()), 1e-2);
         }
     }

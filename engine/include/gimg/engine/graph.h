@@ -82,7 +82,9 @@ public:
     // Transient resources: created, reused or aliased, and freed by the plan.
     BufferHandle create_buffer(const BufferDesc& desc);
     ImageHandle create_image(const ImageDesc& desc);
-    // Persistent resources the caller owns; the graph starts from their last access.
+    // Persistent resources the caller owns; the graph starts from their last access. Importing the
+    // same object again returns its newest version: one resource per object, so that passes of
+    // several capabilities sharing it are ordered and synchronised like any other.
     BufferHandle import_buffer(Buffer& buffer);
     ImageHandle import_image(Image& image);
     // After the graph, leave the resource ready for `next` (e.g. TransferSrc to download it,

@@ -123,10 +123,10 @@ std::vector<glm::dvec3> evaluate_inverse_map(const geo::Mesh& mesh, const Invers
 
 // The same as one compute pass: `points` holds per point its base face (uint) and
 // `bary` 3 doubles each; `out` receives 4 doubles per point: the position and a flag (0 found,
-// 1 placed in the nearest image triangle, -1 none). The other buffers hold the map's
-// arrays and the original positions (3 doubles per vertex) and faces (3 uints).
+// 1 placed in the nearest image triangle, -1 none). The map's arrays and the original mesh are on
+// the device in texel arrays (gimg/engine/texel_array.h; upload_inverse_map says how each is packed).
 struct InverseMapBuffers {
-    Buffer face_charts, corner_coords, chart_box, chart_grid, cell_offsets, cell_items, triangle_coords, triangle_face,
+    Image face_charts, corner_coords, chart_box, chart_grid, cell_offsets, cell_items, triangle_coords, triangle_face,
         positions, faces;
 };
 InverseMapBuffers upload_inverse_map(Context& ctx, const geo::Mesh& mesh, const InverseMap& map);
@@ -198,9 +198,15 @@ BufferHandle add_wavelet_analysis(Graph& graph, BufferHandle values, const SemiR
                                   WaveletBuffers& filters, std::uint32_t down_to = 0);
 BufferHandle add_wavelet_synthesis(Graph& graph, BufferHandle values, const SemiRegularMesh& mesh,
                                    WaveletBuffers& filters, std::uint32_t from = 0);
+// Uploads the filters and the values, runs the transform and reads the values back.
 std::vector<glm::dvec3> wavelet_analysis_gpu(Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters,
                                              const std::vector<glm::dvec3>& values, std::uint32_t down_to = 0);
 std::vector<glm::dvec3> wavelet_synthesis_gpu(Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters,
+                                              const std::vector<glm::dvec3>& values, std::uint32_t from = 0);
+// The same with the filters already on the device, for transforming again and again.
+std::vector<glm::dvec3> wavelet_analysis_gpu(Context& ctx, const SemiRegularMesh& mesh, WaveletBuffers& filters,
+                                             const std::vector<glm::dvec3>& values, std::uint32_t down_to = 0);
+std::vector<glm::dvec3> wavelet_synthesis_gpu(Context& ctx, const SemiRegularMesh& mesh, WaveletBuffers& filters,
                                               const std::vector<glm::dvec3>& values, std::uint32_t from = 0);
 
 // Keeps the largest `fraction` of the detail coefficients of a full analysis (rounded to a count),
