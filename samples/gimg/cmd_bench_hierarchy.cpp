@@ -29,6 +29,7 @@ struct HierarchyBenchOptions {
     std::vector<std::uint32_t> sizes{64, 128, 256};
     std::uint32_t base = 32;
     double reach = passes::CylinderHierarchyOptions{}.reach;
+    std::string misses = "surface";
     std::uint64_t samples = 300000;
     std::string json;
 };
@@ -51,9 +52,9 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
     if (!global.quiet) {
         std::printf(
             "gimg bench hierarchical: ordinary N x N ray cast (every block connected) vs hierarchy from %ux%u "
-            "(reach %g); RMS in cylinder units, original->reconstruction / reconstruction->original; times "
+            "(reach %g, misses %s); RMS in cylinder units, original->reconstruction / reconstruction->original; times "
             "in ms (the ordinary image; the hierarchy's CPU and GPU encoders, the same hierarchy)\n",
-            o.base, o.base, o.reach);
+            o.base, o.base, o.reach, o.misses.c_str());
         std::printf("%-14s %5s | %10s %10s %8s | %10s %10s %8s %8s | %s\n", "mesh", "N", "ord A->B", "ord B->A",
                     "ord ms", "hier A->B", "hier B->A", "cpu ms", "gpu ms", "per level cpu/gpu ms");
     }
@@ -71,7 +72,11 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
             passes::CylinderHierarchy h;
             const double ord_ms =
                 time_ms([&] { ordinary = passes::reconstruct_cpu(passes::cylinder_raycast(cyl, n, n), frame, off); });
-            const passes::CylinderHierarchyOptions options{.base = o.base, .size = n, .reach = o.reach};
+            const passes::CylinderHierarchyOptions options{
+                .base = o.base,
+                .size = n,
+                .reach = o.reach,
+                .miss = o.misses == "empty" ? passes::HierarchyMiss::Invalid : passes::HierarchyMiss::Surface};
             const double hier_ms = time_ms([&] { h = passes::cylinder_hierarchy_cpu(cyl, options); });
             passes::CylinderHierarchy on_gpu;
             const double gpu_ms = time_ms([&] { on_gpu = passes::cylinder_hierarchy_gpu(ctx, cyl, options); });
@@ -100,7 +105,7 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
                               {"gpu_level_ms", on_gpu.level_ms}}}});
         }
     }
-    nlohmann::json j{{"base", o.base}, {"reach", o.reach}, {"samples", o.samples}, {"rows", rows}};
+    nlohmann::json j{{"base", o.base}, {"reach", o.reach}, {"misses", o.misses}, {"samples", o.samples}, {"rows", rows}};
     add_machine_figures(j, &ctx);
     write_json(o.json, j);
 }
@@ -116,6 +121,10 @@ void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global) {
     cmd->add_option("--size", o->sizes, "Final sizes N (default 64 128 256)");
     add_count_option(cmd, "--base", o->base, 2, 8192, "Level 1 is B x B (default 32)");
     add_number_option(cmd, "--reach", o->reach, 0.0, 1e6, "Ray reach in parent spans (0: without limit; default 2)");
+    cmd->add_option("--misses", o->misses,
+                    "A ray that finds nothing within reach leaves a sample on the interpolated surface (surface, "
+                    "default) or a hole (empty)")
+        ->check(CLI::IsMember({"surface", "empty"}));
     add_count_option(cmd, "--samples", o->samples, 1000, 100'000'000, "Surface samples per direction (default 300000)");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_hierarchy_bench(*o, global); }); });
