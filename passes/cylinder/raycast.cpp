@@ -75,9 +75,13 @@ geo::Ray pixel_ray(const std::array<double, 2>& direction, std::uint32_t v, std:
 
 CylinderImage cylinder_raycast_gpu(Context& ctx, const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
                                    const CylinderTransform& transform) {
-    CylinderImage image(width, height);
-    if (mesh.face_count() == 0) return image;
+    if (mesh.face_count() == 0) return CylinderImage(width, height);
     GpuRayCaster caster(ctx, to_cylinder_frame(mesh, transform));
+    return cylinder_raycast_gpu(caster, width, height);
+}
+
+CylinderImage cylinder_raycast_gpu(GpuRayCaster& caster, std::uint32_t width, std::uint32_t height) {
+    CylinderImage image(width, height);
     const auto directions = cylinder_directions(width);
     std::vector<geo::Ray> rays;
     rays.reserve(std::size_t(width) * height);

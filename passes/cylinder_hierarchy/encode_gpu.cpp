@@ -1,6 +1,7 @@
 // The hierarchy's GPU encoder: level 1 by the GPU ray caster, then per level two passes over all
 // its launches, the parity segments and then the rays (GpuRayCaster, the CPU's arithmetic), so it
-// gives the CPU encoder's hierarchy bit for bit. Launch points and normals are computed on the host.
+// gives the CPU encoder's hierarchy bit for bit. Launch points and normals are computed on the host;
+// one BVH serves level 1 and the rest.
 #include "gimg/passes/cylinder_hierarchy.h"
 
 #include "gimg/passes/raycast.h"
@@ -15,12 +16,13 @@ namespace gimg::passes {
 CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
                                          const CylinderHierarchyOptions& options) {
     check_hierarchy_sizes(options.base, options.size);
-    // Level 1 and the BVH the later levels cast through count as level 1's time.
+    // Level 1 and the BVH every level casts through count as level 1's time.
     const auto start = std::chrono::steady_clock::now();
-    const CylinderImage first = cylinder_raycast_gpu(ctx, mesh, options.base, options.base);
     GpuRayCaster caster(ctx, to_cylinder_frame(mesh));
+    const CylinderImage first = cylinder_raycast_gpu(caster, options.base, options.base);
+    double gpu_ms = caster.last_gpu_ms();
     const double first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
+    CylinderHierarchy h = detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
         std::vector<std::size_t> index;
         std::vector<geo::Ray> segments;
         for (std::size_t i = 0; i < launches.size(); ++i)
@@ -29,6 +31,7 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
                 segments.push_back(detail::parity_segment(launches[i].origin));
             }
         const std::vector<std::uint32_t> crossings = caster.crossings(segments);
+        gpu_ms += caster.last_gpu_ms();
         std::vector<geo::Ray> rays(index.size());
         std::vector<std::uint8_t> inside(index.size());
         for (std::size_t k = 0; k < index.size(); ++k) {
@@ -36,11 +39,14 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
             rays[k] = detail::launch_ray(launches[index[k]], inside[k], options.reach);
         }
         const std::vector<GpuRayHit> hits = caster.nearest(rays);
+        gpu_ms += caster.last_gpu_ms();
         std::vector<std::optional<double>> t(launches.size());
         for (std::size_t k = 0; k < index.size(); ++k)
             if (hits[k].found()) t[index[k]] = inside[k] ? hits[k].t : -hits[k].t;
         return t;
     });
+    h.gpu_ms = gpu_ms;
+    return h;
 }
 
 }  // namespace gimg::passes

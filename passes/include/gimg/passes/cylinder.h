@@ -114,6 +114,10 @@ CylinderImage cylinder_raycast(const CylinderMesh& mesh, std::uint32_t width, st
 // Needs shaderFloat64.
 CylinderImage cylinder_raycast_gpu(Context& ctx, const CylinderMesh& mesh, std::uint32_t width, std::uint32_t height,
                                    const CylinderTransform& transform = kIdentityTransform);
+// The same through a caster already built over to_cylinder_frame(mesh, transform), which a caller
+// casting more rays at the same mesh keeps (the hierarchy's GPU encoder).
+class GpuRayCaster;
+CylinderImage cylinder_raycast_gpu(GpuRayCaster& caster, std::uint32_t width, std::uint32_t height);
 
 // The same with the BVH built once and reused (benchmarks time the two apart).
 class CylinderRaycaster {
