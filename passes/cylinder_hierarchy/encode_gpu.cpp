@@ -22,29 +22,30 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
     const CylinderImage first = cylinder_raycast_gpu(caster, options.base, options.base);
     double gpu_ms = caster.last_gpu_ms();
     const double first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    CylinderHierarchy h = detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
-        std::vector<std::size_t> index;
-        std::vector<geo::Ray> segments;
-        for (std::size_t i = 0; i < launches.size(); ++i)
-            if (launches[i].valid) {
-                index.push_back(i);
-                segments.push_back(detail::parity_segment(launches[i].origin));
+    CylinderHierarchy h =
+        detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
+            std::vector<std::size_t> index;
+            std::vector<geo::Ray> segments;
+            for (std::size_t i = 0; i < launches.size(); ++i)
+                if (launches[i].valid) {
+                    index.push_back(i);
+                    segments.push_back(detail::parity_segment(launches[i].origin));
+                }
+            const std::vector<std::uint32_t> crossings = caster.crossings(segments);
+            gpu_ms += caster.last_gpu_ms();
+            std::vector<geo::Ray> rays(index.size());
+            std::vector<std::uint8_t> inside(index.size());
+            for (std::size_t k = 0; k < index.size(); ++k) {
+                inside[k] = detail::inside_by_parity(crossings[k]);
+                rays[k] = detail::launch_ray(launches[index[k]], inside[k], options.reach);
             }
-        const std::vector<std::uint32_t> crossings = caster.crossings(segments);
-        gpu_ms += caster.last_gpu_ms();
-        std::vector<geo::Ray> rays(index.size());
-        std::vector<std::uint8_t> inside(index.size());
-        for (std::size_t k = 0; k < index.size(); ++k) {
-            inside[k] = detail::inside_by_parity(crossings[k]);
-            rays[k] = detail::launch_ray(launches[index[k]], inside[k], options.reach);
-        }
-        const std::vector<GpuRayHit> hits = caster.nearest(rays);
-        gpu_ms += caster.last_gpu_ms();
-        std::vector<std::optional<double>> t(launches.size());
-        for (std::size_t k = 0; k < index.size(); ++k)
-            if (hits[k].found()) t[index[k]] = inside[k] ? hits[k].t : -hits[k].t;
-        return t;
-    });
+            const std::vector<GpuRayHit> hits = caster.nearest(rays);
+            gpu_ms += caster.last_gpu_ms();
+            std::vector<std::optional<double>> t(launches.size());
+            for (std::size_t k = 0; k < index.size(); ++k)
+                if (hits[k].found()) t[index[k]] = inside[k] ? hits[k].t : -hits[k].t;
+            return t;
+        });
     h.gpu_ms = gpu_ms;
     return h;
 }

@@ -106,7 +106,7 @@ std::array<std::vector<double>, 2> side_distances(const QuadRegion& region, cons
     std::vector<std::uint8_t> u0(n, 0), v0(n, 0);
     for (std::size_t i = 0; i < n; ++i) u0[i] = region.side[i] == 4, v0[i] = region.side[i] == 1;
     u0[region.corners[0]] = v0[region.corners[1]] = 1;  // each side's end corner belongs to the next side
-    std::array<std::vector<double>, 2> st;  // the two searches are independent: one a core
+    std::array<std::vector<double>, 2> st;              // the two searches are independent: one a core
     geo::parallel_for_chunks(2, 1, [&](std::size_t side, std::size_t, std::size_t) {
         st[side] = distances_from(region.mesh, adj, side ? v0 : u0);
     });

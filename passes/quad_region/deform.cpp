@@ -29,9 +29,8 @@ void cubic_basis(std::uint32_t n, double x, std::span<double> knot, std::span<do
     x = std::clamp(x, 0.0, 1.0);
     // Degree 0: the one span holding x (the last span holds x = 1).
     for (std::uint32_t i = 0; i + 1 < knots; ++i)
-        b[i] = knot[i] < knot[i + 1] && ((x >= knot[i] && x < knot[i + 1]) || (x == 1.0 && knot[i + 1] == 1.0))
-                   ? 1.0
-                   : 0.0;
+        b[i] = knot[i] < knot[i + 1] && ((x >= knot[i] && x < knot[i + 1]) || (x == 1.0 && knot[i + 1] == 1.0)) ? 1.0
+                                                                                                                : 0.0;
     for (std::uint32_t p = 1; p <= 3; ++p)
         for (std::uint32_t i = 0; i + p + 1 < knots; ++i) {
             // Terms of a zero value are skipped (at most four values are not zero): the same sums
@@ -62,6 +61,11 @@ private:
     std::vector<double> heap_;
     std::span<double> values_;
 };
+
+// Control point k of n along one side moves: it is not in the outer fixed_layers + 1 of either end.
+bool free_node(std::uint32_t k, std::uint32_t n, int fixed_layers) {
+    return int(k) > fixed_layers && int(k) + 1 + fixed_layers < int(n);
+}
 
 void check_map(const geo::Mesh& mesh, const QuadRegion& region, const std::vector<glm::dvec2>& uv) {
     if (uv.size() != region.mesh.vertex_count())
@@ -159,13 +163,11 @@ glm::dvec3 OffsetLattice::evaluate(glm::dvec2 uv) const {
         throw geo::InputError("the lattice has " + std::to_string(offsets.size()) + " offsets for " +
                               std::to_string(columns) + " x " + std::to_string(rows) + " control points");
     const BasisValues bu(columns, uv.x), bv(rows, uv.y);
-    auto free = [&](std::uint32_t i, std::uint32_t n) {
-        return int(i) > fixed_layers && int(i) + 1 + fixed_layers < int(n);
-    };
     glm::dvec3 f(0.0);
     for (std::uint32_t q = 0; q < rows; ++q)
         for (std::uint32_t p = 0; p < columns; ++p)
-            if (free(p, columns) && free(q, rows)) f += offsets[std::size_t(q) * columns + p] * (bu[p] * bv[q]);
+            if (free_node(p, columns, fixed_layers) && free_node(q, rows, fixed_layers))
+                f += offsets[std::size_t(q) * columns + p] * (bu[p] * bv[q]);
     return f;
 }
 
@@ -201,14 +203,12 @@ bool LatticeWeights::fits(const OffsetLattice& lattice) const {
 }
 
 glm::dvec3 LatticeWeights::offset(std::size_t i, const OffsetLattice& lattice) const {
-    auto free = [&](std::uint32_t k, std::uint32_t n) {
-        return int(k) > fixed_layers_ && int(k) + 1 + fixed_layers_ < int(n);
-    };
     glm::dvec3 f(0.0);
     for (std::uint32_t q = first_q_[i]; q < first_q_[i] + 4; ++q)
         for (std::uint32_t p = first_p_[i]; p < first_p_[i] + 4; ++p)
-            if (free(p, columns_) && free(q, rows_))
-                f += lattice.offsets[std::size_t(q) * columns_ + p] * weight_[i][4 * (q - first_q_[i]) + p - first_p_[i]];
+            if (free_node(p, columns_, fixed_layers_) && free_node(q, rows_, fixed_layers_))
+                f += lattice.offsets[std::size_t(q) * columns_ + p] *
+                     weight_[i][4 * (q - first_q_[i]) + p - first_p_[i]];
     return f;
 }
 
@@ -285,14 +285,12 @@ geo::Mesh deform_by_lattice_gpu(Context& ctx, const geo::Mesh& mesh, const QuadR
     if (lattice.columns > 128 || lattice.rows > 128)
         throw geo::InputError("the GPU lattice takes at most 128 x 128 control points");
     std::vector<double> offsets;
-    auto free = [&](std::uint32_t i, std::uint32_t n) {
-        return int(i) > lattice.fixed_layers && int(i) + 1 + lattice.fixed_layers < int(n);
-    };
     for (std::uint32_t q = 0; q < lattice.rows; ++q)
         for (std::uint32_t p = 0; p < lattice.columns; ++p) {
-            const glm::dvec3 o = free(p, lattice.columns) && free(q, lattice.rows)
-                                     ? lattice.offsets[std::size_t(q) * lattice.columns + p]
-                                     : glm::dvec3(0.0);
+            const glm::dvec3 o =
+                free_node(p, lattice.columns, lattice.fixed_layers) && free_node(q, lattice.rows, lattice.fixed_layers)
+                    ? lattice.offsets[std::size_t(q) * lattice.columns + p]
+                    : glm::dvec3(0.0);
             offsets.insert(offsets.end(), {o.x, o.y, o.z});
         }
     return deform_gpu(ctx, mesh, region, uv,

@@ -12,7 +12,6 @@ namespace gimg::passes {
 
 class LatticeWeights {
 public:
-    LatticeWeights() = default;
     LatticeWeights(const OffsetLattice& shape, const std::vector<glm::dvec2>& uv);
     // Whether these weights were made for the lattice's columns, rows and fixed layers.
     bool fits(const OffsetLattice& lattice) const;

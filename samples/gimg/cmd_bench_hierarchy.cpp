@@ -106,7 +106,8 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
                               {"gpu_level_ms", on_gpu.level_ms}}}});
         }
     }
-    nlohmann::json j{{"base", o.base}, {"reach", o.reach}, {"misses", o.misses}, {"samples", o.samples}, {"rows", rows}};
+    nlohmann::json j{
+        {"base", o.base}, {"reach", o.reach}, {"misses", o.misses}, {"samples", o.samples}, {"rows", rows}};
     add_machine_figures(j, &ctx);
     write_json(o.json, j);
 }

@@ -145,7 +145,8 @@ void run_quad_bench(const QuadBenchOptions& o, const GlobalOptions& global) {
                 median(fast_ms), fast.flipped, error, median(relax_gpu_ms), median(over_start_ms), over.iterations_u,
                 over.iterations_v, median(over_ms), over.flipped, over_error, median(gpu_ms), median(cpu_ms),
                 median(direct_ms), cgal, median(paper_total_ms), median(total_ms),
-                cgal > 0.0 ? cgal / median(total_ms) : 0.0, median(corner_ms), median(offset_ms), median(corner_gpu_ms));
+                cgal > 0.0 ? cgal / median(total_ms) : 0.0, median(corner_ms), median(offset_ms),
+                median(corner_gpu_ms));
             std::fflush(stdout);
         }
         rows.push_back({{"mesh", path},
@@ -198,11 +199,10 @@ void add_bench_quadmap_command(CLI::App& bench, const GlobalOptions& global) {
     auto* cmd = bench.add_subcommand("quadmap",
                                      "Quad-region maps: flat and accelerated starts, solvers, CGAL, edits "
                                      "(Kuriyama & Kaneko's table 1)");
-    cmd->add_option(
-        "--region", o->regions,
-        "MESH:SIDE, a square of SIDE times the diagonal around the flattest vertex, or MESH:A,B,C,D, four "
-        "corner vertices (default: bunny at 0.25, 0.35, 0.45, 0.65; mannequin_devil at 0.6; camel at 0.25; "
-        "bunny's 11,333-vertex region 9955,8759,18272,3733)");
+    cmd->add_option("--region", o->regions,
+                    "MESH:SIDE, a square of SIDE times the diagonal around the flattest vertex, or MESH:A,B,C,D, four "
+                    "corner vertices (default: bunny at 0.25, 0.35, 0.45, 0.65; mannequin_devil at 0.6; camel at 0.25; "
+                    "bunny's 11,333-vertex region 9955,8759,18272,3733)");
     add_count_option(cmd, "--runs", o->runs, 1, 1000, "Runs per case; medians (default 5)");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_quad_bench(*o, global); }); });

@@ -231,9 +231,8 @@ TEST(QuadStart, ADartShapedRegionFoldsTheStartAndStillMaps) {
     // W3 pulled in towards W1: s1 / s0 + t1 / t0 <= 1, eq. (3) folds, the start says so, and the
     // map (a convex boundary and positive weights) is still an embedding.
     const geo::Mesh sheet = jittered_sheet();
-    const gp::QuadRegion dart = gp::cut_quad_region(
-        sheet, {nearest(sheet, {0, 0, 0}), nearest(sheet, {1, 0, 0}), nearest(sheet, {0.3, 0.3, 0}),
-                nearest(sheet, {0, 1, 0})});
+    const gp::QuadRegion dart = gp::cut_quad_region(sheet, {nearest(sheet, {0, 0, 0}), nearest(sheet, {1, 0, 0}),
+                                                            nearest(sheet, {0.3, 0.3, 0}), nearest(sheet, {0, 1, 0})});
     for (auto start : {gp::QuadStart::Dijkstra, gp::QuadStart::Overrelaxed}) {
         const gp::QuadMap m = gp::map_quad_region(nullptr, dart, {.start = start, .solver = gp::QuadSolver::Iterate});
         EXPECT_TRUE(m.start_folded);
@@ -478,7 +477,8 @@ gp::OffsetLattice random_lattice(std::uint32_t columns, std::uint32_t rows, unsi
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> offset(-0.1, 0.1);
     gp::OffsetLattice lattice{.columns = columns, .rows = rows};
-    for (std::uint32_t k = 0; k < columns * rows; ++k) lattice.offsets.push_back({offset(rng), offset(rng), offset(rng)});
+    for (std::uint32_t k = 0; k < columns * rows; ++k)
+        lattice.offsets.push_back({offset(rng), offset(rng), offset(rng)});
     return lattice;
 }
 
@@ -529,7 +529,8 @@ TEST(QuadRegionEditor, AMovedCornerIsMappedAgainFromTheLastMap) {
     EXPECT_EQ(editor.region().original, region.original);
     const gp::QuadMap exact = gp::map_quad_region(nullptr, region, {.solver = gp::QuadSolver::Direct});
     double gap = 0.0;
-    for (std::size_t i = 0; i < exact.uv.size(); ++i) gap = std::max(gap, glm::length(editor.map().uv[i] - exact.uv[i]));
+    for (std::size_t i = 0; i < exact.uv.size(); ++i)
+        gap = std::max(gap, glm::length(editor.map().uv[i] - exact.uv[i]));
     EXPECT_LT(gap, 0.01);  // within what the paper's tau allows
     EXPECT_EQ(editor.map().flipped, 0u);
     EXPECT_EQ(deformed.positions, gp::deform_by_lattice(sheet, region, editor.map().uv, lattice).positions);

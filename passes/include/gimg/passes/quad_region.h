@@ -92,9 +92,9 @@ struct QuadMap {
     // The accelerated start of eq. (3) and (4) (flat: 0.5 inside), before a warm start and the
     // over-relaxed sweeps.
     std::vector<glm::dvec2> accelerated;
-    std::size_t iterations_u = 0;   // sweeps of eq. (2) for u (Iterate), solver iterations (Krylov)
+    std::size_t iterations_u = 0;  // sweeps of eq. (2) for u (Iterate), solver iterations (Krylov)
     std::size_t iterations_v = 0;
-    std::size_t start_sweeps = 0;        // sweeps of eq. (4) in the accelerated start
+    std::size_t start_sweeps = 0;  // sweeps of eq. (4) in the accelerated start
     // The corners' distances fold eq. (3) (s1 / s0 + t1 / t0 <= 1: a dart-shaped region), and the
     // accelerated start took the root nearest the linear guess.
     bool start_folded = false;
