@@ -220,6 +220,7 @@ void bind_surface_maps(py::module_& m) {
             d["area_distortion"] = s.area_distortion, d["angle_distortion"] = s.angle_distortion;
             d["seconds"] = s.seconds;
             d["axis"] = std::string(1, char('x' + s.axis));
+            d["attempts"] = s.attempts, d["max_level"] = s.max_level, d["slice_smoothing"] = s.slice_smoothing;
             return d;
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("dz") = 0.0, py::arg("da") = 0.05,

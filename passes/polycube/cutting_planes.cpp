@@ -43,7 +43,7 @@ std::vector<CuttingPlane> cutting_planes(std::vector<double> z, double dz, doubl
 
 namespace polycube {
 
-SlicedMesh slice_mesh(const geo::Mesh& mesh, const std::vector<double>& plane_z) {
+SlicedMesh slice_mesh(const geo::Mesh& mesh, const std::vector<double>& plane_z, std::vector<glm::dvec3>* carried) {
     SlicedMesh s;
     s.mesh.positions = mesh.positions;
     s.mesh.triangles = mesh.triangles;
@@ -63,6 +63,7 @@ SlicedMesh slice_mesh(const geo::Mesh& mesh, const std::vector<double>& plane_z)
             q.z = z;
             const std::uint32_t id = std::uint32_t(s.mesh.positions.size());
             s.mesh.positions.push_back(q);
+            if (carried) carried->push_back((*carried)[a] + t * ((*carried)[b] - (*carried)[a]));
             s.plane_of.push_back(std::int32_t(p));
             split.emplace(key, id);
             return id;

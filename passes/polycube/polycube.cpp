@@ -65,6 +65,22 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
     if (volume < 0.0)  // the construction assumes outward faces
         for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
 
+    // The mesh's own positions; the construction may follow a smoothed copy (same faces).
+    std::vector<glm::dvec3> true_positions = mesh.positions;
+    if (o.slice_smoothing > 0) {
+        std::vector<std::vector<std::uint32_t>> ring(mesh.vertex_count());
+        for (const auto& t : mesh.triangles)
+            for (int k = 0; k < 3; ++k) ring[t[k]].push_back(t[(k + 1) % 3]);  // each edge once per side
+        for (std::uint32_t sweep = 0; sweep < o.slice_smoothing; ++sweep) {
+            std::vector<glm::dvec3> next = mesh.positions;
+            for (std::size_t v = 0; v < ring.size(); ++v) {
+                glm::dvec3 mean(0.0);
+                for (std::uint32_t u : ring[v]) mean += mesh.positions[u];
+                next[v] = 0.5 * (mesh.positions[v] + mean / double(ring[v].size()));
+            }
+            mesh.positions = std::move(next);
+        }
+    }
     Polycube out;
     PolycubeStatistics& st = out.stats;
     const geo::MeshInfo info = geo::analyze_topology(mesh);
@@ -92,6 +108,7 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
     mean_edge /= double(mesh.face_count());
 
     SlicedMesh sliced;
+    std::vector<glm::dvec3> carried;  // true_positions through the cuts
     std::vector<Contour> contours;
     PolycubeSurface surface;
     std::vector<std::vector<std::int32_t>> loop_contour;
@@ -102,7 +119,8 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
     for (;;) {
         std::vector<double> plane_z;
         for (auto& p : planes) plane_z.push_back(p.z = clear_of_vertices(p.z, zv, 1e-7 * height, 0.05 * dz));
-        sliced = slice_mesh(mesh, plane_z);
+        carried = true_positions;
+        sliced = slice_mesh(mesh, plane_z, &carried);
         contours = plane_contours(sliced, plane_z.size(), capped.original_faces);
         const ClosureCounts closed = close_contours(sliced.mesh, contours, o.k, mean_edge);
 
@@ -136,21 +154,31 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         if (matched || st.repair_planes >= o.max_repairs || ++round > 48 || round - best_round > 8) break;
         // A plane whose section's regions came out with other loops than its contours (contours
         // closer than the deepest cells, a plane grazing a tip) moves within its gaps, up and down
-        // by turns; the slabs beside it wait for the next round.
+        // by turns, to the nearby section with the fewest loops; the slabs beside it wait for the
+        // next round.
         for (const std::size_t p : check.bad_planes) {
             const double lo = p == 0 ? box.min.z : plane_z[p - 1],
                          hi = p + 1 >= plane_z.size() ? box.max.z : plane_z[p + 1];
-            planes[p].z += round % 2 ? 0.3 * (hi - plane_z[p]) : -0.3 * (plane_z[p] - lo);
+            const double z = plane_z[p], target = round % 2 ? z + 0.3 * (hi - z) : z - 0.3 * (z - lo);
+            planes[p].z = target;
+            for (double h : quiet_heights(mesh, z - 0.3 * (z - lo), z + 0.3 * (hi - z), target))
+                if (std::abs(h - z) > 0.05 * (hi - lo)) {
+                    planes[p].z = h;
+                    break;
+                }
             ++st.moved_planes;
             check.bad_slabs.erase(std::uint32_t(p));
             check.bad_slabs.erase(std::uint32_t(p + 1));
         }
-        // A plane in the middle of every other slab that does not match.
+        // A plane in every other slab that does not match (plane_placement.cpp says where).
         for (const std::uint32_t slab : check.bad_slabs) {
             if (st.repair_planes >= o.max_repairs) break;
             const double lo = slab == 0 ? box.min.z : plane_z[slab - 1];
             const double hi = slab >= plane_z.size() ? box.max.z : plane_z[slab];
-            planes.push_back({0.5 * (lo + hi), true});
+            const std::vector<std::uint32_t>* handle = nullptr;
+            for (std::size_t i = 0; i < mesh_pieces.triangles.size() && !handle; ++i)
+                if (mesh_pieces.slab[i] == slab && !mesh_pieces.disk_like[i]) handle = &mesh_pieces.triangles[i];
+            planes.push_back({repair_height(mesh, sliced, handle, lo, hi), true});
             ++st.repair_planes;
         }
         std::sort(planes.begin(), planes.end(), [](const CuttingPlane& a, const CuttingPlane& b) { return a.z < b.z; });
@@ -201,8 +229,10 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
             st.hole_triangles = std::size_t(std::count(out.hole.begin(), out.hole.end(), 1));
             st.mapped = m.pieces_mapped == pairs.size();
             if (st.mapped) {
+                SlicedMesh measured = sliced;  // the distortion of the mesh itself, not of its smoothed copy
+                measured.mesh.positions = carried;
                 PolycubeStatistics before;
-                measure_map(sliced, m, capped.original_faces, before);
+                measure_map(measured, m, capped.original_faces, before);
                 st.area_distortion_unsmoothed = before.area_distortion;
                 st.angle_distortion_unsmoothed = before.angle_distortion;
                 st.area_distortion_median_unsmoothed = before.area_distortion_median;
@@ -216,11 +246,13 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
                     st.area_distortion_median = before.area_distortion_median;
                     st.angle_distortion_median = before.angle_distortion_median;
                 } else {
-                    measure_map(sliced, m, capped.original_faces, st);
+                    measure_map(measured, m, capped.original_faces, st);
                 }
             }
         }
     }
+    st.max_level = o.max_level;
+    st.slice_smoothing = o.slice_smoothing;
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return out;
 }
@@ -253,21 +285,37 @@ Polycube build_along(Context* ctx, const geo::Mesh& input, const PolycubeOptions
 
 Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o) {
     if (o.axis > 3) throw geo::InputError("the slicing axis must be x, y, z or auto");
-    if (o.axis < 3) return build_along(ctx, input, o, o.axis);
-    // Auto: z, the paper's, then y and x while the polycube or the map fails (a refusal of the mesh
-    // itself is not retried); all failing, z's result says why.
-    Polycube first;
-    std::size_t tried = 0;
-    double seconds = 0.0, solve_seconds = 0.0;  // of every attempt
-    for (const int a : {2, 1, 0}) {
-        Polycube p = build_along(ctx, input, o, a);
-        p.stats.axes_tried = ++tried;
-        seconds += p.stats.seconds, solve_seconds += p.stats.solve_seconds;
-        p.stats.seconds = seconds, p.stats.solve_seconds = solve_seconds;
-        if (p.stats.polycube_valid && (!o.map || p.stats.mapped)) return p;
-        if (a == 2) first = std::move(p);
+    if (o.slice_smoothing > 1000) throw geo::InputError("the slice smoothing must be at most 1000 sweeps");
+    // Per axis (auto: z, the paper's, then y and x), the options given, then the retries. A
+    // refusal of the mesh itself is not retried; all failing, the first attempt's result says why.
+    std::vector<PolycubeOptions> tries{o};
+    if (o.retry) {
+        PolycubeOptions smoothed = o, deeper = o, both = o;
+        smoothed.slice_smoothing = both.slice_smoothing = std::max<std::uint32_t>(o.slice_smoothing, 3);
+        deeper.max_level = both.max_level = std::max<std::uint32_t>(o.max_level, 10);
+        for (const PolycubeOptions& t : {smoothed, deeper, both})
+            if (std::none_of(tries.begin(), tries.end(), [&](const PolycubeOptions& u) {
+                    return u.max_level == t.max_level && u.slice_smoothing == t.slice_smoothing;
+                }))
+                tries.push_back(t);
     }
-    first.stats.axes_tried = tried;
+    std::vector<int> axes{2, 1, 0};
+    if (o.axis < 3) axes = {int(o.axis)};
+    Polycube first;
+    std::size_t attempts = 0, axes_tried = 0;
+    double seconds = 0.0, solve_seconds = 0.0;
+    for (const int a : axes) {
+        ++axes_tried;
+        for (const PolycubeOptions& t : tries) {
+            Polycube p = build_along(ctx, input, t, a);
+            seconds += p.stats.seconds, solve_seconds += p.stats.solve_seconds;
+            p.stats.seconds = seconds, p.stats.solve_seconds = solve_seconds;
+            p.stats.attempts = ++attempts, p.stats.axes_tried = axes_tried;
+            if (p.stats.polycube_valid && (!o.map || p.stats.mapped)) return p;
+            if (attempts == 1) first = std::move(p);
+        }
+    }
+    first.stats.attempts = attempts, first.stats.axes_tried = axes_tried;
     first.stats.seconds = seconds, first.stats.solve_seconds = solve_seconds;
     return first;
 }

@@ -41,7 +41,10 @@ struct SlicedMesh {
     std::vector<std::uint32_t> source_face;  // per triangle: the face of the input it lies in
     std::vector<std::int32_t> plane_of;      // per vertex: the plane it lies on, -1 for none
 };
-SlicedMesh slice_mesh(const geo::Mesh& mesh, const std::vector<double>& plane_z);
+// `carried`: per vertex of `mesh`, a position of its own (the mesh's true one where the planes cut
+// a smoothed copy); each new vertex gets it interpolated as the cut does.
+SlicedMesh slice_mesh(const geo::Mesh& mesh, const std::vector<double>& plane_z,
+                      std::vector<glm::dvec3>* carried = nullptr);
 
 // One contour of a plane: a closed loop of sliced-mesh vertices, and per segment (vertices[i] to
 // vertices[i + 1]) whether it crosses a cap triangle (the paper's gap between chains).
@@ -97,6 +100,24 @@ using JoinedContours = std::vector<std::set<std::pair<std::int32_t, std::int32_t
 Layers stacked_regions(const std::vector<Contour>& contours, const std::vector<double>& plane_z, const geo::Bounds& box,
                        double da, std::uint32_t max_level, const JoinedContours& joined, double& excess,
                        std::size_t& carved);
+
+// Opens a corridor in the next layer for the air of every hole whose contour a mesh piece joins to
+// a contour of that layer's plane while the layers keep the air enclosed (`component`: per contour,
+// its component on its plane); returns the cells opened.
+std::size_t open_air_passages(std::vector<std::vector<std::int32_t>>& owner, int n, const Rect& root,
+                              const std::vector<Contour>& contours, const std::vector<std::int32_t>& component,
+                              const JoinedContours& joined);
+
+// Loops of the section of `mesh` by the plane at height h.
+std::size_t section_loops(const geo::Mesh& mesh, double h);
+// Heights in (lo, hi) for a plane, best first: the fewest loops in the section, then nearest
+// `prefer` (itself a candidate when inside).
+std::vector<double> quiet_heights(const geo::Mesh& mesh, double lo, double hi, double prefer);
+// The height in (lo, hi) for a repair plane: the section with the fewest loops in the middle half of
+// the slab, nearest its middle; with `handle` (a slab piece of `sliced` that is not of genus 0)
+// the first such height anywhere in the slab that leaves every piece of `handle` of genus 0.
+double repair_height(const geo::Mesh& mesh, const SlicedMesh& sliced, const std::vector<std::uint32_t>* handle,
+                     double lo, double hi);
 
 // Fills cells until every edge and corner of the stack is manifold, never one that would join two
 // pieces of a layer or touch a component of a neighbouring layer the mesh does not join to its

@@ -98,6 +98,22 @@ std::size_t make_manifold(Layers& layers) {
             }
         return false;
     };
+    // Whether a fill at (l, cx, cy) could cut the layer's air in two (close an air passage into a
+    // pocket): its empty edge neighbours fall into more than one group joined around its corners.
+    const auto splits_air = [&](int l, int cx, int cy) {
+        const int ex[4] = {0, 1, 0, -1}, ey[4] = {-1, 0, 1, 0};
+        bool empty[4];
+        int count_empty = 0;
+        for (int k = 0; k < 4; ++k) count_empty += empty[k] = !at(l, cx + ex[k], cy + ey[k]);
+        if (count_empty < 2) return false;
+        int groups = 0;
+        for (int k = 0; k < 4; ++k) {
+            const int j = (k + 1) % 4;  // the next edge neighbour round the ring, and the corner between
+            const bool corner = !at(l, cx + ex[k] + ex[j], cy + ey[k] + ey[j]);
+            if (empty[k] && !(empty[j] && corner)) ++groups;
+        }
+        return groups > 1;
+    };
     // The component a fill at (l, cx, cy) would join (a neighbour's in its layer), and whether it
     // would touch a component of the layer above or below that the mesh does not join to it.
     const bool owned = layers.owner.size() == layers.cells.size();
@@ -148,7 +164,9 @@ std::size_t make_manifold(Layers& layers) {
                         int m = mask | (1 << bit);
                         if (lower == upper) m |= (bit & 4) ? (1 << (bit - 4)) : (1 << (bit + 4));
                         int score =
-                            (ok[m] ? 100 : 0) + (joins_pieces(l, cx, cy) || touches_foreign(l, cx, cy) ? -1000 : 0);
+                            (ok[m] ? 100 : 0) +
+                            (joins_pieces(l, cx, cy) || touches_foreign(l, cx, cy) || splits_air(l, cx, cy) ? -1000
+                                                                                                            : 0);
                         for (int axis = 0; axis < 3; ++axis) score += (mask >> (bit ^ (1 << axis))) & 1;
                         if (score > best_score) best_score = score, best = bit;
                     }

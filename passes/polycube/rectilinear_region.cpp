@@ -159,6 +159,50 @@ void fill_pockets(Window& win, const Loops& loops, const Rect& root, int depth) 
     }
 }
 
+// Holes narrower than a cell meet no empty cell: each such hole gets the cell whose centre lies
+// deepest inside it (or the cell holding its centroid), so a thin handle keeps its tunnel.
+void open_lost_holes(Window& win, const Loops& loops, const Rect& root, int depth) {
+    const glm::dvec2 cell = (root.max - root.min) / double(1 << depth);
+    const auto index_of = [&](glm::dvec2 p) -> std::ptrdiff_t {
+        const int x = int(std::floor((p.x - root.min.x) / cell.x)) - win.x0,
+                  y = int(std::floor((p.y - root.min.y) / cell.y)) - win.y0;
+        return x < 0 || y < 0 || x >= win.w || y >= win.h ? -1 : std::ptrdiff_t(y) * win.w + x;
+    };
+    for (std::size_t h = 1; h < loops.size(); ++h) {
+        const auto& hole = *loops[h];
+        glm::dvec2 lo(1e300), hi(-1e300), mean(0.0);
+        for (const auto& p : hole) lo = glm::min(lo, p), hi = glm::max(hi, p), mean += p;
+        mean /= double(hole.size());
+        bool has_air = false;
+        std::ptrdiff_t best = -1;
+        double deepest = -1.0;
+        for (int y = std::max(0, int((lo.y - root.min.y) / cell.y) - win.y0);
+             y < win.h && root.min.y + (y + win.y0) * cell.y <= hi.y; ++y)
+            for (int x = std::max(0, int((lo.x - root.min.x) / cell.x) - win.x0);
+                 x < win.w && root.min.x + (x + win.x0) * cell.x <= hi.x; ++x) {
+                const glm::dvec2 c = root.min + glm::dvec2(x + win.x0 + 0.5, y + win.y0 + 0.5) * cell;
+                if (!polycube::point_in_loops({hole}, c)) continue;
+                const std::size_t i = std::size_t(y) * win.w + x;
+                if (!win.cells[i]) has_air = true;
+                const double d = polycube::distance_to_loop(c, hole);
+                if (d > deepest) deepest = d, best = std::ptrdiff_t(i);
+            }
+        if (has_air) continue;
+        if (best < 0) {  // no cell centre inside: the cell holding the point deepest inside
+            glm::dvec2 inner = mean;
+            double depth_in = polycube::point_in_loops({hole}, mean) ? polycube::distance_to_loop(mean, hole) : -1.0;
+            for (int j = 0; j < 16; ++j)
+                for (int i = 0; i < 16; ++i) {
+                    const glm::dvec2 q = lo + (hi - lo) * glm::dvec2((i + 0.5) / 16.0, (j + 0.5) / 16.0);
+                    if (!polycube::point_in_loops({hole}, q)) continue;
+                    if (const double d = polycube::distance_to_loop(q, hole); d > depth_in) depth_in = d, inner = q;
+                }
+            if (depth_in >= 0.0) best = index_of(inner);
+        }
+        if (best >= 0) win.cells[std::size_t(best)] = 0;
+    }
+}
+
 double distance_to_loops(glm::dvec2 p, const Loops& loops) {
     double best = 1e300;
     for (const auto* loop : loops) best = std::min(best, polycube::distance_to_loop(p, *loop));
@@ -215,7 +259,11 @@ RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>&
             const double excess = part_area[k] > 0 ? (area - part_area[k]) / part_area[k] : 0.0;
             depth[k] = d;
             cells[k] = std::move(w);
-            if ((excess < da && topology_ok(cells[k], 1, parts[k].size() - 1)) || d >= int(max_level)) return;
+            if (excess < da && topology_ok(cells[k], 1, parts[k].size() - 1)) return;
+            if (d >= int(max_level)) {
+                if (!topology_ok(cells[k], 1, parts[k].size() - 1)) open_lost_holes(cells[k], parts[k], root, d);
+                return;
+            }
         }
     };
     for (std::size_t k = 0; k < parts.size(); ++k) refine(k, int(std::min(min_depth, max_level)));
@@ -429,6 +477,10 @@ Layers stacked_regions(const std::vector<Contour>& contours, const std::vector<d
             }
         break;
     }
+    std::vector<std::int32_t> component(contours.size());
+    for (std::size_t c = 0; c < contours.size(); ++c)
+        component[c] = regions[contours[c].plane].component_of_loop[loop_of[c]];
+    open_air_passages(owner, 1 << depth, root, contours, component, joined);
     excess = 0.0;
     for (const auto& r : regions) excess += r.excess();
     Layers layers;

@@ -21,8 +21,8 @@ namespace {
 struct PolycubeCommandOptions {
     std::string mesh, out, json, axis = "auto";
     double dz = 0.0, da = 0.05;
-    std::uint32_t k = 2, max_level = 8, smooth = 10;
-    bool cpu = false, no_map = false;
+    std::uint32_t k = 2, max_level = 8, smooth = 10, slice_smoothing = 0;
+    bool cpu = false, no_map = false, no_retry = false;
 };
 
 // The polyhedron as OBJ, its faces in two groups: the polycube, and the regions the mesh's holes map to.
@@ -163,6 +163,8 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     po.da = o.da;
     po.k = o.k;
     po.max_level = o.max_level;
+    po.slice_smoothing = o.slice_smoothing;
+    po.retry = !o.no_retry;
     po.map = !o.no_map;
     po.smoothing = o.smooth;
     po.axis = o.axis == "auto" ? 3 : std::uint8_t(o.axis[0] - 'x');
@@ -171,9 +173,11 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     const auto& s = p.stats;
     if (global.verbose) std::fprintf(stderr, "%s\n", statistics_json(s).dump(2).c_str());
     const std::string along = s.axes_tried > 1 ? " along z (y and x fail too)" : "";
-    if (!s.polycube_valid) throw geo::InputError("the polycube is not valid" + along + " (" + s.invalid_reason + ")");
+    const std::string retried = s.attempts > s.axes_tried ? ", nor with the retries" : "";
+    if (!s.polycube_valid)
+        throw geo::InputError("the polycube is not valid" + along + " (" + s.invalid_reason + ")" + retried);
     if (!o.no_map && !s.mapped)
-        throw geo::InputError("the map could not be built" + along + ": " + s.map_note +
+        throw geo::InputError("the map could not be built" + along + ": " + s.map_note + retried +
                               " (--no-map writes the polycube alone)");
 
     const std::filesystem::path dir(o.out);
@@ -196,6 +200,9 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     j["smooth"] = o.smooth;
     j["axis"] = std::string(1, char('x' + s.axis));
     j["axes_tried"] = s.axes_tried;
+    j["attempts"] = s.attempts;
+    j["max_level"] = s.max_level;
+    j["slice_smoothing"] = s.slice_smoothing;
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
     if (global.quiet) return;
@@ -207,6 +214,10 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
         : s.axes_tried == 3 ? " (z and y failed)"
                             : "",
         s.saddles, s.planes, s.inserted_planes, s.repair_planes);
+    if (s.attempts > s.axes_tried)
+        std::printf(
+            "built on attempt %zu: quadtree down to level %u, the planes cutting a copy smoothed by %u sweeps\n",
+            s.attempts, s.max_level, s.slice_smoothing);
     std::printf(
         "contours %zu, chains %zu closed by Bezier %zu, fallback %zu, chord %zu, failed %zu; quadtree depth %u, "
         "excess %.3f, cells filled %zu, carved %zu\n",
@@ -255,6 +266,12 @@ void add_polycube_command(CLI::App& app, const GlobalOptions& global) {
                     "Normal of the cutting planes: x, y, z (the paper's) or auto (default: z, then y, then x while "
                     "the polycube or the map fails)")
         ->check(CLI::IsMember({"x", "y", "z", "auto"}));
+    add_count_option(cmd, "--slice-smoothing", o->slice_smoothing, 0, 1000,
+                     "Sweeps of umbrella smoothing of the copy of the mesh the planes cut (default 0: the mesh "
+                     "itself; the map is still the mesh's)");
+    cmd->add_flag("--no-retry", o->no_retry,
+                  "Fail at once instead of retrying a failed construction on a copy smoothed by 3 sweeps, then with "
+                  "the quadtree down to level 10, then with both");
     cmd->add_flag("--cpu", o->cpu, "Solve with the CPU twins");
     cmd->add_flag("--no-map", o->no_map, "Build the polycube only (polycube.obj, polycube.png)");
     cmd->add_option("--json", o->json, "Write the statistics as JSON");

@@ -340,6 +340,119 @@ TEST(PolycubeQuadtree, NeighbouringLayersKeepUnjoinedPiecesApart) {
               0u);
 }
 
+// A hole narrower than the deepest cells meets no cell centre: the region would lose it (and a thin
+// handle its tunnel), so the cell holding the point deepest inside the hole is left empty.
+TEST(PolycubeQuadtree, AHoleNarrowerThanACellKeepsOneEmptyCell) {
+    const std::vector<glm::dvec2> outer{{0.0, 0.0}, {1.0, 0.0}, {1.0, 1.0}, {0.0, 1.0}};
+    const std::vector<glm::dvec2> hole{{0.30, 0.30}, {0.30, 0.36}, {0.36, 0.30}};  // inside cell (1, 1) of 4 x 4
+    const gp::Rect root{{0.0, 0.0}, {1.0, 1.0}};
+    const auto r = gp::rectilinear_region({outer, hole}, root, 0.05, 2);
+    ASSERT_EQ(r.depth, 2u);
+    EXPECT_TRUE(r.topology_ok);
+    std::size_t empty = 0;
+    for (std::size_t c = 0; c < r.cells.size(); ++c) empty += r.cells[c] == 0;
+    EXPECT_EQ(empty, 1u);
+    EXPECT_EQ(r.cells[1 * 4 + 1], 0);
+}
+
+// A pit that opens sideways between two planes: a hole on plane 0 whose contour the mesh joins to
+// the outer contour of plane 1, over which layer 1 is solid. The hole's air gets a corridor in
+// layer 1 out to the outside; without the join nothing is opened.
+TEST(PolycubeLayers, EnclosedAirGetsAPassageWhereTheMeshJoinsIt) {
+    const int n = 16;
+    const gp::Rect root{{0.0, 0.0}, {1.0, 1.0}};
+    const auto square = [](double a, double b) { return std::vector<glm::dvec2>{{a, a}, {b, a}, {b, b}, {a, b}}; };
+    std::vector<gp::polycube::Contour> contours(3);
+    contours[0].plane = 0, contours[0].closed = square(0.13, 0.87);  // outer, plane 0
+    contours[1].plane = 0, contours[1].closed = square(0.38, 0.62);  // the hole, plane 0
+    contours[2].plane = 1, contours[2].closed = square(0.13, 0.87);  // outer, plane 1
+    const std::vector<std::int32_t> component{0, 0, 0};
+    std::vector<std::vector<std::int32_t>> owner(2, std::vector<std::int32_t>(n * n, -1));
+    for (int y = 2; y < 14; ++y)
+        for (int x = 2; x < 14; ++x) {
+            owner[1][y * n + x] = 0;
+            if (x < 6 || x >= 10 || y < 6 || y >= 10) owner[0][y * n + x] = 0;
+        }
+    // Air cells of a layer reached from the grid's border through air.
+    const auto open_air = [&](const std::vector<std::int32_t>& layer) {
+        std::vector<std::uint8_t> seen(layer.size(), 0);
+        std::vector<int> stack;
+        for (int i = 0; i < n * n; ++i)
+            if ((i % n == 0 || i / n == 0 || i % n == n - 1 || i / n == n - 1) && layer[i] < 0)
+                seen[i] = 1, stack.push_back(i);
+        while (!stack.empty()) {
+            const int c = stack.back();
+            stack.pop_back();
+            for (const int d : {1, -1, n, -n}) {
+                const int q = c + d;
+                if (q < 0 || q >= n * n || (std::abs(d) == 1 && q / n != c / n) || seen[q] || layer[q] >= 0) continue;
+                seen[q] = 1, stack.push_back(q);
+            }
+        }
+        return seen;
+    };
+    const auto solid_pieces = [&](const std::vector<std::int32_t>& layer) {
+        std::vector<std::uint8_t> seen(layer.size(), 0);
+        std::size_t pieces = 0;
+        for (int s = 0; s < n * n; ++s) {
+            if (layer[s] < 0 || seen[s]) continue;
+            ++pieces;
+            std::vector<int> stack{s};
+            seen[s] = 1;
+            while (!stack.empty()) {
+                const int c = stack.back();
+                stack.pop_back();
+                for (const int d : {1, -1, n, -n}) {
+                    const int q = c + d;
+                    if (q < 0 || q >= n * n || (std::abs(d) == 1 && q / n != c / n) || seen[q] || layer[q] < 0)
+                        continue;
+                    seen[q] = 1, stack.push_back(q);
+                }
+            }
+        }
+        return pieces;
+    };
+
+    gp::polycube::JoinedContours only_outer(3);
+    only_outer[1] = {{0, 2}};
+    auto unjoined = owner;
+    EXPECT_EQ(gp::polycube::open_air_passages(unjoined, n, root, contours, component, only_outer), 0u);
+    EXPECT_EQ(unjoined, owner);
+
+    gp::polycube::JoinedContours joined(3);
+    joined[1] = {{0, 2}, {1, 2}};
+    auto opened = owner;
+    EXPECT_GT(gp::polycube::open_air_passages(opened, n, root, contours, component, joined), 0u);
+    EXPECT_EQ(opened[0], owner[0]);          // the hole's own layer keeps its hole
+    EXPECT_EQ(solid_pieces(opened[1]), 1u);  // layer 1 stays one piece
+    const auto reached = open_air(opened[1]);
+    bool over_the_hole = false;
+    for (int y = 6; y < 10; ++y)
+        for (int x = 6; x < 10; ++x) over_the_hole = over_the_hole || reached[y * n + x];
+    EXPECT_TRUE(over_the_hole);
+}
+
+// The loops of a section: a torus about y cut across its hole (two), past it (none); a sphere (one).
+TEST(PolycubePlanes, SectionLoopsCountTheSection) {
+    const geo::Mesh torus = geo::make_torus(1.0, 0.35, 48, 16);
+    EXPECT_EQ(gp::polycube::section_loops(torus, 0.3), 2u);
+    EXPECT_EQ(gp::polycube::section_loops(torus, 1.5), 0u);
+    EXPECT_EQ(gp::polycube::section_loops(geo::make_icosphere(1.0, 3), 0.2), 1u);
+}
+
+// Cutting a smoothed copy carries the mesh's own positions through the cuts: with the true
+// positions twice the copy's, every vertex's carried position is twice its sliced one.
+TEST(PolycubePlanes, SlicingCarriesTheTruePositions) {
+    const geo::Mesh sphere = geo::make_icosphere(1.0, 3);
+    std::vector<glm::dvec3> carried;
+    for (const auto& p : sphere.positions) carried.push_back(2.0 * p);
+    const auto sliced = gp::polycube::slice_mesh(sphere, {-0.4, 0.1, 0.55}, &carried);
+    ASSERT_EQ(carried.size(), sliced.mesh.vertex_count());
+    ASSERT_GT(sliced.mesh.vertex_count(), sphere.vertex_count());
+    for (std::size_t v = 0; v < carried.size(); ++v)
+        ASSERT_NEAR(glm::length(carried[v] - 2.0 * sliced.mesh.positions[v]), 0.0, 1e-12) << v;
+}
+
 TEST(PolycubeBuild, AxisAlignedBoxGivesOneBox) {
     const geo::Mesh box = geo::make_box({2.0, 1.0, 1.0}, 4);
     const gp::Polycube p = gp::build_polycube(nullptr, box);
@@ -501,6 +614,21 @@ TEST(PolycubeSharedMeshes, CowHasAValidPolycubeAndAFlipFreeMap) {
     EXPECT_EQ(p.stats.axis, 2);  // along z, the first tried
     ASSERT_TRUE(p.stats.mapped) << p.stats.map_note;
     EXPECT_EQ(p.stats.flips, 0u);
+}
+
+// The femur's head is pitted and its two handles are tunnels about 0.001 of its length: the
+// first construction fails, the retry on a smoothed copy succeeds with both handles kept.
+TEST(PolycubeSharedMeshes, PittedFemurIsBuiltOnARetry) {
+    GIMG_REQUIRE_SHARED_MESH(femur, "femur.off");
+    gp::PolycubeOptions o;
+    o.axis = 2;
+    const gp::Polycube p = gp::build_polycube(nullptr, geo::load_mesh(femur), o);
+    expect_valid_polycube(p, 2);
+    EXPECT_GT(p.stats.attempts, 1u);
+    EXPECT_GE(p.stats.slice_smoothing, 3u);
+    ASSERT_TRUE(p.stats.mapped) << p.stats.map_note;
+    EXPECT_EQ(p.stats.flips, 0u);
+    EXPECT_EQ(p.mapped.size(), 3897u);
 }
 
 TEST(PolycubeSharedMeshes, DoubleTorusAndAnOpenScan) {

@@ -36,8 +36,16 @@ struct PolycubeOptions {
     std::uint32_t max_level = 8;
     std::uint32_t k = 2;             // parts per half of the fallback closing polyline
     std::uint32_t max_repairs = 96;  // planes the connectivity check may insert
-    bool map = true;                 // also build the map (step 3)
-    std::uint32_t smoothing = 10;    // sweeps of chart smoothing over the map (step 5); 0: none
+    // Sweeps of umbrella smoothing (each vertex halfway to its neighbours' mean) of the copy of the
+    // surface that the planes cut and the layers follow; 0: the mesh itself. Same vertices and
+    // faces, so the map is still the mesh's; the distortion is measured on the mesh's positions.
+    std::uint32_t slice_smoothing = 0;
+    // When the construction fails along an axis, it is built again with slice_smoothing at least 3
+    // (the pits of a scanned surface), then with the quadtree down to level 10 (thin handles,
+    // contours closer than a cell), then with both, before the next axis.
+    bool retry = true;
+    bool map = true;               // also build the map (step 3)
+    std::uint32_t smoothing = 10;  // sweeps of chart smoothing over the map (step 5); 0: none
     // The planes' normal: 0 x, 1 y, 2 z (the paper's); 3 auto: z, then y, then x while the
     // polycube or the map fails.
     std::uint8_t axis = 3;
@@ -123,8 +131,10 @@ enum class Closure { Bezier, Fallback, Chord, Failed };
 
 struct PolycubeStatistics {
     std::size_t genus = 0, holes = 0, saddles = 0, extrema = 0;
-    std::uint8_t axis = 2;       // the planes' normal used (0 x, 1 y, 2 z)
-    std::size_t axes_tried = 1;  // with axis auto: how many axes were built
+    std::uint8_t axis = 2;                             // the planes' normal used (0 x, 1 y, 2 z)
+    std::size_t axes_tried = 1;                        // with axis auto: how many axes were built
+    std::size_t attempts = 1;                          // constructions run, every axis and retry
+    std::uint32_t max_level = 8, slice_smoothing = 0;  // the options of the attempt returned
     std::size_t planes = 0, inserted_planes = 0, repair_planes = 0, moved_planes = 0;
     std::string repair_note;  // why the first planes were inserted (the first few mismatches)
     std::size_t contours = 0, chains = 0, closed_by_bezier = 0, closed_by_fallback = 0, closed_by_chord = 0,
@@ -158,7 +168,7 @@ struct PolycubeStatistics {
     double area_distortion_unsmoothed = 0.0, angle_distortion_unsmoothed = 0.0;
     double area_distortion_median_unsmoothed = 0.0, angle_distortion_median_unsmoothed = 0.0;
     std::size_t turned_chords_unsmoothed = 0, smoothing_moves = 0;
-    double solve_seconds = 0.0, seconds = 0.0;  // with axis auto: of every axis tried
+    double solve_seconds = 0.0, seconds = 0.0;  // of every attempt
     std::size_t solves = 0, solve_iterations = 0;
 };
 
