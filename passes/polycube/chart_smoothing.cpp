@@ -42,14 +42,21 @@ std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
             if (!c.found()) continue;
             hint[v] = c.face;
             const auto faces = adj.faces_of_vertex(v);
-            std::size_t turned_before = 0, turned_after = 0;
-            for (std::uint32_t f : faces) turned_before += turned(mesh.triangles[f], image, image_axis, min_area2);
+            // Turned or nearly flat, and turned outright (the count measure_map reports): neither may grow.
+            std::size_t turned_before = 0, turned_after = 0, flipped_before = 0, flipped_after = 0;
+            for (std::uint32_t f : faces) {
+                turned_before += turned(mesh.triangles[f], image, image_axis, min_area2);
+                flipped_before += turned(mesh.triangles[f], image, image_axis);
+            }
             const glm::dvec3 old = image[v];
             const std::uint8_t old_axis = image_axis[v];
             image[v] = c.point;
             image_axis[v] = surface_axis[c.face];
-            for (std::uint32_t f : faces) turned_after += turned(mesh.triangles[f], image, image_axis, min_area2);
-            if (turned_after > turned_before) {
+            for (std::uint32_t f : faces) {
+                turned_after += turned(mesh.triangles[f], image, image_axis, min_area2);
+                flipped_after += turned(mesh.triangles[f], image, image_axis);
+            }
+            if (turned_after > turned_before || flipped_after > flipped_before) {
                 image[v] = old;
                 image_axis[v] = old_axis;
             } else {
