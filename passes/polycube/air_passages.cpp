@@ -18,63 +18,53 @@ namespace gimg::passes::polycube {
 namespace {
 
 constexpr int kOutside = 0;  // air label of the air joined to the grid's border
+constexpr std::int32_t kUnset = -2;
 
-// 4-connected air components of one layer; the border's air is kOutside, the others 1, 2, ...;
-// material cells -1.
-std::vector<std::int32_t> air_labels(const std::vector<std::int32_t>& owner, int n) {
-    std::vector<std::int32_t> label(owner.size(), -2);
-    std::int32_t next = 1;
-    std::vector<std::size_t> stack;
-    const auto flood = [&](std::size_t start, std::int32_t l) {
-        label[start] = l;
-        stack.push_back(start);
-        while (!stack.empty()) {
-            const std::size_t c = stack.back();
-            stack.pop_back();
-            const int x = int(c % n), y = int(c / n);
-            const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-            for (int d = 0; d < 4; ++d) {
-                const int qx = x + dx[d], qy = y + dy[d];
-                if (qx < 0 || qy < 0 || qx >= n || qy >= n) continue;
-                const std::size_t q = std::size_t(qy) * n + qx;
-                if (label[q] == -2 && owner[q] < 0) label[q] = l, stack.push_back(q);
-            }
-        }
-    };
-    for (std::size_t c = 0; c < owner.size(); ++c)
-        if (owner[c] >= 0) label[c] = -1;
-    for (int i = 0; i < n; ++i)
-        for (const std::size_t c :
-             {std::size_t(i), std::size_t(n - 1) * n + i, std::size_t(i) * n, std::size_t(i) * n + n - 1})
-            if (label[c] == -2) flood(c, kOutside);
-    for (std::size_t c = 0; c < owner.size(); ++c)
-        if (label[c] == -2) flood(c, next++);
-    return label;
-}
-
-// Whether the cells of component k in `owner` are 4-connected.
-bool connected(const std::vector<std::int32_t>& owner, int n, std::int32_t k) {
-    std::vector<std::uint8_t> seen(owner.size(), 0);
-    std::vector<std::size_t> stack;
-    std::size_t total = 0, reached = 0;
-    for (std::size_t c = 0; c < owner.size(); ++c)
-        if (owner[c] == k) {
-            if (++total == 1) stack.push_back(c), seen[c] = 1;
-        }
+// Gives `value` to every cell 4-connected to `start` through unset cells that `member` takes.
+template <class Member>
+void flood(std::size_t start, int n, std::vector<std::int32_t>& label, std::int32_t value, const Member& member) {
+    std::vector<std::size_t> stack{start};
+    label[start] = value;
     while (!stack.empty()) {
         const std::size_t c = stack.back();
         stack.pop_back();
-        ++reached;
         const int x = int(c % n), y = int(c / n);
         const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
         for (int d = 0; d < 4; ++d) {
             const int qx = x + dx[d], qy = y + dy[d];
             if (qx < 0 || qy < 0 || qx >= n || qy >= n) continue;
             const std::size_t q = std::size_t(qy) * n + qx;
-            if (!seen[q] && owner[q] == k) seen[q] = 1, stack.push_back(q);
+            if (label[q] == kUnset && member(q)) label[q] = value, stack.push_back(q);
         }
     }
-    return reached == total;
+}
+
+// 4-connected air components of one layer; the border's air is kOutside, the others 1, 2, ...;
+// material cells -1.
+std::vector<std::int32_t> air_labels(const std::vector<std::int32_t>& owner, int n) {
+    std::vector<std::int32_t> label(owner.size(), kUnset);
+    const auto air = [&](std::size_t q) { return owner[q] < 0; };
+    for (std::size_t c = 0; c < owner.size(); ++c)
+        if (owner[c] >= 0) label[c] = -1;
+    for (int i = 0; i < n; ++i)
+        for (const std::size_t c :
+             {std::size_t(i), std::size_t(n - 1) * n + i, std::size_t(i) * n, std::size_t(i) * n + n - 1})
+            if (label[c] == kUnset) flood(c, n, label, kOutside, air);
+    std::int32_t next = 1;
+    for (std::size_t c = 0; c < owner.size(); ++c)
+        if (label[c] == kUnset) flood(c, n, label, next++, air);
+    return label;
+}
+
+// Whether the cells of component k in `owner` are 4-connected.
+bool connected(const std::vector<std::int32_t>& owner, int n, std::int32_t k) {
+    std::vector<std::int32_t> label(owner.size(), kUnset);
+    const auto first = std::find(owner.begin(), owner.end(), k);
+    if (first == owner.end()) return true;
+    flood(std::size_t(first - owner.begin()), n, label, 1, [&](std::size_t q) { return owner[q] == k; });
+    for (std::size_t c = 0; c < owner.size(); ++c)
+        if (owner[c] == k && label[c] != 1) return false;
+    return true;
 }
 
 // A 2 x 2 block with material on one diagonal and air on the other, around cell c.
