@@ -334,6 +334,7 @@ def test_polycube_of_an_open_tube_keeps_its_ends(device):
     assert gpu["holes"] == 2 and gpu["holes_marked"] == 2
     assert gpu["polycube_faces"] == 6 and gpu["polycube_corners"] == 8
     assert gpu["flips"] == 0
+    assert gpu["attempts"] == 1 and gpu["slice_smoothing"] == 0  # built on the first try, on the mesh itself
     box_min = gpu["polycube"][0].min(axis=0)
     box_max = gpu["polycube"][0].max(axis=0)
     m = gpu["mapped"]
