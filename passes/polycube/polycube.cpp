@@ -283,7 +283,14 @@ Polycube build_along(Context* ctx, const geo::Mesh& input, const PolycubeOptions
 
 }  // namespace
 
-Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o) {
+std::string failure_of(const PolycubeStatistics& s, bool map) {
+    if (!s.polycube_valid) return "the polycube is not valid (" + s.invalid_reason + ")";
+    if (map && !s.mapped) return "the map could not be built: " + s.map_note;
+    return {};
+}
+
+Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o,
+                        const std::function<void(const PolycubeStatistics& failed)>& retrying) {
     if (o.axis > 3) throw geo::InputError("the slicing axis must be x, y, z or auto");
     if (o.slice_smoothing > 1000) throw geo::InputError("the slice smoothing must be at most 1000 sweeps");
     // Per axis (auto: z, the paper's, then y and x), the options given, then the retries. A
@@ -304,6 +311,7 @@ Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOpti
     Polycube first;
     std::size_t attempts = 0, axes_tried = 0;
     double seconds = 0.0, solve_seconds = 0.0;
+    const std::size_t total = axes.size() * tries.size();
     for (const int a : axes) {
         ++axes_tried;
         for (const PolycubeOptions& t : tries) {
@@ -311,7 +319,8 @@ Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOpti
             seconds += p.stats.seconds, solve_seconds += p.stats.solve_seconds;
             p.stats.seconds = seconds, p.stats.solve_seconds = solve_seconds;
             p.stats.attempts = ++attempts, p.stats.axes_tried = axes_tried;
-            if (p.stats.polycube_valid && (!o.map || p.stats.mapped)) return p;
+            if (failure_of(p.stats, o.map).empty()) return p;
+            if (retrying && attempts < total) retrying(p.stats);
             if (attempts == 1) first = std::move(p);
         }
     }

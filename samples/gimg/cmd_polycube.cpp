@@ -169,7 +169,16 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     po.smoothing = o.smooth;
     po.axis = o.axis == "auto" ? 3 : std::uint8_t(o.axis[0] - 'x');
     std::shared_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
-    const passes::Polycube p = passes::build_polycube(o.cpu ? nullptr : ctx.get(), mesh, po);
+    const auto retrying = [&](const passes::PolycubeStatistics& failed) {
+        if (global.quiet) return;
+        std::printf(
+            "attempt %zu (planes normal to %c, quadtree down to level %u, slice smoothing %u) failed: %s; "
+            "trying again\n",
+            failed.attempts, char('x' + failed.axis), failed.max_level, failed.slice_smoothing,
+            passes::failure_of(failed, po.map).c_str());
+        std::fflush(stdout);
+    };
+    const passes::Polycube p = passes::build_polycube(o.cpu ? nullptr : ctx.get(), mesh, po, retrying);
     const auto& s = p.stats;
     if (global.verbose) std::fprintf(stderr, "%s\n", statistics_json(s).dump(2).c_str());
     const std::string along = s.axes_tried > 1 ? " along z (y and x fail too)" : "";

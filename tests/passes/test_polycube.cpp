@@ -622,9 +622,15 @@ TEST(PolycubeSharedMeshes, PittedFemurIsBuiltOnARetry) {
     GIMG_REQUIRE_SHARED_MESH(femur, "femur.off");
     gp::PolycubeOptions o;
     o.axis = 2;
-    const gp::Polycube p = gp::build_polycube(nullptr, geo::load_mesh(femur), o);
+    std::vector<gp::PolycubeStatistics> failed;
+    const gp::Polycube p = gp::build_polycube(nullptr, geo::load_mesh(femur), o,
+                                              [&](const gp::PolycubeStatistics& s) { failed.push_back(s); });
     expect_valid_polycube(p, 2);
     EXPECT_GT(p.stats.attempts, 1u);
+    ASSERT_EQ(failed.size(), p.stats.attempts - 1);  // told of every failed attempt before the last
+    EXPECT_EQ(failed.front().attempts, 1u);
+    EXPECT_EQ(failed.front().slice_smoothing, 0u);
+    EXPECT_FALSE(gp::failure_of(failed.front(), true).empty());
     EXPECT_GE(p.stats.slice_smoothing, 3u);
     ASSERT_TRUE(p.stats.mapped) << p.stats.map_note;
     EXPECT_EQ(p.stats.flips, 0u);

@@ -22,6 +22,7 @@
 #include <glm/vec2.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -184,8 +185,14 @@ struct Polycube {
     PolycubeStatistics stats;
 };
 
+// Why an attempt failed: its invalid_reason or map_note in a sentence (empty when it did not fail).
+std::string failure_of(const PolycubeStatistics& stats, bool map);
+
 // ctx null: every solve by its CPU twin. Throws geo::InputError for a mesh it cannot take.
-Polycube build_polycube(Context* ctx, const geo::Mesh& mesh, const PolycubeOptions& options = {});
+// `retrying`, when given, hears of every failed attempt that another one follows (its statistics:
+// axis, attempts, max_level, slice_smoothing and why), so a caller can say what is going on.
+Polycube build_polycube(Context* ctx, const geo::Mesh& mesh, const PolycubeOptions& options = {},
+                        const std::function<void(const PolycubeStatistics& failed)>& retrying = {});
 
 // The six axes as the index face_axis uses, for a unit normal (the largest |component|).
 std::uint8_t axis_of(const glm::dvec3& normal);
