@@ -160,7 +160,8 @@ void fill_pockets(Window& win, const Loops& loops, const Rect& root, int depth) 
 }
 
 // Holes narrower than a cell meet no empty cell: each such hole gets the cell whose centre lies
-// deepest inside it (or the cell holding its centroid), so a thin handle keeps its tunnel.
+// deepest inside it (with no centre inside, the cell holding the deepest of 16 x 16 points over its
+// bounding box), so a thin handle keeps its tunnel.
 void open_lost_holes(Window& win, const Loops& loops, const Rect& root, int depth) {
     const glm::dvec2 cell = (root.max - root.min) / double(1 << depth);
     const auto index_of = [&](glm::dvec2 p) -> std::ptrdiff_t {
