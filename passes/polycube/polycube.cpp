@@ -129,6 +129,7 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         const JoinedContours joined = joined_contours(mesh_pieces, contours, plane_z);
         Layers layers = stacked_regions(contours, plane_z, box, o.da, o.max_level, joined, excess, st.cells_carved);
         st.cells_filled = make_manifold(layers);
+        st.cells_opened = layers.opened;
         surface = polycube_surface(layers);
 
         loop_contour = match_loops(surface, contours, plane_z.size());

@@ -87,6 +87,7 @@ struct Layers {
                                                                          // p and p + 1 a mesh piece joins
     std::vector<double> plane_z;
     double bottom = 0.0, top = 0.0;
+    std::size_t opened = 0;  // cells opened as passages for enclosed air (open_air_passages)
 };
 // Per slab (slab s between planes s - 1 and s), the pairs (contour on plane s - 1, contour on plane
 // s) that one piece of the mesh between the two planes joins.

@@ -481,13 +481,14 @@ Layers stacked_regions(const std::vector<Contour>& contours, const std::vector<d
     std::vector<std::int32_t> component(contours.size());
     for (std::size_t c = 0; c < contours.size(); ++c)
         component[c] = regions[contours[c].plane].component_of_loop[loop_of[c]];
-    open_air_passages(owner, 1 << depth, root, contours, component, joined);
+    const std::size_t opened = open_air_passages(owner, 1 << depth, root, contours, component, joined);
     excess = 0.0;
     for (const auto& r : regions) excess += r.excess();
     Layers layers;
     layers.root = root;
     layers.depth = depth;
     layers.plane_z = plane_z;
+    layers.opened = opened;
     layers.bottom = box.min.z;
     layers.top = box.max.z;
     for (const auto& o : owner) {

@@ -124,6 +124,7 @@ nlohmann::json statistics_json(const passes::PolycubeStatistics& s) {
     j["mean_excess"] = s.mean_excess;
     j["cells_filled"] = s.cells_filled;
     j["cells_carved"] = s.cells_carved;
+    j["cells_opened"] = s.cells_opened;
     j["polycube_faces"] = s.polycube_faces;
     j["polycube_corners"] = s.polycube_corners;
     j["polycube_triangles"] = s.polycube_triangles;
@@ -229,9 +230,9 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
             s.attempts, s.max_level, s.slice_smoothing);
     std::printf(
         "contours %zu, chains %zu closed by Bezier %zu, fallback %zu, chord %zu, failed %zu; quadtree depth %u, "
-        "excess %.3f, cells filled %zu, carved %zu\n",
+        "excess %.3f, cells filled %zu, carved %zu, opened %zu\n",
         s.contours, s.chains, s.closed_by_bezier, s.closed_by_fallback, s.closed_by_chord, s.closing_failed,
-        s.quadtree_depth, s.mean_excess, s.cells_filled, s.cells_carved);
+        s.quadtree_depth, s.mean_excess, s.cells_filled, s.cells_carved, s.cells_opened);
     std::printf("polycube: %zu faces, %zu corners, %zu triangles, chi %lld, valid\n", s.polycube_faces,
                 s.polycube_corners, s.polycube_triangles, s.euler_characteristic);
     if (!o.no_map)

@@ -144,6 +144,7 @@ struct PolycubeStatistics {
     double mean_excess = 0.0;          // of (area(p) - area(c)) / area(c) over the planes' regions
     std::size_t cells_filled = 0;      // cells added so the polyhedron is manifold
     std::size_t cells_carved = 0;      // cells given up where neighbouring layers' unjoined pieces touched
+    std::size_t cells_opened = 0;      // cells opened as passages for air the layers enclosed
     std::size_t polycube_faces = 0, polycube_corners = 0, polycube_triangles = 0;
     long long euler_characteristic = 0;
     bool polycube_valid = false;  // closed, manifold, one piece, axis-aligned, chi = 2 - 2g
