@@ -20,6 +20,16 @@ namespace {
 constexpr int kOutside = 0;  // air label of the air joined to the grid's border
 constexpr std::int32_t kUnset = -2;
 
+// Calls f(q) for each edge neighbour q of cell c inside the n x n grid.
+template <class F>
+void for_each_neighbour(std::size_t c, int n, const F& f) {
+    const int x = int(c % n), y = int(c / n);
+    if (x + 1 < n) f(c + 1);
+    if (x > 0) f(c - 1);
+    if (y + 1 < n) f(c + std::size_t(n));
+    if (y > 0) f(c - std::size_t(n));
+}
+
 // Gives `value` to every cell 4-connected to `start` through unset cells that `member` takes.
 template <class Member>
 void flood(std::size_t start, int n, std::vector<std::int32_t>& label, std::int32_t value, const Member& member) {
@@ -28,14 +38,9 @@ void flood(std::size_t start, int n, std::vector<std::int32_t>& label, std::int3
     while (!stack.empty()) {
         const std::size_t c = stack.back();
         stack.pop_back();
-        const int x = int(c % n), y = int(c / n);
-        const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-        for (int d = 0; d < 4; ++d) {
-            const int qx = x + dx[d], qy = y + dy[d];
-            if (qx < 0 || qy < 0 || qx >= n || qy >= n) continue;
-            const std::size_t q = std::size_t(qy) * n + qx;
+        for_each_neighbour(c, n, [&](std::size_t q) {
             if (label[q] == kUnset && member(q)) label[q] = value, stack.push_back(q);
-        }
+        });
     }
 }
 
@@ -142,14 +147,8 @@ std::size_t open_air_passages(std::vector<std::vector<std::int32_t>>& owner, int
             bool any_target = false;
             for (std::size_t c = 0; c < owner[q].size(); ++c) {
                 if (air[q][c] < 0) continue;
-                const int x = int(c % n), y = int(c / n);
                 bool beside = false;
-                const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-                for (int d = 0; d < 4 && !beside; ++d) {
-                    const int qx = x + dx[d], qy = y + dy[d];
-                    beside =
-                        qx >= 0 && qy >= 0 && qx < n && qy < n && owner[q][std::size_t(qy) * n + qx] == component[u];
-                }
+                for_each_neighbour(c, n, [&](std::size_t e) { beside = beside || owner[q][e] == component[u]; });
                 if (beside && point_in_loops({contours[u].closed}, centre(c)) == u_hole)
                     target_label[std::size_t(air[q][c])] = 1, any_target = true;
             }
@@ -186,19 +185,14 @@ std::size_t open_air_passages(std::vector<std::vector<std::int32_t>>& owner, int
                     reached = std::int64_t(c);
                     break;
                 }
-                const int x = int(c % n), y = int(c / n);
-                const int dx[4] = {1, -1, 0, 0}, dy[4] = {0, 0, 1, -1};
-                for (int d = 0; d < 4; ++d) {
-                    const int qx = x + dx[d], qy = y + dy[d];
-                    if (qx < 0 || qy < 0 || qx >= n || qy >= n) continue;
-                    const std::size_t e = std::size_t(qy) * n + qx;
+                for_each_neighbour(c, n, [&](std::size_t e) {
                     std::uint32_t w;
                     if (air[q][e] >= 0) {
-                        if (!target_label[air[q][e]]) continue;  // other air of layer q
+                        if (!target_label[air[q][e]]) return;  // other air of layer q
                         w = 0;
                     } else {
                         const std::int32_t k = through[c] >= 0 ? through[c] : owner[q][e];
-                        if (!may_open(e, k)) continue;
+                        if (!may_open(e, k)) return;
                         w = 1;
                     }
                     if (dist[c] + w < dist[e]) {
@@ -206,7 +200,7 @@ std::size_t open_air_passages(std::vector<std::vector<std::int32_t>>& owner, int
                         through[e] = w ? owner[q][e] : through[c];
                         w ? queue.push_back(e) : queue.push_front(e);
                     }
-                }
+                });
             }
             if (reached < 0) continue;
             std::vector<std::size_t> path;
