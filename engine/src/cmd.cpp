@@ -2,6 +2,12 @@
 
 #include "recorder.h"
 
+#include "gimg/engine/error.h"
+#include "gimg/engine/format.h"
+
+#include <string>
+#include <vector>
+
 namespace gimg {
 
 using detail::Recorder;
@@ -82,7 +88,46 @@ VkBufferImageCopy whole(const Image& img) {
     r.imageExtent = {img.width(), img.height(), 1};
     return r;
 }
+
+// Whole rows, then the last row's first texels (texel arrays are as wide as the image).
+std::vector<VkBufferImageCopy> first_texels(const Image& img, std::uint32_t texels) {
+    std::vector<VkBufferImageCopy> regions;
+    const std::uint32_t width = img.width(), rows = texels / width, rest = texels % width;
+    if (rows > img.height() || (rows == img.height() && rest > 0))
+        throw Error(ErrorKind::InvalidArgument, img.name() + ": " + std::to_string(texels) + " texels copied from " +
+                                                    std::to_string(width) + " x " + std::to_string(img.height()));
+    VkBufferImageCopy r = whole(img);
+    if (rows > 0) {
+        r.imageExtent = {width, rows, 1};
+        regions.push_back(r);
+    }
+    if (rest > 0) {
+        r.bufferOffset = VkDeviceSize(rows) * width * bytes_per_pixel(img.format());
+        r.imageOffset = {0, std::int32_t(rows), 0};
+        r.imageExtent = {rest, 1, 1};
+        regions.push_back(r);
+    }
+    return regions;
+}
 }  // namespace
+
+void Cmd::copy_texels(ImageHandle src, BufferHandle dst, std::uint32_t texels) {
+    Image& img = recorder_->image(src.id, "copy source");
+    VkBuffer b = recorder_->buffer(dst.id, "copy destination");
+    const std::vector<VkBufferImageCopy> r = first_texels(img, texels);
+    if (!r.empty())
+        recorder_->device().fn.vkCmdCopyImageToBuffer(vk(), img.vk(), VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, b,
+                                                      std::uint32_t(r.size()), r.data());
+}
+
+void Cmd::copy_texels(BufferHandle src, ImageHandle dst, std::uint32_t texels) {
+    VkBuffer b = recorder_->buffer(src.id, "copy source");
+    Image& img = recorder_->image(dst.id, "copy destination");
+    const std::vector<VkBufferImageCopy> r = first_texels(img, texels);
+    if (!r.empty())
+        recorder_->device().fn.vkCmdCopyBufferToImage(vk(), b, img.vk(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
+                                                      std::uint32_t(r.size()), r.data());
+}
 
 void Cmd::copy(ImageHandle src, BufferHandle dst) {
     Image& img = recorder_->image(src.id, "copy source");

@@ -1,6 +1,7 @@
 // Piecewise-linear k-disk wavelets on a semi-regular mesh (Lounsbery, DeRose & Warren 1997;
 // sec. 2.5): the local orthogonalisation weights, and the lifting transform on the CPU and GPU.
 #include "gimg/engine/error.h"
+#include "gimg/engine/texel_array.h"
 #include "gimg/engine/upload.h"
 #include "gimg/geometry/error.h"
 #include "gimg/passes/maps.h"
@@ -241,6 +242,7 @@ WaveletBuffers upload_wavelet_filters(Context& ctx, const SemiRegularMesh& mesh,
     check_filters(mesh, filters);
     if (!ctx.device_info().shader_float64)
         throw Error(ErrorKind::Unsupported, "wavelets on the GPU need shaderFloat64 (use the CPU)");
+    check_texel_array_size(ctx, std::size_t(mesh.vertex_count.back()) * 6, "wavelets on the GPU: the values");
     WaveletBuffers out;
     std::vector<std::uint32_t> offsets, odd;
     std::vector<double> weight;
@@ -253,15 +255,15 @@ WaveletBuffers upload_wavelet_filters(Context& ctx, const SemiRegularMesh& mesh,
     }
     out.offsets_start.push_back(std::uint32_t(offsets.size()));
     out.entries_start.push_back(std::uint32_t(odd.size()));
-    const VkDeviceSize limit = ctx.device_info().max_storage_buffer_range;
-    if (VkDeviceSize(mesh.vertex_count.back()) * 24 > limit || VkDeviceSize(weight.size()) * 8 > limit ||
-        VkDeviceSize(offsets.size()) * 4 > limit)
-        throw Error(ErrorKind::Unsupported, "wavelets on the GPU: the mesh's arrays exceed maxStorageBufferRange (" +
-                                                std::to_string(limit) + " bytes); use the CPU");
-    out.parents = upload_buffer(ctx, mesh.parents, "wavelet parents");
-    out.offsets = upload_buffer(ctx, offsets, "wavelet offsets");
-    out.odd = upload_buffer(ctx, odd, "wavelet odd");
-    out.weight = upload_buffer(ctx, weight, "wavelet weights");
+    // Two 32-bit texels per uvec2 and per double (low word first, as the host stores them).
+    auto words = [](const auto& v) {
+        const auto* w = reinterpret_cast<const std::uint32_t*>(v.data());
+        return std::span<const std::uint32_t>(w, v.size() * sizeof(v[0]) / 4);
+    };
+    out.parents = upload_texel_array(ctx, words(mesh.parents), Format::R32U, "wavelet parents");
+    out.offsets = upload_texel_array(ctx, std::span<const std::uint32_t>(offsets), Format::R32U, "wavelet offsets");
+    out.odd = upload_texel_array(ctx, std::span<const std::uint32_t>(odd), Format::R32U, "wavelet odd");
+    out.weight = upload_texel_array(ctx, words(weight), Format::R32U, "wavelet weights");
     return out;
 }
 
@@ -271,79 +273,119 @@ struct PredictPush {
     std::uint32_t first, count, parent0, inverse;
 };
 struct UpdatePush {
-    std::uint32_t count, offsets0, entries0, inverse;
+    std::uint32_t count, offsets0, entries0, inverse, from_detail, to_detail;
 };
 
 const Spirv kPredict = GIMG_SPIRV(gimg_spv_maps_wavelet_predict_comp);
 const Spirv kUpdate = GIMG_SPIRV(gimg_spv_maps_wavelet_update_comp);
 
-struct FilterHandles {
-    BufferHandle parents, offsets, odd, weight;
+// The transform's working arrays (wavelet_predict.comp): the values being transformed and the
+// details, each 6 r32ui texels per vertex, so the values buffer copies in and out unchanged.
+struct Arrays {
+    ImageHandle coarse, detail, parents, offsets, odd, weight;
 };
 
-FilterHandles import_filters(Graph& graph, const SemiRegularMesh& mesh, WaveletBuffers& filters) {
+Arrays begin_transform(Graph& graph, const SemiRegularMesh& mesh, WaveletBuffers& filters, BufferHandle values,
+                       bool into_detail, const char* what) {
     if (filters.offsets_start.size() != mesh.levels() + 1 || filters.entries_start.size() != mesh.levels() + 1 ||
         !filters.parents)
         throw geo::InputError("wavelet filters on the GPU: uploaded for another mesh");
-    return {graph.import_buffer(filters.parents), graph.import_buffer(filters.offsets),
-            graph.import_buffer(filters.odd), graph.import_buffer(filters.weight)};
+    const std::uint32_t texels = mesh.vertex_count.back() * 6;
+    Arrays a{graph.create_image(texel_array_desc(texels, Format::R32U, std::string(what) + " coarse")),
+             graph.create_image(texel_array_desc(texels, Format::R32U, std::string(what) + " details")),
+             graph.import_image(filters.parents),
+             graph.import_image(filters.offsets),
+             graph.import_image(filters.odd),
+             graph.import_image(filters.weight)};
+    ImageHandle& target = into_detail ? a.detail : a.coarse;
+    graph.add_compute_pass(
+        std::string(what) + ": load values",
+        [&](PassBuilder& b) {
+            b.read(values, Access::TransferSrc);
+            target = b.write(target, Access::TransferDst);
+        },
+        [=](Cmd& c) { c.copy_texels(values, target, texels); });
+    return a;
 }
 
-BufferHandle add_predict(Graph& graph, BufferHandle values, BufferHandle parents, const SemiRegularMesh& mesh,
-                         std::uint32_t j, bool inverse) {
+BufferHandle end_transform(Graph& graph, const SemiRegularMesh& mesh, BufferHandle values, ImageHandle result,
+                           const char* what) {
+    const std::uint32_t texels = mesh.vertex_count.back() * 6;
+    graph.add_compute_pass(
+        std::string(what) + ": store values",
+        [&](PassBuilder& b) {
+            b.read(result, Access::TransferSrc);
+            values = b.write(values, Access::TransferDst);
+        },
+        [=](Cmd& c) { c.copy_texels(result, values, texels); });
+    return values;
+}
+
+void add_predict(Graph& graph, Arrays& a, const SemiRegularMesh& mesh, std::uint32_t j, bool inverse) {
     const PredictPush push{mesh.vertex_count[j], mesh.vertex_count[j + 1] - mesh.vertex_count[j],
                            mesh.vertex_count[j] - mesh.vertex_count[0], inverse ? 1u : 0u};
     graph.add_compute_pass(
         std::string(inverse ? "wavelet synthesis" : "wavelet analysis") + ": predict level " + std::to_string(j + 1),
         [&](PassBuilder& b) {
-            b.read(parents, Access::ComputeRead);
-            values = b.write(values, Access::ComputeReadWrite);
+            b.read(a.parents, Access::ComputeRead);
+            a.coarse = b.write(a.coarse, Access::ComputeReadWrite);
+            a.detail = b.write(a.detail, Access::ComputeReadWrite);
         },
-        [=](Cmd& c) {
-            c.dispatch_threads(kPredict, {std::max(push.count, 1u)}, {values, parents}, push);
+        [=, a = a](Cmd& c) {
+            c.dispatch_threads(kPredict, {std::max(push.count, 1u)}, {a.coarse, a.detail, a.parents}, push);
         });
-    return values;
 }
 
-BufferHandle add_update(Graph& graph, BufferHandle values, const FilterHandles& f, const SemiRegularMesh& mesh,
-                        const WaveletBuffers& filters, std::uint32_t j, bool inverse) {
-    const UpdatePush push{mesh.vertex_count[j], filters.offsets_start[j], filters.entries_start[j], inverse ? 1u : 0u};
+void add_update(Graph& graph, Arrays& a, const SemiRegularMesh& mesh, const WaveletBuffers& filters, std::uint32_t j,
+                bool inverse, bool from_detail, bool to_detail) {
+    const UpdatePush push{mesh.vertex_count[j],    filters.offsets_start[j], filters.entries_start[j],
+                          inverse ? 1u : 0u,       from_detail ? 1u : 0u,    to_detail ? 1u : 0u};
     graph.add_compute_pass(
         std::string(inverse ? "wavelet synthesis" : "wavelet analysis") + ": update level " + std::to_string(j),
         [&](PassBuilder& b) {
-            for (BufferHandle h : {f.offsets, f.odd, f.weight}) b.read(h, Access::ComputeRead);
-            values = b.write(values, Access::ComputeReadWrite);
+            for (ImageHandle h : {a.offsets, a.odd, a.weight}) b.read(h, Access::ComputeRead);
+            a.coarse = b.write(a.coarse, Access::ComputeReadWrite);
+            a.detail = b.write(a.detail, Access::ComputeReadWrite);
         },
-        [=](Cmd& c) {
-            c.dispatch_threads(kUpdate, {std::max(push.count, 1u)}, {values, f.offsets, f.odd, f.weight}, push);
+        [=, a = a](Cmd& c) {
+            c.dispatch_threads(kUpdate, {std::max(push.count, 1u)},
+                               {a.coarse, a.detail, a.offsets, a.odd, a.weight}, push);
         });
-    return values;
+}
+
+bool has_weights(const WaveletBuffers& filters, std::uint32_t j) {
+    return filters.entries_start[j + 1] > filters.entries_start[j];
 }
 
 }  // namespace
 
+// Analysis: the values go into `coarse`; each level's predict writes its details to `detail`, and
+// the update the new coarse values to `coarse`, the last one (always run, an empty row copying) to
+// `detail`, which then holds the whole result.
 BufferHandle add_wavelet_analysis(Graph& graph, BufferHandle values, const SemiRegularMesh& mesh,
                                   WaveletBuffers& filters, std::uint32_t down_to) {
     check_values(mesh, mesh.vertex_count.back(), down_to, "wavelet analysis");
-    const FilterHandles f = import_filters(graph, mesh, filters);
+    if (down_to == mesh.levels()) return values;
+    Arrays a = begin_transform(graph, mesh, filters, values, false, "wavelet analysis");
     for (std::uint32_t j = mesh.levels(); j-- > down_to;) {
-        values = add_predict(graph, values, f.parents, mesh, j, false);
-        if (filters.entries_start[j + 1] > filters.entries_start[j])
-            values = add_update(graph, values, f, mesh, filters, j, false);
+        add_predict(graph, a, mesh, j, false);
+        if (j == down_to || has_weights(filters, j)) add_update(graph, a, mesh, filters, j, false, false, j == down_to);
     }
-    return values;
+    return end_transform(graph, mesh, values, a.detail, "wavelet analysis");
 }
 
+// Synthesis: the coefficients go into `detail`; the first update reads its coarse values there, and
+// every level's coarse values and predicted odd vertices go to `coarse`, which then holds them all.
 BufferHandle add_wavelet_synthesis(Graph& graph, BufferHandle values, const SemiRegularMesh& mesh,
                                    WaveletBuffers& filters, std::uint32_t from) {
     check_values(mesh, mesh.vertex_count.back(), from, "wavelet synthesis");
-    const FilterHandles f = import_filters(graph, mesh, filters);
+    if (from == mesh.levels()) return values;
+    Arrays a = begin_transform(graph, mesh, filters, values, true, "wavelet synthesis");
     for (std::uint32_t j = from; j < mesh.levels(); ++j) {
-        if (filters.entries_start[j + 1] > filters.entries_start[j])
-            values = add_update(graph, values, f, mesh, filters, j, true);
-        values = add_predict(graph, values, f.parents, mesh, j, true);
+        if (j == from || has_weights(filters, j)) add_update(graph, a, mesh, filters, j, true, j == from, false);
+        add_predict(graph, a, mesh, j, true);
     }
-    return values;
+    return end_transform(graph, mesh, values, a.coarse, "wavelet synthesis");
 }
 
 namespace {

@@ -1,10 +1,15 @@
 #version 460
-// The predict step of the piecewise-linear wavelet transform on one level, in place: analysis
-// d_m = c_m - (c_a + c_b) / 2 for every odd vertex m with parent edge (a, b), synthesis the
-// inverse, in the CPU twin's order of operations.
+// The predict step of the piecewise-linear wavelet transform on one level. The transform keeps
+// two arrays: `coarse` the values being transformed, `detail` the details. Analysis
+// detail[m] = coarse[m] - (coarse[a] + coarse[b]) / 2 for every odd vertex m with parent edge
+// (a, b); synthesis coarse[m] = detail[m] + the same mean. The CPU twin's order of operations.
+#extension GL_GOOGLE_include_directive : require
+#include "maps/wavelet_values.glsl"
+
 layout(local_size_x = 64) in;
-layout(std430, binding = 0) buffer Values { double values[]; };            // 3 per vertex
-layout(std430, binding = 1) readonly buffer Parents { uvec2 parents[]; };  // per odd vertex
+layout(binding = 0, r32ui) uniform uimage2D coarse;
+layout(binding = 1, r32ui) uniform uimage2D detail;
+layout(binding = 2, r32ui) uniform readonly uimage2D parents;  // 2 texels per odd vertex
 layout(push_constant) uniform Push {
     uint first;    // the level's first odd vertex
     uint count;    // its odd vertices
@@ -16,10 +21,14 @@ void main() {
     const uint t = gl_GlobalInvocationID.x;
     if (t >= count) return;
     const uint m = first + t;
-    const uvec2 p = parents[parent0 + t];
-    for (uint k = 0u; k < 3u; ++k) {
-        precise double mid = 0.5LF * (values[3u * p.x + k] + values[3u * p.y + k]);
-        precise double c = inverse != 0u ? values[3u * m + k] + mid : values[3u * m + k] - mid;
-        values[3u * m + k] = c;
+    const uvec2 p = uvec2(WORD_AT(parents, 2u * (parent0 + t)), WORD_AT(parents, 2u * (parent0 + t) + 1u));
+    const dvec3 a = VALUE_AT(coarse, p.x), b = VALUE_AT(coarse, p.y);
+    precise dvec3 mid = 0.5LF * (a + b);
+    if (inverse != 0u) {
+        precise dvec3 c = VALUE_AT(detail, m) + mid;
+        STORE_VALUE(coarse, m, c)
+    } else {
+        precise dvec3 d = VALUE_AT(coarse, m) - mid;
+        STORE_VALUE(detail, m, d)
     }
 }

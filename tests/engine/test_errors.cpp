@@ -3,6 +3,7 @@
 #include "gimg/engine/error.h"
 #include "gimg/engine/graph.h"
 #include "gimg/engine/texel_array.h"
+#include "gimg/engine/upload.h"
 
 #include "gpu_test.h"
 
@@ -169,4 +170,54 @@ TEST_F(EngineErrors, TexelArraysArePaddedWithZerosAndPartialUploadsAreRefusedUnl
     EXPECT_THROW(ctx().upload(padded, some.data(), sizeof(glm::uvec4) * some.size()), Error);
     const std::vector<glm::uvec4> too_many(kTexelArrayRowWidth + 1);
     EXPECT_THROW(ctx().upload(padded, too_many.data(), sizeof(glm::uvec4) * too_many.size(), true), Error);
+}
+
+TEST_F(EngineErrors, TexelCopiesMoveOnlyTheFirstTexelsAndRefuseMoreThanTheImageHolds) {
+    const std::uint32_t n = kTexelArrayRowWidth + 5;  // a whole row and five texels of the next
+    std::vector<std::uint32_t> words(n);
+    for (std::uint32_t i = 0; i < n; ++i) words[i] = i * 7u + 1u;
+    Buffer source = upload_buffer(ctx(), words, "words");
+    Buffer back = ctx().create_buffer({n * 4ull, "back"});
+    const std::vector<std::uint32_t> filled(2 * kTexelArrayRowWidth, 0xffffffffu);
+    Image image = upload_texel_array(ctx(), filled, Format::R32U, "texels");
+    Graph g(ctx());
+    BufferHandle s = g.import_buffer(source), d = g.import_buffer(back);
+    ImageHandle t = g.import_image(image);
+    g.add_compute_pass(
+        "in",
+        [&](PassBuilder& b) {
+            b.read(s, Access::TransferSrc);
+            t = b.write(t, Access::TransferDst);
+        },
+        [=](Cmd& c) { c.copy_texels(s, t, n); });
+    g.add_compute_pass(
+        "out",
+        [&](PassBuilder& b) {
+            b.read(t, Access::TransferSrc);
+            d = b.write(d, Access::TransferDst);
+        },
+        [=](Cmd& c) { c.copy_texels(t, d, n); });
+    g.export_image(t, Access::TransferSrc);
+    g.export_buffer(d, Access::TransferSrc);
+    g.compile().execute();
+    EXPECT_EQ(ctx().download<std::uint32_t>(back), words);
+    const std::vector<std::byte> bytes = ctx().download(image);
+    std::vector<std::uint32_t> texels(2 * kTexelArrayRowWidth);
+    ASSERT_EQ(bytes.size(), texels.size() * 4);
+    std::memcpy(texels.data(), bytes.data(), bytes.size());
+    for (std::uint32_t i = 0; i < texels.size(); ++i)
+        ASSERT_EQ(texels[i], i < n ? words[i] : 0xffffffffu) << "texel " << i;  // the rest untouched
+
+    Buffer big = ctx().create_buffer({(2ull * kTexelArrayRowWidth + 1) * 4, "big"});
+    Graph h(ctx());
+    BufferHandle bh = h.import_buffer(big);
+    ImageHandle th = h.import_image(image);
+    h.add_compute_pass(
+        "too many",
+        [&](PassBuilder& b) {
+            b.read(bh, Access::TransferSrc);
+            th = b.write(th, Access::TransferDst);
+        },
+        [=](Cmd& c) { c.copy_texels(bh, th, 2 * kTexelArrayRowWidth + 1); });
+    EXPECT_THROW(h.compile().execute(), Error);
 }

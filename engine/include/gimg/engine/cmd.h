@@ -79,6 +79,10 @@ public:
               VkDeviceSize dst_offset = 0);
     void copy(ImageHandle src, BufferHandle dst);
     void copy(BufferHandle src, ImageHandle dst);
+    // The first `texels` texels of a texel array (texel_array.h), row by row, from or to the start of
+    // a tightly packed buffer.
+    void copy_texels(ImageHandle src, BufferHandle dst, std::uint32_t texels);
+    void copy_texels(BufferHandle src, ImageHandle dst, std::uint32_t texels);
     void clear(ImageHandle image, float r, float g = 0.0f, float b = 0.0f, float a = 0.0f);
 
     // The raw command buffer, for commands this class lacks. The graph's barriers still surround

@@ -182,15 +182,17 @@ void wavelet_analysis(const SemiRegularMesh& mesh, const WaveletFilters& filters
 void wavelet_synthesis(const SemiRegularMesh& mesh, const WaveletFilters& filters, std::vector<glm::dvec3>& values,
                        std::uint32_t from = 0);
 
-// The same on the GPU, in place on a buffer of 3 doubles per vertex (the values' new version is
-// returned); one predict and, unless the level has no weights, one update dispatch per level.
-// The filters come from upload_wavelet_filters, are imported into the graph by each call and must
-// outlive its plan. Needs shaderFloat64 (gimg::Error otherwise).
+// The same on the GPU on a buffer of 3 doubles per vertex (the values' new version is returned):
+// the values are copied into a texel array, transformed there by one predict and, unless the level
+// has no weights, one update dispatch per level, and copied back. The filters come from
+// upload_wavelet_filters, are imported into the graph by each call and must outlive its plan.
+// Needs shaderFloat64 (gimg::Error otherwise).
 struct WaveletBuffers {
-    Buffer parents;                                           // uvec2 per odd vertex
-    Buffer offsets;                                           // every level's CSR offsets, concatenated
-    Buffer odd;                                               // every level's odd ids, concatenated
-    Buffer weight;                                            // every level's s_{i,m} (doubles), concatenated
+    // Texel arrays of 32-bit words (gimg/engine/texel_array.h), two words per uvec2 and per double.
+    Image parents;                                            // uvec2 per odd vertex
+    Image offsets;                                            // every level's CSR offsets, concatenated
+    Image odd;                                                // every level's odd ids, concatenated
+    Image weight;                                             // every level's s_{i,m}, concatenated
     std::vector<std::uint32_t> offsets_start, entries_start;  // per level where its arrays begin, then the totals
 };
 WaveletBuffers upload_wavelet_filters(Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters);
