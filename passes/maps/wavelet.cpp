@@ -237,6 +237,18 @@ void wavelet_synthesis(const SemiRegularMesh& mesh, const WaveletFilters& filter
     }
 }
 
+bool wavelets_fit_device(const Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters) {
+    std::size_t offsets = 0, entries = 0;
+    for (const WaveletFilters::Level& l : filters.levels) {
+        offsets += l.offsets.size();
+        entries += l.odd.size();
+    }
+    const std::size_t largest = std::max({std::size_t(mesh.vertex_count.back()) * 6, mesh.parents.size() * 2, offsets,
+                                          entries * 2});
+    const std::size_t rows = (largest + kTexelArrayRowWidth - 1) / kTexelArrayRowWidth;
+    return ctx.device_info().shader_float64 && rows <= ctx.device_info().max_image_dimension_2d;
+}
+
 WaveletBuffers upload_wavelet_filters(Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters) {
     check_mesh(mesh);
     check_filters(mesh, filters);

@@ -56,8 +56,8 @@ MapsWavelets maps_wavelets(Context* ctx, const passes::SemiRegularMesh& remesh, 
         passes::wavelet_synthesis(remesh, filters, x);
         return x;
     };
-    // A remesh too large for one storage binding of the device runs on the CPU twin.
-    if (ctx && VkDeviceSize(remesh.positions.size()) * 24 > ctx->device_info().max_storage_buffer_range) ctx = nullptr;
+    // A remesh too large for the device's texel arrays runs on the CPU twin.
+    if (ctx && !passes::wavelets_fit_device(*ctx, remesh, filters)) ctx = nullptr;
     w.on_gpu = ctx != nullptr;
     w.analysis_seconds = time_ms([&] { w.coefficients = analysis(remesh.positions, 0); }) / 1e3;
     std::vector<glm::dvec3> back;

@@ -6,6 +6,7 @@
 #include "gpu_test.h"
 
 #include "gimg/engine/graph.h"
+#include "gimg/engine/texel_array.h"
 #include "gimg/engine/upload.h"
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/shapes.h"
@@ -465,6 +466,20 @@ TEST_F(MapsWaveletGpu, AnalysisAndSynthesisEqualTheCpu) {
             EXPECT_GT(max_difference(back, mesh.positions, back.size()), 1e-2);
         }
     }
+}
+
+TEST_F(MapsWaveletGpu, MeshesPastTheTexelArraysAreReportedAsNotFitting) {
+    const gp::SemiRegularMesh mesh = curved_remesh(2, 0.02);
+    const gp::WaveletFilters f = gp::wavelet_filters(mesh, 1);
+    ASSERT_EQ(gp::wavelets_fit_device(ctx(), mesh, f), ctx().device_info().shader_float64);
+    // Six texels per vertex: one vertex more than the rows hold does not fit (counts alone, nothing
+    // allocated).
+    const std::size_t texels = std::size_t(ctx().device_info().max_image_dimension_2d) * kTexelArrayRowWidth;
+    gp::SemiRegularMesh big = mesh;
+    big.vertex_count.back() = std::uint32_t(texels / 6);
+    EXPECT_EQ(gp::wavelets_fit_device(ctx(), big, f), ctx().device_info().shader_float64);
+    big.vertex_count.back() += 1;
+    EXPECT_FALSE(gp::wavelets_fit_device(ctx(), big, f));
 }
 
 TEST_F(MapsWaveletGpu, AnalysisAndSynthesisChainInOneGraph) {

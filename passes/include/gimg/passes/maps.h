@@ -196,6 +196,9 @@ struct WaveletBuffers {
     std::vector<std::uint32_t> offsets_start, entries_start;  // per level where its arrays begin, then the totals
 };
 WaveletBuffers upload_wavelet_filters(Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters);
+// Whether the device can run the transform on this mesh: shaderFloat64, and the values and every
+// filter array within its texel-array rows (upload_wavelet_filters throws gimg::Error otherwise).
+bool wavelets_fit_device(const Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters);
 BufferHandle add_wavelet_analysis(Graph& graph, BufferHandle values, const SemiRegularMesh& mesh,
                                   WaveletBuffers& filters, std::uint32_t down_to = 0);
 BufferHandle add_wavelet_synthesis(Graph& graph, BufferHandle values, const SemiRegularMesh& mesh,
