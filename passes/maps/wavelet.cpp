@@ -237,14 +237,18 @@ void wavelet_synthesis(const SemiRegularMesh& mesh, const WaveletFilters& filter
     }
 }
 
+namespace {
+// The values' texel array: three doubles of two 32-bit texels per vertex.
+std::size_t value_texels(const SemiRegularMesh& mesh) { return std::size_t(mesh.vertex_count.back()) * 6; }
+}  // namespace
+
 bool wavelets_fit_device(const Context& ctx, const SemiRegularMesh& mesh, const WaveletFilters& filters) {
     std::size_t offsets = 0, entries = 0;
     for (const WaveletFilters::Level& l : filters.levels) {
         offsets += l.offsets.size();
         entries += l.odd.size();
     }
-    const std::size_t largest = std::max({std::size_t(mesh.vertex_count.back()) * 6, mesh.parents.size() * 2, offsets,
-                                          entries * 2});
+    const std::size_t largest = std::max({value_texels(mesh), mesh.parents.size() * 2, offsets, entries * 2});
     const std::size_t rows = (largest + kTexelArrayRowWidth - 1) / kTexelArrayRowWidth;
     return ctx.device_info().shader_float64 && rows <= ctx.device_info().max_image_dimension_2d;
 }
@@ -254,7 +258,7 @@ WaveletBuffers upload_wavelet_filters(Context& ctx, const SemiRegularMesh& mesh,
     check_filters(mesh, filters);
     if (!ctx.device_info().shader_float64)
         throw Error(ErrorKind::Unsupported, "wavelets on the GPU need shaderFloat64 (use the CPU)");
-    check_texel_array_size(ctx, std::size_t(mesh.vertex_count.back()) * 6, "wavelets on the GPU: the values");
+    check_texel_array_size(ctx, value_texels(mesh), "wavelets on the GPU: the values");
     WaveletBuffers out;
     std::vector<std::uint32_t> offsets, odd;
     std::vector<double> weight;
@@ -302,7 +306,7 @@ Arrays begin_transform(Graph& graph, const SemiRegularMesh& mesh, WaveletBuffers
     if (filters.offsets_start.size() != mesh.levels() + 1 || filters.entries_start.size() != mesh.levels() + 1 ||
         !filters.parents)
         throw geo::InputError("wavelet filters on the GPU: uploaded for another mesh");
-    const std::uint32_t texels = mesh.vertex_count.back() * 6;
+    const auto texels = std::uint32_t(value_texels(mesh));
     Arrays a{graph.create_image(texel_array_desc(texels, Format::R32U, std::string(what) + " coarse")),
              graph.create_image(texel_array_desc(texels, Format::R32U, std::string(what) + " details")),
              graph.import_image(filters.parents),
@@ -322,7 +326,7 @@ Arrays begin_transform(Graph& graph, const SemiRegularMesh& mesh, WaveletBuffers
 
 BufferHandle end_transform(Graph& graph, const SemiRegularMesh& mesh, BufferHandle values, ImageHandle result,
                            const char* what) {
-    const std::uint32_t texels = mesh.vertex_count.back() * 6;
+    const auto texels = std::uint32_t(value_texels(mesh));
     graph.add_compute_pass(
         std::string(what) + ": store values",
         [&](PassBuilder& b) {
@@ -350,8 +354,8 @@ void add_predict(Graph& graph, Arrays& a, const SemiRegularMesh& mesh, std::uint
 
 void add_update(Graph& graph, Arrays& a, const SemiRegularMesh& mesh, const WaveletBuffers& filters, std::uint32_t j,
                 bool inverse, bool from_detail, bool to_detail) {
-    const UpdatePush push{mesh.vertex_count[j],    filters.offsets_start[j], filters.entries_start[j],
-                          inverse ? 1u : 0u,       from_detail ? 1u : 0u,    to_detail ? 1u : 0u};
+    const UpdatePush push{mesh.vertex_count[j], filters.offsets_start[j], filters.entries_start[j],
+                          inverse ? 1u : 0u,    from_detail ? 1u : 0u,    to_detail ? 1u : 0u};
     graph.add_compute_pass(
         std::string(inverse ? "wavelet synthesis" : "wavelet analysis") + ": update level " + std::to_string(j),
         [&](PassBuilder& b) {
@@ -360,8 +364,8 @@ void add_update(Graph& graph, Arrays& a, const SemiRegularMesh& mesh, const Wave
             a.detail = b.write(a.detail, Access::ComputeReadWrite);
         },
         [=, a = a](Cmd& c) {
-            c.dispatch_threads(kUpdate, {std::max(push.count, 1u)},
-                               {a.coarse, a.detail, a.offsets, a.odd, a.weight}, push);
+            c.dispatch_threads(kUpdate, {std::max(push.count, 1u)}, {a.coarse, a.detail, a.offsets, a.odd, a.weight},
+                               push);
         });
 }
 
