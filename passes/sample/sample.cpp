@@ -37,11 +37,13 @@ ImageHandle add_sample(Graph& graph, BufferHandle positions, BufferHandle parame
     graph.add_raster_pass(
         name,
         [&](PassBuilder& b) {
-            for (auto h : {positions, parameters, triangles}) b.read(h, Access::VertexRead);
+            for (auto h : {parameters, triangles}) b.read(h, Access::VertexRead);
+            for (auto h : {positions, parameters, triangles}) b.read(h, Access::FragmentRead);
             image = b.color(image, ClearValue::color(0, 0, 0, 0));
         },
         [=](Cmd& c) {
-            c.draw(kSample, vertices, 1, {positions, parameters, triangles});
+            const float pixels = float(size);
+            c.draw(kSample, vertices, 1, {positions, parameters, triangles}, pixels);
         });
     return image;
 }
