@@ -173,8 +173,8 @@ void main() {
     }
 
     const REAL3 a = cylinder_point(job, model[0]);
-    const REAL3 e1 = cylinder_point(job, model[1]) - a;
-    const REAL3 e2 = cylinder_point(job, model[2]) - a;
+    const REAL3 b = cylinder_point(job, model[1]);
+    const REAL3 c = cylinder_point(job, model[2]);
     const uint origin = job.tile_y * atlas_width + job.tile_x;
     const uint pixels = uint(small0.y - small0.x + 1) * uint(small0.w - small0.z + 1) +
                         uint(small1.y - small1.x + 1) * uint(small1.w - small1.z + 1) +
@@ -183,7 +183,7 @@ void main() {
     ivec2 p = small0.xz;
     for (uint step = 0; step < pixels; ++step) {
         REAL t;
-        if (line_hit(a, e1, e2, uvec2(p), height, t))
+        if (line_hit(a, b, c, uvec2(p), height, t))
             atomicMax(small[origin + uint(p.y) * atlas_width + uint(p.x)], distance_key(float(t)));
         const bool row_done = p.x == small0.y;
         const bool rect_done = row_done && p.y == small0.w;

@@ -1,6 +1,7 @@
 #version 460
-// Single precision, for devices without shaderFloat64.
+// Single precision, for devices without shaderFloat64 (with a watertight test: line_hit.glsl says why).
 #define REAL float
+#define LINE_HIT_WATERTIGHT 1
 #define REAL2 vec2
 #define REAL3 vec3
 #define REAL4 vec4

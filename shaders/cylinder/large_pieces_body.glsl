@@ -22,15 +22,15 @@ void main() {
         const CylinderJob job = load_job(rect.y);
         const uvec4 corners = imageLoad(triangles, texel(rect.x));
         const REAL3 a = cylinder_point(job, model_corner(job, corners, 0));
-        const REAL3 e1 = cylinder_point(job, model_corner(job, corners, 1)) - a;
-        const REAL3 e2 = cylinder_point(job, model_corner(job, corners, 2)) - a;
+        const REAL3 b = cylinder_point(job, model_corner(job, corners, 1));
+        const REAL3 c = cylinder_point(job, model_corner(job, corners, 2));
         const uint u0 = rect.z & 0xffffu, v0 = rect.w & 0xffffu;
         const uint columns = (rect.z >> 16) - u0 + 1, pixels = columns * ((rect.w >> 16) - v0 + 1);
         const uint origin = job.tile_y * atlas_width + job.tile_x;
         for (uint k = gl_LocalInvocationIndex; k < pixels; k += GIMG_CYL_LARGE_GROUP) {
             const uvec2 p = uvec2(u0 + k % columns, v0 + k / columns);
             REAL t;
-            if (line_hit(a, e1, e2, p, height, t))
+            if (line_hit(a, b, c, p, height, t))
                 atomicMax(small[origin + p.y * atlas_width + p.x], distance_key(float(t)));
         }
     }

@@ -27,7 +27,7 @@ void main() {
     const uvec4 corners = imageLoad(triangles, texel(face));
     const REAL3 a = cylinder_point(jb, model_corner(jb, corners, 0));
     REAL t;
-    if (!line_hit(a, cylinder_point(jb, model_corner(jb, corners, 1)) - a, cylinder_point(jb, model_corner(jb, corners, 2)) - a,
+    if (!line_hit(a, cylinder_point(jb, model_corner(jb, corners, 1)), cylinder_point(jb, model_corner(jb, corners, 2)),
                   atlas_pixel - uvec2(jb.tile_x, jb.tile_y), image_size.y, t)) discard;
     distance = float(t);
     gl_FragDepth = float(REAL(0.5) * (REAL(1.0) - t));

@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <functional>
+#include <random>
 
 namespace gimg::test {
 
@@ -166,6 +167,42 @@ inline void check_cone_distance_linear_in_height(const Projector& project, doubl
             ASSERT_NEAR(img.distance[img.index(u, v)], d_base * (0.9 - y) / 0.8, tolerance) << u << "," << v;
         }
     }
+}
+
+inline void check_every_line_through_a_shared_edge(const Projector& project, double tolerance) {
+    // A closed-sided prism with one vertical edge on every column's lines (at theta_u exactly, up to
+    // rounding) and uneven radii: each pixel's line passes through the edge two facets share, and
+    // must hit it (a test that is not watertight lets such lines through).
+    const std::uint32_t W = 360, H = 90;
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> radius(0.4, 0.8);
+    geo::Mesh prism;
+    std::vector<double> r(W);
+    for (std::uint32_t u = 0; u < W; ++u) {
+        r[u] = radius(rng);
+        const double th = theta_of(u, W);
+        prism.positions.push_back({r[u] * std::cos(th), 0.1, r[u] * std::sin(th)});
+        prism.positions.push_back({r[u] * std::cos(th), 0.9, r[u] * std::sin(th)});
+    }
+    for (unsigned u = 0; u < W; ++u) {
+        const unsigned b0 = 2 * u, t0 = b0 + 1, b1 = 2 * ((u + 1) % W), t1 = b1 + 1;
+        prism.triangles.push_back({b0, t0, b1});  // facing outwards
+        prism.triangles.push_back({b1, t0, t1});
+    }
+    const auto img = project(prism, W, H);
+    std::size_t missed = 0;
+    for (std::uint32_t v = 0; v < H; ++v) {
+        const double y = y_of(v, H);
+        if (y < 0.11 || y > 0.89) continue;
+        for (std::uint32_t u = 0; u < W; ++u) {
+            if (!img.covered[img.index(u, v)]) {
+                ++missed;
+                continue;
+            }
+            ASSERT_NEAR(img.distance[img.index(u, v)], r[u], tolerance) << u << "," << v;
+        }
+    }
+    EXPECT_EQ(missed, 0u) << "lines through a shared edge that hit neither facet";
 }
 
 inline void check_cylindrical_shell_across_the_seam(const Projector& project, double tolerance) {

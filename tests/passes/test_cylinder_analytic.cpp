@@ -92,6 +92,10 @@ TEST_P(CylinderAnalytic, ConeDistanceIsLinearInHeight) {
     test::check_cone_distance_linear_in_height(projector(), tolerance());
 }
 
+TEST_P(CylinderAnalytic, EveryLineThroughASharedEdgeHits) {
+    test::check_every_line_through_a_shared_edge(projector(), tolerance());
+}
+
 TEST_P(CylinderAnalytic, CylindricalShellAcrossTheSeam) {
     test::check_cylindrical_shell_across_the_seam(projector(), tolerance());
 }
