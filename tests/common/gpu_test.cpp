@@ -69,6 +69,7 @@ void GpuTest::accept_validation_messages() {
 }
 
 void GpuTest::TearDown() {
+    if (!ctx_) return;  // SetUp failed (no device, or validation asked for and missing): already reported
     EXPECT_EQ(ctx_->validation_message_count(), messages_at_start_)
         << "the validation layer reported problems during this test (see stderr)";
 }

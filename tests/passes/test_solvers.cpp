@@ -15,6 +15,8 @@
 #include <Eigen/SparseLU>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -234,7 +236,11 @@ TEST_F(Solvers, GeneralEqualsTheCpuTwinAndEigensLuOnRowNormalisedWeights) {
         const std::vector<double> direct = direct_solution(s, false);
         std::printf("BiCGSTAB, %u right-hand sides, %zu rows: %zu iterations to 1e-11\n", k, a.size, gpu.iterations);
         EXPECT_TRUE(gpu.converged) << gpu.residual;
-        EXPECT_EQ(gpu.iterations, cpu.iterations);
+        // Both stop at the first check whose residual is under the tolerance. The GPU's sums round
+        // differently (NVIDIA stopped one check later here, lavapipe at the same one), so a residual
+        // next to the tolerance may end either one check, and no more, apart.
+        EXPECT_LE(std::max(gpu.iterations, cpu.iterations) - std::min(gpu.iterations, cpu.iterations),
+                  o.iterations_per_check);
         EXPECT_LT(max_difference(gpu.x, cpu.x), 1e-8);
         EXPECT_LT(max_difference(gpu.x, direct), 1e-8);
         EXPECT_LT(max_difference(direct, truth), 1e-9);
