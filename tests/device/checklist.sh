@@ -3,8 +3,8 @@
 # (Ubuntu, the NVIDIA driver, no Debian packages, minutes of device time) spends them measuring:
 #
 #   ./run device-stage        here: build, then pack into .device/stage.tar.xz the binaries, the
-#                             libraries they link, the shared meshes and the large fetched ones, and
-#                             download the Vulkan loader's packages into .gl
+#                             libraries they link, the validation layer, the shared meshes and the
+#                             large fetched ones, and download the Vulkan loader's packages into .gl
 #   ./run device-check [OUT]  there (the device tool, carrying .device and .gl): unpack, install the
 #                             loader, and run every benchmark and the GPU tests, each under a time
 #                             limit and all under DEVICE_CHECK_SECONDS (default 480), writing logs,
@@ -21,6 +21,12 @@ stage() {
   rm -rf "$stage" && mkdir -p "$stage/bin" "$stage/lib" "$stage/meshes" "$stage/large/derived"
   cp build/gimg build/tests/engine/gimg_engine_gpu_tests build/tests/passes/gimg_passes_tests "$stage/bin/"
   for b in "$stage"/bin/*; do ../shared/device/collect-libs.sh "$b" "$stage/lib" >/dev/null; done
+  # The Khronos validation layer, which the GPU tests require: its manifest names the library
+  # relative to itself.
+  mkdir -p "$stage/layers"
+  cp /usr/lib/x86_64-linux-gnu/libVkLayer_khronos_validation.so "$stage/layers/"
+  sed 's|"library_path": "[^"]*"|"library_path": "./libVkLayer_khronos_validation.so"|' \
+    /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json > "$stage/layers/VkLayer_khronos_validation.json"
   # The shared meshes but the two largest scans and the retrieval archive (no benchmark reads them).
   find ../shared/meshes -maxdepth 1 -type f \( -name '*.off' -o -name '*.obj' -o -name '*.ply' \) \
     ! -name 'snowden*' -exec cp {} "$stage/meshes/" \;
@@ -55,7 +61,7 @@ check() {
     for f in .gl/*.deb; do dpkg -x "$f" /; done
     ldconfig
   fi
-  export LD_LIBRARY_PATH="$work/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+  export LD_LIBRARY_PATH="$work/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}" VK_LAYER_PATH="$work/layers"
   if [ -z "${VK_DRIVER_FILES:-}" ]; then
     for icd in /usr/share/vulkan/icd.d/nvidia_icd.json /usr/local/nvidia/share/vulkan/icd.d/nvidia_icd.json \
                /etc/vulkan/icd.d/nvidia_icd.json; do
