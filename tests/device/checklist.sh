@@ -7,9 +7,9 @@
 #                             large fetched ones, and download the Vulkan loader's packages into .gl
 #   ./run device-check [OUT]  there (the device tool, carrying .device and .gl): unpack, install the
 #                             loader, and run every benchmark and the GPU tests, each under a time
-#                             limit and all under DEVICE_CHECK_SECONDS (default 480), writing logs,
-#                             --json files and summary.txt into OUT (default $OUT, else
-#                             build/device-check)
+#                             limit and all under DEVICE_CHECK_SECONDS (default 480), writing
+#                             summary.txt and device-check.tar.gz (the logs and --json files) into
+#                             OUT (default $OUT, else build/device-check)
 #
 # `./run device-check` also runs here on lavapipe (it then leaves the installed loader alone), which
 # is how the script itself is tested; DEVICE_CHECK_SECONDS bounds it there too.
@@ -53,9 +53,13 @@ check() {
   local out=${1:-${OUT:-build/device-check}}
   [ -s .device/stage.tar.xz ] || { echo "device-check: no .device/stage.tar.xz (run ./run device-stage first)" >&2; exit 2; }
   mkdir -p "$out"
-  out=$(cd "$out" && pwd)
-  local work
+  local dest work
+  dest=$(cd "$out" && pwd)
   work=$(mktemp -d)
+  # Everything is written to one folder and packed at the end: the device tool brings back only a
+  # few files from OUT.
+  out="$work/out"
+  mkdir -p "$out"
   tar -C "$work" -xJf .device/stage.tar.xz
   if ! ldconfig -p 2>/dev/null | grep -q 'libvulkan.so.1 '; then
     for f in .gl/*.deb; do dpkg -x "$f" /; done
@@ -100,8 +104,11 @@ check() {
   step polycube-gpu 45 "$gimg" polycube "$m/elk.off" --axis z --out "$work/polycube-gpu" --json "$out/polycube-elk-gpu.json"
   step polycube-cpu 45 "$gimg" polycube "$m/elk.off" --axis z --cpu --out "$work/polycube-cpu" --json "$out/polycube-elk-cpu.json"
   step engine-tests 60 "$work/bin/gimg_engine_gpu_tests" --gtest_brief=1
-  step passes-tests 150 "$work/bin/gimg_passes_tests" --gtest_brief=1
-  echo "device-check: $((SECONDS - started)) s; logs, --json files and summary.txt in $out"
+  step passes-tests 200 "$work/bin/gimg_passes_tests" --gtest_brief=1
+  echo "device-check: $((SECONDS - started)) s" | tee -a "$out/summary.txt"
+  cp "$out/summary.txt" "$dest/summary.txt"
+  tar -C "$out" -czf "$dest/device-check.tar.gz" .
+  echo "device-check: summary.txt and device-check.tar.gz (logs and --json files) in $dest"
   rm -rf "$work"
 }
 
