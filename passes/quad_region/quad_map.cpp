@@ -53,8 +53,7 @@ std::array<std::size_t, 2> relax_both(Context* ctx, const detail::ColouredRows& 
                                       std::size_t max_sweeps, std::vector<glm::dvec2>& uv) {
     std::array<std::size_t, 2> sweeps{};
     if (ctx) {
-        for (int field = 0; field < 2; ++field)
-            sweeps[field] = detail::relax_gpu(*ctx, rows, k, tau, max_sweeps, uv, field);
+        sweeps = detail::relax_gpu(*ctx, rows, k, tau, max_sweeps, uv);
     } else {
         geo::parallel_for_chunks(2, 1, [&](std::size_t field, std::size_t, std::size_t) {
             sweeps[field] = detail::relax_cpu(rows, k, tau, max_sweeps, uv, int(field));

@@ -1,6 +1,7 @@
 // The paper's relaxation (eq. 2) as Gauss-Seidel sweeps in colour order: the free vertices coloured
-// so no two neighbours share a colour, each colour one compute dispatch (its rows update in place
-// without reading each other), and the CPU twin running the same rows in the same order.
+// so no two neighbours share a colour (its rows update in place without reading each other), one
+// workgroup per field sweeping colour after colour, and the CPU twin running the same rows in the
+// same order.
 #include "quad_region/relaxation.h"
 
 #include "gimg/engine/graph.h"
@@ -19,8 +20,8 @@ namespace {
 
 const Spirv kRelax = GIMG_SPIRV(gimg_spv_quad_region_relax_comp);
 
-struct RelaxPush {
-    std::uint32_t first, count, field, sweep;
+struct RelaxPush {  // shaders/quad_region/relax.comp
+    std::uint32_t colours, limit, max_sweeps, pad;
     double k;
 };
 
@@ -114,58 +115,66 @@ std::size_t relax_cpu(const ColouredRows& rows, double k, double tau, std::size_
     throw geo::InputError("the relaxation did not settle within " + std::to_string(max_sweeps) + " sweeps");
 }
 
-std::size_t relax_gpu(Context& ctx, const ColouredRows& rows, double k, double tau, std::size_t max_sweeps,
-                      std::vector<glm::dvec2>& uv, int field) {
-    if (rows.vertex.empty()) return 1;
+std::array<std::size_t, 2> relax_gpu(Context& ctx, const ColouredRows& rows, double k, double tau,
+                                     std::size_t max_sweeps, std::vector<glm::dvec2>& uv) {
+    if (rows.vertex.empty()) return {1, 1};
+    if (max_sweeps > 0x7fffffffu) throw geo::InputError("the relaxation's sweep limit is too large");
     Buffer vertex_buf = upload_buffer(ctx, rows.vertex, "relax rows");
     Buffer offset_buf = upload_buffer(ctx, rows.offsets, "relax offsets");
     Buffer column_buf = upload_buffer(ctx, rows.columns, "relax columns");
     Buffer weight_buf = upload_buffer(ctx, rows.weights, "relax weights");
+    Buffer colour_buf = upload_buffer(ctx, rows.first, "relax colours");
     Buffer uv_buf = upload_buffer(ctx, uv, "relax uv");
-    Buffer slot_buf = ctx.create_buffer({kSweepsPerCheck * 4, "relax worst corrections"});
+    Buffer slot_buf = ctx.create_buffer({2 * kSweepsPerCheck * 4, "relax worst corrections"});
+    // Read after every submission: host-visible, so reading it costs no copy.
+    Buffer progress_buf = ctx.create_buffer({4 * 4, "relax progress"}, MemoryUsage::Readback);
+    const std::array<std::uint32_t, 4> zeros{};
+    ctx.upload(progress_buf, zeros.data(), sizeof zeros);
 
     Graph g(ctx);
-    auto vertex_h = g.import_buffer(vertex_buf), offset_h = g.import_buffer(offset_buf);
-    auto column_h = g.import_buffer(column_buf), weight_h = g.import_buffer(weight_buf);
-    auto uv_h = g.import_buffer(uv_buf), slot_h = g.import_buffer(slot_buf);
-    g.add_loop(kSweepsPerCheck, [&] {
-        for (std::uint32_t c = 0; c < rows.colour_count(); ++c) {
-            const std::uint32_t first = rows.first[c], count = rows.first[c + 1] - first;
-            if (count == 0) continue;
-            g.add_compute_pass(
-                "relax colour " + std::to_string(c),
-                [&](PassBuilder& b) {
-                    for (auto h : {vertex_h, offset_h, column_h, weight_h}) b.read(h, Access::ComputeRead);
-                    uv_h = b.write(uv_h, Access::ComputeReadWrite);
-                    slot_h = b.write(slot_h, Access::ComputeReadWrite);
-                },
-                [=, uv = uv_h, slots = slot_h](Cmd& cmd) {
-                    cmd.dispatch_threads(kRelax, {count}, {vertex_h, offset_h, column_h, weight_h, uv, slots},
-                                         RelaxPush{first, count, std::uint32_t(field), cmd.iteration(), k});
-                });
-        }
+    const std::array<BufferHandle, 5> inputs{g.import_buffer(vertex_buf), g.import_buffer(offset_buf),
+                                             g.import_buffer(column_buf), g.import_buffer(weight_buf),
+                                             g.import_buffer(colour_buf)};
+    BufferHandle uv_h = g.import_buffer(uv_buf), slot_h = g.import_buffer(slot_buf);
+    BufferHandle progress_h = g.import_buffer(progress_buf);
+    const RelaxPush push{rows.colour_count(), float_bits(tau), std::uint32_t(max_sweeps), 0, k};
+    g.add_loop(GIMG_RELAX_DISPATCHES, [&] {
+        g.add_compute_pass(
+            "relax: clear the corrections", [&](PassBuilder& b) { slot_h = b.write(slot_h, Access::TransferDst); },
+            [slots = slot_h](Cmd& cmd) { cmd.fill(slots, 0); });
+        g.add_compute_pass(
+            "relax",
+            [&](PassBuilder& b) {
+                for (auto h : inputs) b.read(h, Access::ComputeRead);
+                uv_h = b.write(uv_h, Access::ComputeReadWrite);
+                slot_h = b.write(slot_h, Access::ComputeReadWrite);
+                progress_h = b.write(progress_h, Access::ComputeReadWrite);
+            },
+            [=, uv = uv_h, slots = slot_h, progress = progress_h](Cmd& cmd) {
+                cmd.dispatch(kRelax, {2, 1, 1},
+                             {inputs[0], inputs[1], inputs[2], inputs[3], uv, slots, inputs[4], progress}, push);
+            });
     });
-    g.export_buffer(slot_h, Access::TransferSrc);
+    g.export_buffer(progress_h, Access::HostRead);
     g.export_buffer(uv_h, Access::TransferSrc);
     Plan plan = g.compile();
-    const std::uint32_t limit = float_bits(tau);
-    const std::vector<std::uint32_t> zeros(kSweepsPerCheck, 0);
-    for (std::size_t done = 0; done < max_sweeps; done += kSweepsPerCheck) {
-        ctx.upload(slot_buf, zeros.data(), zeros.size() * 4);
+    // Each submission advances a field that has not stopped by GIMG_RELAX_DISPATCHES chunks.
+    for (;;) {
         plan.execute();
-        std::vector<std::uint32_t> worst(kSweepsPerCheck);
-        ctx.download(slot_buf, worst.data(), worst.size() * 4);
-        for (std::uint32_t s = 0; s < kSweepsPerCheck; ++s)
-            if (tau > 0.0 && worst[s] < limit) {
-                ctx.download(uv_buf, uv.data(), uv.size() * 16);
-                return done + s + 1;
-            }
-        if (tau == 0.0 && done + kSweepsPerCheck >= max_sweeps) {
+        std::array<std::uint32_t, 4> progress{};
+        ctx.download(progress_buf, progress.data(), sizeof progress);
+        bool finished = true;
+        for (int field = 0; field < 2; ++field) {
+            const bool settled = progress[2 * field + 1] != 0, spent = progress[2 * field] >= max_sweeps;
+            if (!settled && spent && tau > 0.0)
+                throw geo::InputError("the relaxation did not settle within " + std::to_string(max_sweeps) + " sweeps");
+            finished = finished && (settled || spent);
+        }
+        if (finished) {
             ctx.download(uv_buf, uv.data(), uv.size() * 16);
-            return done + kSweepsPerCheck;
+            return {progress[0], progress[2]};
         }
     }
-    throw geo::InputError("the relaxation did not settle within " + std::to_string(max_sweeps) + " sweeps");
 }
 
 }  // namespace gimg::passes::detail

@@ -13,6 +13,7 @@
 #include "gimg/geometry/topology.h"
 #include "gimg/passes/parameterize.h"
 #include "gimg/passes/quad_region.h"
+#include "quad_region/relax_layout.h"
 
 #include <glm/geometric.hpp>
 
@@ -419,27 +420,49 @@ TEST(QuadDeform, ZeroChangesNothingAndPastingMovesAlongTheNormal) {
 }
 
 TEST_F(QuadRegion, TheRelaxationOnTheGpuIsItsCpuTwin) {
-    // Gauss-Seidel in colour order: one dispatch per colour on the GPU, the same rows in the same
-    // order on the CPU; the same sweep counts and the same map.
-    geo::Mesh sheet = jittered_sheet();
-    for (auto& p : sheet.positions) p.z = 0.2 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y);  // curved
+    // Gauss-Seidel in colour order: one workgroup per field sweeping colour after colour on the
+    // GPU, the same rows in the same order on the CPU; the same sweep counts and the same map. The
+    // finer sheet has more rows per colour than the workgroup has invocations.
+    for (const int squares : {20, 80}) {
+        geo::Mesh sheet = jittered_sheet(squares, 0.6 / squares);  // jitter 0.3 of a square, as the default
+
+        for (auto& p : sheet.positions) p.z = 0.2 * std::sin(3.0 * p.x) * std::cos(2.0 * p.y);  // curved
+        const gp::QuadRegion r = gp::cut_quad_region(sheet, unit_corners(sheet));
+        if (squares == 80) {
+            EXPECT_GT(r.mesh.vertex_count(), 6u * GIMG_RELAX_GROUP);  // a sheet colours in at most 6 or so
+        }
+        for (auto start : {gp::QuadStart::Flat, gp::QuadStart::Dijkstra, gp::QuadStart::Overrelaxed}) {
+            const gp::QuadMapOptions o{.start = start, .solver = gp::QuadSolver::Iterate};
+            const gp::QuadMap gpu = gp::map_quad_region(&ctx(), r, o), cpu = gp::map_quad_region(nullptr, r, o);
+            EXPECT_EQ(gpu.iterations_u, cpu.iterations_u);
+            EXPECT_EQ(gpu.iterations_v, cpu.iterations_v);
+            EXPECT_EQ(gpu.overrelaxed_sweeps, cpu.overrelaxed_sweeps);
+            // The over-relaxed sweeps (no stopping rule) are the work there, and the starts must agree.
+            if (start == gp::QuadStart::Overrelaxed)
+                EXPECT_EQ(cpu.overrelaxed_sweeps, gp::kOverrelaxedSweeps);
+            else
+                EXPECT_GT(cpu.iterations_u, 1u);
+            double worst = 0.0;
+            for (std::size_t i = 0; i < cpu.uv.size(); ++i)
+                worst = std::max({worst, glm::length(gpu.uv[i] - cpu.uv[i]), glm::length(gpu.start[i] - cpu.start[i])});
+            EXPECT_LE(worst, 1e-12);
+            EXPECT_EQ(gpu.flipped, 0u);
+        }
+    }
+}
+
+TEST_F(QuadRegion, ARelaxationThatDoesNotSettleIsRefusedOnBothPaths) {
+    const geo::Mesh sheet = jittered_sheet();
     const gp::QuadRegion r = gp::cut_quad_region(sheet, unit_corners(sheet));
-    for (auto start : {gp::QuadStart::Flat, gp::QuadStart::Dijkstra, gp::QuadStart::Overrelaxed}) {
-        const gp::QuadMapOptions o{.start = start, .solver = gp::QuadSolver::Iterate};
-        const gp::QuadMap gpu = gp::map_quad_region(&ctx(), r, o), cpu = gp::map_quad_region(nullptr, r, o);
-        EXPECT_EQ(gpu.iterations_u, cpu.iterations_u);
-        EXPECT_EQ(gpu.iterations_v, cpu.iterations_v);
-        EXPECT_EQ(gpu.overrelaxed_sweeps, cpu.overrelaxed_sweeps);
-        // The over-relaxed sweeps (no stopping rule) are the work there, and the starts must agree.
-        if (start == gp::QuadStart::Overrelaxed)
-            EXPECT_EQ(cpu.overrelaxed_sweeps, gp::kOverrelaxedSweeps);
-        else
-            EXPECT_GT(cpu.iterations_u, 1u);
-        double worst = 0.0;
-        for (std::size_t i = 0; i < cpu.uv.size(); ++i)
-            worst = std::max({worst, glm::length(gpu.uv[i] - cpu.uv[i]), glm::length(gpu.start[i] - cpu.start[i])});
-        EXPECT_LE(worst, 1e-12);
-        EXPECT_EQ(gpu.flipped, 0u);
+    // From the flat start the relaxation needs far more than 20 sweeps to reach tau = 1e-4.
+    const gp::QuadMapOptions o{.start = gp::QuadStart::Flat, .solver = gp::QuadSolver::Iterate, .max_sweeps = 20};
+    for (Context* c : {static_cast<Context*>(nullptr), &ctx()}) {
+        try {
+            gp::map_quad_region(c, r, o);
+            ADD_FAILURE() << (c ? "gpu" : "cpu") << ": no error";
+        } catch (const geo::InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("did not settle within 20 sweeps"), std::string::npos) << e.what();
+        }
     }
 }
 
