@@ -88,6 +88,9 @@ float key_distance(std::uint32_t key) {
 // dragon's 871K faces 46-50 -> 33-36 ms), and a cell still holds only a few pixels' worth of faces.
 constexpr int kFaceOrderBitsPerAxis = 7;
 
+// Faces or vertices per chunk when a mesh's arrays are filled on every core.
+constexpr std::size_t kPackGrain = 1 << 15;
+
 struct MeshRange {
     std::uint32_t vertex_offset, first_face, face_count;
 };
@@ -435,12 +438,14 @@ std::vector<std::uint32_t> face_order(const CylinderMesh& mesh) {
         throw geo::InputError("cylinder mesh arrays are not whole triangles / vertices");
     const std::uint32_t vertices = std::uint32_t(mesh.positions.size() / 3);
     std::vector<glm::dvec3> centres(mesh.face_count(), glm::dvec3(0.0));
-    for (std::size_t f = 0; f < centres.size(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const std::uint32_t v = mesh.triangles[3 * f + k];
-            if (v >= vertices) throw geo::InputError("cylinder mesh face names a missing vertex");
-            centres[f] += glm::dvec3(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
-        }
+    geo::parallel_for_chunks(centres.size(), kPackGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t f = begin; f < end; ++f)
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t v = mesh.triangles[3 * f + k];
+                if (v >= vertices) throw geo::InputError("cylinder mesh face names a missing vertex");
+                centres[f] += glm::dvec3(mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2]);
+            }
+    });
     return geo::morton_order(centres, kFaceOrderBitsPerAxis);
 }
 
@@ -458,13 +463,23 @@ std::vector<std::uint32_t> CylinderZBuffer::add_meshes(std::span<const CylinderM
     std::vector<std::uint32_t> ids;
     for (std::size_t i = 0; i < meshes.size(); ++i) {
         const CylinderMesh& mesh = meshes[i];
-        s.meshes.push_back({std::uint32_t(s.point_texels.size()), std::uint32_t(s.face_texels.size()),
-                            std::uint32_t(mesh.face_count())});
-        for (std::size_t v = 0; v < mesh.positions.size(); v += 3)
-            s.point_texels.emplace_back(mesh.positions[v], mesh.positions[v + 1], mesh.positions[v + 2], 0.0f);
-        for (std::uint32_t f : orders[i])
-            s.face_texels.emplace_back(mesh.triangles[3 * std::size_t(f)], mesh.triangles[3 * std::size_t(f) + 1],
-                                       mesh.triangles[3 * std::size_t(f) + 2], 0u);
+        const std::size_t first_point = s.point_texels.size(), first_face = s.face_texels.size();
+        s.meshes.push_back({std::uint32_t(first_point), std::uint32_t(first_face), std::uint32_t(mesh.face_count())});
+        s.point_texels.resize(first_point + mesh.positions.size() / 3);
+        s.face_texels.resize(first_face + orders[i].size());
+        glm::vec4* points = s.point_texels.data() + first_point;
+        glm::uvec4* faces = s.face_texels.data() + first_face;
+        geo::parallel_for_chunks(
+            mesh.positions.size() / 3, kPackGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+                for (std::size_t v = begin; v < end; ++v)
+                    points[v] = {mesh.positions[3 * v], mesh.positions[3 * v + 1], mesh.positions[3 * v + 2], 0.0f};
+            });
+        geo::parallel_for_chunks(orders[i].size(), kPackGrain, [&](std::size_t, std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) {
+                const std::size_t f = orders[i][k];
+                faces[k] = {mesh.triangles[3 * f], mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2], 0u};
+            }
+        });
         ids.push_back(std::uint32_t(s.meshes.size() - 1));
     }
     s.geometry.reset();

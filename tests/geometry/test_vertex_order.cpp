@@ -1,4 +1,5 @@
 // Spatial vertex renumbering: the same surface, neighbours close in number.
+#include "gimg/geometry/parallel_for.h"
 #include "gimg/geometry/shapes.h"
 #include "gimg/geometry/vertex_order.h"
 
@@ -81,4 +82,31 @@ TEST(VertexOrder, MortonOrderOfTheCubesCornersIsTheZCurve) {
     points.push_back({1.0, 1.0, 1.0});
     const std::vector<std::uint32_t> order = morton_order(points);
     EXPECT_EQ(order, (std::vector<std::uint32_t>{3, 1, 6, 4, 7, 5, 0, 2, 8}));
+}
+
+TEST(VertexOrder, LargeMortonOrderIsAStableSortByKeyOnAnyThreadCount) {
+    // 300,000 points on the 128^3 lattice of 7 bits an axis (many repeated, so ties matter), sorted
+    // by the sort in chunks on every core: the same order as a stable sort by the interleaved bits,
+    // with 1 thread or 5.
+    std::vector<glm::dvec3> points;
+    std::uint64_t state = 12345;
+    auto next = [&state] { return (state = state * 6364136223846793005ull + 1442695040888963407ull) >> 57; };
+    for (int i = 0; i < 300000; ++i) points.push_back(glm::dvec3(double(next()), double(next()), double(next())));
+    points.push_back({0.0, 0.0, 0.0});  // the lattice's corners, so each axis spans 0..127 exactly
+    points.push_back({127.0, 127.0, 127.0});
+    auto key = [](const glm::dvec3& p) {
+        std::uint64_t k = 0;
+        for (int bit = 0; bit < 7; ++bit)
+            for (int axis = 0; axis < 3; ++axis) k |= ((std::uint64_t(p[axis]) >> bit) & 1u) << (3 * bit + axis);
+        return k;
+    };
+    std::vector<std::uint32_t> expected(points.size());
+    std::iota(expected.begin(), expected.end(), 0u);
+    std::stable_sort(expected.begin(), expected.end(),
+                     [&](std::uint32_t a, std::uint32_t b) { return key(points[a]) < key(points[b]); });
+    for (unsigned threads : {1u, 5u}) {
+        set_default_thread_count(threads);
+        EXPECT_EQ(morton_order(points, 7), expected) << threads << " threads";
+    }
+    set_default_thread_count(0);
 }
