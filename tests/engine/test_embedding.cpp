@@ -11,10 +11,13 @@
 #include <gtest/gtest.h>
 #include <vulkan/vulkan.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <numeric>
+#include <string>
 #include <vector>
 
 // The README's example, verbatim.
@@ -40,7 +43,21 @@ class HostEngine : public ::testing::Test {
 protected:
     void SetUp() override {
         host_messages = 0;
+        // Validation as the other GPU tests have it: required, unless GIMG_VALIDATION=0 (the debug
+        // messenger itself is the loader's, so it stays).
+        const char* env = std::getenv("GIMG_VALIDATION");
+        const bool validate = !(env && std::string(env) == "0");
         const char* layer = "VK_LAYER_KHRONOS_validation";
+        if (validate) {
+            std::uint32_t n = 0;
+            vkEnumerateInstanceLayerProperties(&n, nullptr);
+            std::vector<VkLayerProperties> layers(n);
+            vkEnumerateInstanceLayerProperties(&n, layers.data());
+            ASSERT_TRUE(std::any_of(layers.begin(), layers.end(),
+                                    [&](const VkLayerProperties& l) { return std::strcmp(l.layerName, layer) == 0; }))
+                << "validation was requested but " << layer
+                << " is not installed (Debian package vulkan-validationlayers; GIMG_VALIDATION=0 runs without it)";
+        }
         const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
         VkValidationFeatureEnableEXT sync = VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT;
         VkValidationFeaturesEXT features{VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT};
@@ -48,11 +65,11 @@ protected:
         features.pEnabledValidationFeatures = &sync;
         VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
         app.apiVersion = VK_API_VERSION_1_3;
-        VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO, &features};
+        VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO, validate ? &features : nullptr};
         ici.pApplicationInfo = &app;
-        ici.enabledLayerCount = 1;
+        ici.enabledLayerCount = validate ? 1 : 0;
         ici.ppEnabledLayerNames = &layer;
-        ici.enabledExtensionCount = 2;
+        ici.enabledExtensionCount = validate ? 2 : 1;
         ici.ppEnabledExtensionNames = extensions;
         HOST_CHECK(vkCreateInstance(&ici, nullptr, &instance));
         auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
