@@ -53,7 +53,7 @@ void bind_surface_maps(py::module_& m) {
             d["positions"] = positions_array(back.positions);
             d["faces"] = faces_array(back.triangles);
             d["iterations"] = map.iterations.size() - 1;
-            d["flipped"] = map.iterations.back().flipped;
+            d["flipped"] = passes::count_flipped(mesh, map.uv);
             return d;
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 129,

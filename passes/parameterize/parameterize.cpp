@@ -7,6 +7,7 @@
 #include "parameterize/reweighting.h"
 #include "parameterize/tutte_system.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -75,18 +76,32 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         weights = floater_weights(mesh, adj);
     }
 
-    SolveOptions solve_options{.tolerance = options.solve_tolerance, .max_iterations = 20000};
-    auto solve = [&](const std::vector<glm::dvec2>& start, IterationReport& report) {
+    // The weighted system from `start` to a relative residual of `tolerance`; adds its iterations to
+    // `solver_iterations`.
+    auto solve_to = [&](const std::vector<glm::dvec2>& start, double tolerance, std::size_t& solver_iterations) {
         const LinearSystem system = detail::tutte_system(adj, weights, in.interior, fixed_uv, start);
+        const SolveOptions solve_options{.tolerance = tolerance, .max_iterations = 20000};
         const SolveResult r =
             ctx ? solve_general(*ctx, system, solve_options) : solve_general_cpu(system, solve_options);
         if (!r.converged)
             throw geo::InputError("the parameterization's linear system did not converge (relative residual " +
                                   std::to_string(r.residual) + " after " + std::to_string(r.iterations) +
                                   " iterations)");
-        report.solver_iterations = r.iterations;
+        solver_iterations += r.iterations;
         std::vector<glm::dvec2> uv(n);
         for (std::size_t i = 0; i < n; ++i) uv[i] = {r.x[2 * i], r.x[2 * i + 1]};
+        return uv;
+    };
+    const bool reweighting =
+        options.variant != ParameterizeVariant::Tutte && options.variant != ParameterizeVariant::Floater;
+    const double iterate_tolerance = reweighting && !options.keep_iterates
+                                         ? std::max(options.iterate_tolerance, options.solve_tolerance)
+                                         : options.solve_tolerance;
+    // An iterate: loosely solved, and solved on to full accuracy if that one folds.
+    auto solve = [&](const std::vector<glm::dvec2>& start, IterationReport& report) {
+        std::vector<glm::dvec2> uv = solve_to(start, iterate_tolerance, report.solver_iterations);
+        if (iterate_tolerance > options.solve_tolerance && count_flipped(mesh, uv) > 0)
+            uv = solve_to(uv, options.solve_tolerance, report.solver_iterations);
         return uv;
     };
     // Measures of an iterate; returns its L2 stretch's per-face squares for the stretch variant and
@@ -115,11 +130,12 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
     std::vector<double> stretch = measure(uv, first);
     finish(uv, first, started);
     out.uv = uv;
-    if (options.variant == ParameterizeVariant::Tutte || options.variant == ParameterizeVariant::Floater) {
+    if (!reweighting) {
         out.seconds = seconds_since(t0);
         return out;
     }
     double best_stretch = first.l2_stretch;
+    std::vector<double> returned_weights = weights;  // the weights of out.uv
     for (std::size_t t = 1; t <= options.max_iterations; ++t) {
         started = Clock::now();
         IterationReport report;
@@ -135,12 +151,18 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
             if (report.l2_stretch < best_stretch) {
                 best_stretch = report.l2_stretch;
                 out.uv = uv;
+                returned_weights = weights;
             }
             if (!(report.l2_stretch < out.iterations[t - 1].l2_stretch * (1.0 - options.stop_fall))) break;
         } else {
             out.uv = uv;
+            returned_weights = weights;
             if (t >= 2 && !(report.sigma_error < out.iterations[t - 1].sigma_error * (1.0 - options.stop_fall))) break;
         }
+    }
+    if (iterate_tolerance > options.solve_tolerance) {
+        weights = std::move(returned_weights);
+        out.uv = solve_to(out.uv, options.solve_tolerance, out.final_solver_iterations);
     }
     out.seconds = seconds_since(t0);
     return out;

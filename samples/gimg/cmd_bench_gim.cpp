@@ -93,7 +93,7 @@ void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
                         row.iterations = t, row.flipped = map.iterations[t].flipped;
                 }
             } else {
-                row.flipped = map.iterations.back().flipped;
+                row.flipped = passes::count_flipped(mesh, map.uv);
                 row.errors = errors_of(map.uv);
             }
             rows.push_back(std::move(row));

@@ -93,13 +93,13 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     line.finish();
     std::size_t covered = 0;
     for (auto c : image.covered) covered += c;
-    const passes::IterationReport& last = map.iterations.back();
+    const std::size_t flipped = passes::count_flipped(mesh, map.uv);  // of the map returned
     if (!global.quiet) {
         std::printf(
-            "map: %zu iterations, %.2f s, %zu flipped triangles; %ux%u image (%zu of %zu pixels covered, "
-            "%.1f ms) -> %zu faces (%.1f ms)\n",
-            map.iterations.size() - 1, map.seconds, last.flipped, size, size, covered, std::size_t(size) * size,
-            sample_ms, back.face_count(), reconstruct_ms);
+            "map: %zu iterations and a final solve of %zu solver iterations, %.2f s, %zu flipped triangles; %ux%u "
+            "image (%zu of %zu pixels covered, %.1f ms) -> %zu faces (%.1f ms)\n",
+            map.iterations.size() - 1, map.final_solver_iterations, map.seconds, flipped, size, size, covered,
+            std::size_t(size) * size, sample_ms, back.face_count(), reconstruct_ms);
         std::printf(
             "relative to the bounding-box diagonal: RMS %.3e (original->reconstruction %.3e, back %.3e), "
             "Hausdorff %.3e, PSNR %.2f dB\n",
@@ -117,8 +117,9 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                      {"size", size},
                      {"corners", map.boundary.corners},
                      {"iterations", iterations},
+                     {"final_solver_iterations", map.final_solver_iterations},
                      {"map_seconds", map.seconds},
-                     {"flipped", last.flipped},
+                     {"flipped", flipped},
                      {"covered_pixels", covered},
                      {"sample_ms", sample_ms},
                      {"reconstruct_ms", reconstruct_ms},

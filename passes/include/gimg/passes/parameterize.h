@@ -77,19 +77,24 @@ struct ParameterizeOptions {
     // thesis prints it. Off by default: the 3D one-ring is cut by the boundary as the 2D one is,
     // so the ratio needs no correction (and a planar square then maps to itself).
     bool boundary_factors_on_ratio = false;
-    double solve_tolerance = 1e-8;  // relative residual of every solve
-    // Keep every iterate's map (Parameterization::iterates), for choosing one by another measure.
+    double solve_tolerance = 1e-8;  // relative residual of the map returned
+    // Relative residual of the reweighting's iterates: the returned map's weights are then solved
+    // again to solve_tolerance, from the iterate. An iterate that folds at this tolerance is solved
+    // to solve_tolerance at once (its negative areas would break the next reweighting).
+    double iterate_tolerance = 1e-5;
+    // Keep every iterate's map (Parameterization::iterates), for choosing one by another measure;
+    // every iterate is then solved to solve_tolerance.
     bool keep_iterates = false;
 };
 
 struct IterationReport {
-    std::size_t iteration = 0;  // 0: the Floater (or Tutte) start
-    double sigma_error = 0.0;   // E_sigma of the factors applied to reach this iterate (0 at 0)
-    double area_spread = 0.0;   // standard deviation of log(A_i / mean A), interior vertices
-    double l2_stretch = 0.0;    // Sander's L2 stretch of the map, 2D area scaled to the 3D area
-    std::size_t flipped = 0;    // parameter triangles of negative area
-    std::size_t solver_iterations = 0;
-    double seconds = 0.0;  // reweighting and solve of this iteration
+    std::size_t iteration = 0;          // 0: the Floater (or Tutte) start
+    double sigma_error = 0.0;           // E_sigma of the factors applied to reach this iterate (0 at 0)
+    double area_spread = 0.0;           // standard deviation of log(A_i / mean A), interior vertices
+    double l2_stretch = 0.0;            // Sander's L2 stretch of the map, 2D area scaled to the 3D area
+    std::size_t flipped = 0;            // parameter triangles of negative area
+    std::size_t solver_iterations = 0;  // both solves where an iterate folded at the iterate tolerance
+    double seconds = 0.0;               // reweighting and solve of this iteration
 };
 
 struct Parameterization {
@@ -97,6 +102,7 @@ struct Parameterization {
     SquareBoundary boundary;
     std::vector<IterationReport> iterations;
     std::vector<std::vector<glm::dvec2>> iterates;  // with keep_iterates: every iterate's uv, 0 first
+    std::size_t final_solver_iterations = 0;        // the returned map's solve to solve_tolerance
     double seconds = 0.0;                           // the whole run, set-up included
 };
 
