@@ -20,7 +20,7 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
     const auto start = std::chrono::steady_clock::now();
     GpuRayCaster caster(ctx, to_cylinder_frame(mesh));
     const CylinderImage first = cylinder_raycast_gpu(caster, options.base, options.base);
-    double gpu_ms = caster.last_gpu_ms();
+    double gpu_ms = caster.last_gpu_ms(), parity_ms = 0.0;
     const double first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     CylinderHierarchy h =
         detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
@@ -33,6 +33,7 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
                 }
             const std::vector<std::uint32_t> crossings = caster.crossings(segments);
             gpu_ms += caster.last_gpu_ms();
+            parity_ms += caster.last_gpu_ms();
             std::vector<geo::Ray> rays(index.size());
             std::vector<std::uint8_t> inside(index.size());
             for (std::size_t k = 0; k < index.size(); ++k) {
@@ -47,6 +48,7 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
             return t;
         });
     h.gpu_ms = gpu_ms;
+    h.gpu_parity_ms = parity_ms;
     return h;
 }
 

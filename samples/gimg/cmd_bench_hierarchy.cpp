@@ -103,6 +103,7 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
                               {"level_ms", h.level_ms},
                               {"gpu_ms", gpu_ms},
                               {"gpu_pass_ms", on_gpu.gpu_ms},
+                              {"gpu_parity_ms", on_gpu.gpu_parity_ms},
                               {"gpu_level_ms", on_gpu.level_ms}}}});
         }
     }

@@ -59,6 +59,7 @@ struct CylinderHierarchy {
     double reach = 2.0;            // the options it was cast with (recorded in frame.json)
     std::vector<double> level_ms;  // the encoder's wall time per level (not stored in files)
     double gpu_ms = 0.0;           // the GPU encoder's passes by timestamps (0 on the CPU or without them)
+    double gpu_parity_ms = 0.0;    // of gpu_ms, the parity segments' passes (the rest: the rays)
     std::uint32_t levels() const;  // 1 + log2(size / base)
 };
 
