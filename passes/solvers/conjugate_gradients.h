@@ -23,6 +23,7 @@
 #include "solvers/multigrid.h"
 #include "solvers/spd_system.h"
 #include "solvers/matrix_texels.h"
+#include "solvers/vcycle.h"
 
 #include "gimg/engine/context.h"
 #include "gimg/engine/plan.h"
@@ -72,22 +73,13 @@ public:
 private:
     Plan& plan_for(std::uint32_t iterations);
 
-    // A multigrid level, its entries in float (the cycle's type).
-    struct Level {
-        TexelMatrix a, prolong, restrict_;  // a's rows carry 1 / a_ii
-        Image ad_entries;                   // A's entries divided by their column's diagonal, for the presmoothing
-        ChebyshevSmoother smoother;
-    };
-
     Context& ctx_;
     std::uint32_t rows_ = 0;
     double rz_rhs_ = 0.0;
     double start_residual_ = 1.0;
-    std::vector<Level> levels_;
+    std::unique_ptr<GpuVcycle> cycle_;
     Image apply_entries_;     // the finest operator's entries in double, for q = A p
     Image apply_rows_;        // its rows when there is no smoothed level (else level 0's)
-    Image coarsest_inverse_;  // row-major, one double a texel
-    std::uint32_t coarsest_rows_ = 0;
     Image x_, r_, p_, q_;
     Buffer rz_[2], pq_;  // rz_[rz_index_] holds r.z between calls (each iteration writes the other)
     int rz_index_ = 0;
