@@ -1,4 +1,4 @@
-// BiCGSTAB with a Jacobi preconditioner on the render graph, and its CPU twin (bicgstab.h).
+// Preconditioned BiCGSTAB on the render graph, and its CPU twin (bicgstab.h).
 #include "solvers/bicgstab.h"
 
 #include "solvers/matrix_texels.h"
@@ -11,6 +11,11 @@
 #include "solvers/bicgstab_half_comp.h"
 #include "solvers/bicgstab_scalars_comp.h"
 #include "solvers/bicgstab_update_comp.h"
+#include "solvers/bicgstab_widen_comp.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
 
 namespace gimg::passes::detail {
 
@@ -21,6 +26,7 @@ const Spirv kDirection = GIMG_SPIRV(gimg_spv_solvers_bicgstab_direction_comp);
 const Spirv kApply = GIMG_SPIRV(gimg_spv_solvers_bicgstab_apply_comp);
 const Spirv kHalf = GIMG_SPIRV(gimg_spv_solvers_bicgstab_half_comp);
 const Spirv kUpdate = GIMG_SPIRV(gimg_spv_solvers_bicgstab_update_comp);
+const Spirv kWiden = GIMG_SPIRV(gimg_spv_solvers_bicgstab_widen_comp);
 
 // The shaders' BicgScalars (bicgstab_scalars.glsl).
 struct Scalars {
@@ -49,7 +55,55 @@ glm::dvec2 divide_or_zero(glm::dvec2 num, glm::dvec2 den) {
     return {den.x != 0.0 ? num.x / den.x : 0.0, den.y != 0.0 ? num.y / den.y : 0.0};
 }
 
+// y = M p: D^-1 p, or the V-cycle of p (which rounds p to float, as the GPU's direction pass does).
+void precondition(const std::vector<double>& inverse_diagonal, const Multigrid* mg, const std::vector<glm::dvec2>& p,
+                  std::vector<glm::dvec2>& y) {
+    if (mg) {
+        y = apply_multigrid_cpu(*mg, p, CyclePrecision::float32);
+        return;
+    }
+    for (std::size_t i = 0; i < p.size(); ++i) y[i] = inverse_diagonal[i] * p[i];
+}
+
 }  // namespace
+
+SpdSystem symmetric_laplacian(const CsrMatrix& a, const std::vector<double>& boundary) {
+    const std::size_t n = a.rows();
+    // Row i's entries with a_ji added where (j, i) exists: transpose once, then merge by column.
+    std::vector<std::vector<std::pair<std::uint32_t, double>>> rows(n);
+    for (std::uint32_t i = 0; i < n; ++i)
+        for (std::uint32_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k) {
+            const std::uint32_t j = a.columns[k];
+            if (j == i) continue;
+            rows[i].emplace_back(j, 0.5 * a.values[k]);
+            rows[j].emplace_back(i, 0.5 * a.values[k]);
+        }
+    SpdSystem out;
+    out.row_offsets.push_back(0);
+    out.diagonal.assign(n, 0.0);
+    for (std::size_t i = 0; i < n; ++i) {
+        std::sort(rows[i].begin(), rows[i].end(), [](const auto& l, const auto& r) { return l.first < r.first; });
+        double magnitude = boundary.empty() ? 0.0 : boundary[i];
+        for (std::size_t k = 0; k < rows[i].size();) {
+            const std::uint32_t j = rows[i][k].first;
+            double value = 0.0;
+            for (; k < rows[i].size() && rows[i][k].first == j; ++k) value += rows[i][k].second;
+            if (value == 0.0) continue;
+            out.columns.push_back(j);
+            out.values.push_back(value);
+            magnitude += std::abs(value);
+        }
+        // A row without off-diagonal entries keeps A's diagonal (a Laplacian would leave it 0).
+        if (magnitude == 0.0)
+            for (std::uint32_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+                if (a.columns[k] == i) magnitude = std::abs(a.values[k]);
+        out.diagonal[i] = magnitude;
+        out.row_offsets.push_back(std::uint32_t(out.columns.size()));
+    }
+    out.rhs.assign(n, glm::dvec2(0.0));
+    out.start.assign(n, glm::dvec2(0.0));
+    return out;
+}
 
 BicgState start_bicgstab(const CsrMatrix& a, const std::vector<glm::dvec2>& b, const std::vector<glm::dvec2>& x0) {
     BicgState s;
@@ -67,7 +121,7 @@ BicgState start_bicgstab(const CsrMatrix& a, const std::vector<glm::dvec2>& b, c
     return s;
 }
 
-void bicgstab_cpu(const CsrMatrix& a, BicgState& s, std::uint32_t iterations) {
+void bicgstab_cpu(const CsrMatrix& a, BicgState& s, std::uint32_t iterations, const Multigrid* mg) {
     const std::size_t n = a.rows();
     const std::vector<double> inv = inverse_diagonal(a);
     std::vector<glm::dvec2> y(n), sv(n), z(n), t(n);
@@ -76,20 +130,16 @@ void bicgstab_cpu(const CsrMatrix& a, BicgState& s, std::uint32_t iterations) {
         for (int c = 0; c < 2; ++c)
             beta[c] = s.rho[c] != 0.0 && s.omega[c] != 0.0 ? (s.r0r[c] / s.rho[c]) * (s.alpha[c] / s.omega[c]) : 0.0;
         s.rho = s.r0r;
-        for (std::size_t i = 0; i < n; ++i) {
-            s.p[i] = s.r[i] + beta * (s.p[i] - s.omega * s.v[i]);
-            y[i] = inv[i] * s.p[i];
-        }
+        for (std::size_t i = 0; i < n; ++i) s.p[i] = s.r[i] + beta * (s.p[i] - s.omega * s.v[i]);
+        precondition(inv, mg, s.p, y);
         glm::dvec2 r0v(0.0);
         for (std::size_t i = 0; i < n; ++i) {
             s.v[i] = times(a, y, i);
             r0v += s.r0[i] * s.v[i];
         }
         s.alpha = divide_or_zero(s.rho, r0v);
-        for (std::size_t i = 0; i < n; ++i) {
-            sv[i] = s.r[i] - s.alpha * s.v[i];
-            z[i] = inv[i] * sv[i];
-        }
+        for (std::size_t i = 0; i < n; ++i) sv[i] = s.r[i] - s.alpha * s.v[i];
+        precondition(inv, mg, sv, z);
         glm::dvec2 ts(0.0), tt(0.0);
         for (std::size_t i = 0; i < n; ++i) {
             t[i] = times(a, z, i);
@@ -108,8 +158,9 @@ void bicgstab_cpu(const CsrMatrix& a, BicgState& s, std::uint32_t iterations) {
     }
 }
 
-GpuBicgstab::GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start)
+GpuBicgstab::GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start, const Multigrid* mg)
     : ctx_(ctx), rows_(std::uint32_t(a.rows())) {
+    if (mg) cycle_ = std::make_unique<GpuVcycle>(ctx, *mg, "bicgstab mg");
     check_texel_array_size(ctx, a.values.size(), "BiCGSTAB matrix entries");
     a_rows_ = upload_rows(ctx, a, inverse_diagonal(a), "bicgstab A");
     a_entries_ = upload_texels(ctx, entry_texels(a), "bicgstab A entries");
@@ -146,6 +197,27 @@ Plan& GpuBicgstab::plan_for(std::uint32_t iterations) {
     auto terms =
         g.create_buffer({VkDeviceSize(std::max<std::uint32_t>(rows_, 1)) * 4 * sizeof(double), "bicgstab terms"});
     const std::uint32_t n = rows_;
+    // With the multigrid cycle: p and s rounded to float, the cycle's outputs, and the cycle itself.
+    const std::uint32_t multigrid = cycle_ ? 1u : 0u;
+    const std::uint32_t float_rows = cycle_ ? n : 1u;
+    auto p32 = g.create_image(float_vector_desc(float_rows, "bicgstab p (float)"));
+    auto s32 = g.create_image(float_vector_desc(float_rows, "bicgstab s (float)"));
+    std::optional<VcycleRecorder> cycle;
+    if (cycle_) cycle.emplace(g, *cycle_);
+    // out = V-cycle(in32), widened to double.
+    auto add_preconditioner = [&](ImageHandle in32, ImageHandle& out, const std::string& name) {
+        auto out32 = g.create_image(float_vector_desc(n, "bicgstab " + name + " (float)"));
+        cycle->add(in32, out32, terms, false, " (" + name + ")");
+        g.add_compute_pass(
+            "bicgstab widen " + name,
+            [&](PassBuilder& b) {
+                b.read(out32, Access::ComputeRead);
+                out = b.write(out, Access::ComputeWrite);
+            },
+            [=, o = out](Cmd& c) {
+                c.dispatch_threads(kWiden, {n}, {out32, o}, n);
+            });
+    };
     auto add_scalars = [&](BufferHandle sums, std::uint32_t step, const std::string& name) {
         g.add_compute_pass(
             name,
@@ -166,10 +238,12 @@ Plan& GpuBicgstab::plan_for(std::uint32_t iterations) {
                 b.read(scalars, Access::ComputeRead);
                 p = b.write(p, Access::ComputeReadWrite);
                 y = b.write(y, Access::ComputeWrite);
+                p32 = b.write(p32, Access::ComputeWrite);
             },
             [=](Cmd& c) {
-                c.dispatch_threads(kDirection, {n}, {scalars, rows_img, r, v, p, y}, n);
+                c.dispatch_threads(kDirection, {n}, {scalars, rows_img, r, v, p, y, p32}, RowsAndMode{n, multigrid});
             });
+        if (cycle) add_preconditioner(p32, y, "y");
         g.add_compute_pass(
             "bicgstab v = A y",
             [&](PassBuilder& b) {
@@ -189,10 +263,12 @@ Plan& GpuBicgstab::plan_for(std::uint32_t iterations) {
                 b.read(scalars, Access::ComputeRead);
                 s = b.write(s, Access::ComputeWrite);
                 z = b.write(z, Access::ComputeWrite);
+                s32 = b.write(s32, Access::ComputeWrite);
             },
             [=](Cmd& c) {
-                c.dispatch_threads(kHalf, {n}, {scalars, rows_img, r, v, s, z}, n);
+                c.dispatch_threads(kHalf, {n}, {scalars, rows_img, r, v, s, z, s32}, RowsAndMode{n, multigrid});
             });
+        if (cycle) add_preconditioner(s32, z, "z");
         g.add_compute_pass(
             "bicgstab t = A z",
             [&](PassBuilder& b) {

@@ -1,14 +1,18 @@
 #pragma once
-// BiCGSTAB (van der Vorst 1992) with a Jacobi preconditioner for non-symmetric sparse systems, on
-// the render graph (GpuBicgstab) and on the CPU in the same order of operations (bicgstab_cpu).
+// BiCGSTAB (van der Vorst 1992), right-preconditioned, for non-symmetric sparse systems, on the
+// render graph (GpuBicgstab) and on the CPU in the same order of operations (bicgstab_cpu).
 // Right-hand sides come in pairs, each with its own scalars, as dvec2 vectors in texel arrays
-// (matrix_texels.h). One iteration, with y = D^-1 p and z = D^-1 s:
+// (matrix_texels.h). The preconditioner M is Jacobi (D^-1) or one float32 V-cycle of a multigrid
+// hierarchy (vcycle.h), built from symmetric_laplacian(A) for a Tutte-like A: Jacobi's iterations
+// grow with the mesh's rings across, the cycle's do not (mannequin_devil's Floater system to 1e-8:
+// 408 against 17). One iteration, with y = M p and z = M s:
 //   beta = (rho' / rho)(alpha / omega), rho = rho';  p = r + beta (p - omega v);  v = A y;
 //   alpha = rho / (r0 . v);  s = r - alpha v;  t = A z;  omega = (t . s) / (t . t);
 //   x += alpha y + omega z;  r = s - omega t;  rho' = r0 . r
 // The scalars stay on the GPU (a one-thread pass after each reduction); only r0 . r and r . r
 // come back, once per run().
 #include "solvers/multigrid.h"
+#include "solvers/vcycle.h"
 
 #include "gimg/engine/context.h"
 #include "gimg/engine/plan.h"
@@ -26,13 +30,21 @@ struct BicgState {
     glm::dvec2 r0r{0.0}, rr{0.0};  // r0 . r and r . r now
 };
 
+// The Laplacian a multigrid preconditioner of a non-symmetric A is built from: off-diagonal entries
+// (a_ij + a_ji) / 2, each diagonal the sum of its row's off-diagonal magnitudes plus `boundary`
+// (row i's |a_ij| summed over the columns eliminated as fixed). Symmetric and diagonally dominant,
+// so positive definite where a row touches the boundary, as build_multigrid needs; A's own diagonal
+// (1 on every row of a row-normalised system) would leave it indefinite wherever w_ij + w_ji > 2 w.
+SpdSystem symmetric_laplacian(const CsrMatrix& a, const std::vector<double>& boundary);
+
 // `a` holds every entry, diagonal included (no zero diagonal).
 BicgState start_bicgstab(const CsrMatrix& a, const std::vector<glm::dvec2>& b, const std::vector<glm::dvec2>& x0);
-void bicgstab_cpu(const CsrMatrix& a, BicgState& state, std::uint32_t iterations);
+// `mg`: the multigrid preconditioner's hierarchy (its finest level a's rows), or null for Jacobi.
+void bicgstab_cpu(const CsrMatrix& a, BicgState& state, std::uint32_t iterations, const Multigrid* mg = nullptr);
 
 class GpuBicgstab {
 public:
-    GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start);
+    GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start, const Multigrid* mg = nullptr);
     // Runs `iterations` iterations; returns (r0 . r, r . r) per right-hand side after them.
     std::pair<glm::dvec2, glm::dvec2> run(std::uint32_t iterations);
     std::vector<glm::dvec2> solution();
@@ -44,6 +56,7 @@ private:
     Image a_rows_, a_entries_;
     Image x_, r_, r0_, p_, v_, y_, s_, z_, t_;
     Buffer scalars_, sums_rv_, sums_ts_, sums_rr_;
+    std::unique_ptr<GpuVcycle> cycle_;  // null: Jacobi
     std::map<std::uint32_t, std::unique_ptr<Plan>> plans_;
 };
 

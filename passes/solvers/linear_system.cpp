@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 namespace gimg::passes {
@@ -19,11 +20,23 @@ namespace {
 
 using detail::CsrMatrix;
 
+}  // namespace
+
+struct PreconditionerCache::Hierarchy {
+    detail::Multigrid multigrid;
+};
+PreconditionerCache::PreconditionerCache() = default;
+PreconditionerCache::~PreconditionerCache() = default;
+void PreconditionerCache::clear() { hierarchy.reset(); }
+
+namespace {
+
 // What is left of the system on its free rows, with one right-hand side per column.
 struct FreeSystem {
     std::vector<std::uint32_t> free_rows;  // free row i is row free_rows[i]
     CsrMatrix a;                           // every entry between free rows, diagonal included
     std::vector<double> diagonal;
+    std::vector<double> fixed_coupling;           // per free row, |a_ij| summed over its fixed columns
     std::vector<std::vector<double>> rhs, start;  // per right-hand side, one per free row
 };
 
@@ -75,6 +88,7 @@ FreeSystem free_system(const LinearSystem& s) {
     const std::size_t m = f.free_rows.size();
     f.a.cols = m;
     f.diagonal.assign(m, 0.0);
+    f.fixed_coupling.assign(m, 0.0);
     f.rhs.assign(k, std::vector<double>(m, 0.0));
     f.start.assign(k, std::vector<double>(m, 0.0));
     for (std::size_t fi = 0; fi < m; ++fi) {
@@ -88,6 +102,7 @@ FreeSystem free_system(const LinearSystem& s) {
             const double value = s.a.values[e];
             if (index[j] == UINT32_MAX) {  // a fixed column: its known value moves to the right-hand side
                 for (std::size_t c = 0; c < k; ++c) f.rhs[c][fi] -= value * at(s.fixed_values, j * k + c);
+                f.fixed_coupling[fi] += std::abs(value);
                 continue;
             }
             if (j == i) f.diagonal[fi] += value;
@@ -216,6 +231,27 @@ SolveResult solve_general_with(const LinearSystem& s, const SolveOptions& o, Sol
     std::size_t iterations = 0;
     double residual = 0.0;
     const CsrMatrix& a = f.a;
+    // The multigrid preconditioner's hierarchy, shared by every pair; Jacobi where aggregation
+    // stalls (a matrix with almost no off-diagonal entries, which Jacobi solves well anyway).
+    std::optional<detail::Multigrid> built;
+    const detail::Multigrid* mg = nullptr;
+    if (o.preconditioner == Preconditioner::Multigrid && m > 0) {
+        PreconditionerCache::Hierarchy* cached = o.reuse ? o.reuse->hierarchy.get() : nullptr;
+        if (cached && cached->multigrid.rows() == m) {
+            mg = &cached->multigrid;
+        } else {
+            try {
+                built = detail::build_multigrid(detail::symmetric_laplacian(a, f.fixed_coupling));
+                mg = &*built;
+                if (o.reuse) {
+                    o.reuse->hierarchy = std::make_unique<PreconditionerCache::Hierarchy>(std::move(*built));
+                    mg = &o.reuse->hierarchy->multigrid;
+                }
+            } catch (const geo::InputError&) {
+                mg = nullptr;
+            }
+        }
+    }
     for (std::size_t c0 = 0; c0 < s.rhs_count && m > 0; c0 += 2) {
         const bool second = c0 + 1 < s.rhs_count;
         std::vector<glm::dvec2> b(m), x0(m);
@@ -226,15 +262,19 @@ SolveResult solve_general_with(const LinearSystem& s, const SolveOptions& o, Sol
             bb += b[i] * b[i];
         }
         const detail::BicgState start = detail::start_bicgstab(a, b, x0);
-        auto solver = make_solver(a, start);
+        auto solver = make_solver(a, start, mg);
         double res = pair_residual(start.rr, bb, second);
         std::size_t it = 0;
+        // Checked after per_check iterations, then after as many as the last check's rate needs.
+        const std::uint32_t per_check = std::max<std::uint32_t>(o.iterations_per_check, 1);
+        std::uint32_t next = per_check;
         while (it < o.max_iterations && res > o.tolerance) {
-            const std::uint32_t chunk = std::uint32_t(
-                std::min<std::size_t>(std::max<std::uint32_t>(o.iterations_per_check, 1), o.max_iterations - it));
+            const std::uint32_t chunk = std::uint32_t(std::min<std::size_t>(next, o.max_iterations - it));
             const auto [r0r, rr] = solver.run(chunk);
             it += chunk;
+            const double before = res;
             res = pair_residual(rr, bb, second);
+            next = detail::iterations_to_reach(o.tolerance, before, res, chunk, per_check);
             if (!std::isfinite(res)) breakdown("BiCGSTAB", "the residual is not finite");
             if (res > o.tolerance && (r0r.x == 0.0 || (second && r0r.y == 0.0)))
                 breakdown("BiCGSTAB",
@@ -259,8 +299,9 @@ SolveResult solve_general_with(const LinearSystem& s, const SolveOptions& o, Sol
 struct CpuBicgstab {
     const CsrMatrix& a;
     detail::BicgState state;
+    const detail::Multigrid* mg;
     std::pair<glm::dvec2, glm::dvec2> run(std::uint32_t iterations) {
-        detail::bicgstab_cpu(a, state, iterations);
+        detail::bicgstab_cpu(a, state, iterations, mg);
         return {state.r0r, state.rr};
     }
     std::vector<glm::dvec2> solution() const { return state.x; }
@@ -295,15 +336,17 @@ SolveResult solve_symmetric_cpu(const LinearSystem& system, const SolveOptions& 
 }
 
 SolveResult solve_general(Context& ctx, const LinearSystem& system, const SolveOptions& o) {
-    return solve_general_with(system, o, [&](const CsrMatrix& a, const detail::BicgState& start) {
-        return detail::GpuBicgstab(ctx, a, start);
-    });
+    return solve_general_with(system, o,
+                              [&](const CsrMatrix& a, const detail::BicgState& start, const detail::Multigrid* mg) {
+                                  return detail::GpuBicgstab(ctx, a, start, mg);
+                              });
 }
 
 SolveResult solve_general_cpu(const LinearSystem& system, const SolveOptions& o) {
-    return solve_general_with(system, o, [&](const CsrMatrix& a, const detail::BicgState& start) {
-        return CpuBicgstab{a, start};
-    });
+    return solve_general_with(system, o,
+                              [&](const CsrMatrix& a, const detail::BicgState& start, const detail::Multigrid* mg) {
+                                  return CpuBicgstab{a, start, mg};
+                              });
 }
 
 }  // namespace gimg::passes

@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <type_traits>
 
 namespace gimg::passes::detail {
 
@@ -255,18 +256,28 @@ using Vec2 = glm::vec<2, T>;
 template <class T>
 using Vectors = std::vector<Vec2<T>>;
 
-// Row i of m v in T, each entry rounded to T (times its column's `scale`, when one is given,
-// before the rounding), summed in the shaders' order.
+// Row i of m v in T with m's entries `values` (in T), summed in the shaders' order.
 template <class T>
-Vec2<T> row_times_in(const CsrMatrix& m, const Vectors<T>& v, std::size_t i,
-                     const std::vector<double>* scale = nullptr) {
+Vec2<T> row_times_in(const CsrMatrix& m, const T* values, const Vectors<T>& v, std::size_t i) {
     Vec2<T> sum(T(0));
-    for (std::uint32_t k = m.offsets[i]; k < m.offsets[i + 1]; ++k) {
-        const double entry = scale ? m.values[k] * (*scale)[m.columns[k]] : m.values[k];
-        sum += T(entry) * v[m.columns[k]];
-    }
+    for (std::uint32_t k = m.offsets[i]; k < m.offsets[i + 1]; ++k) sum += values[k] * v[m.columns[k]];
     return sum;
 }
+
+// A level's entries in T: A's, A's over their column's diagonal, P's, R's.
+template <class T>
+struct LevelValues {
+    const T *a, *a_over_diagonal, *prolong, *restrict_;
+};
+template <class T>
+LevelValues<T> values_in(const MultigridLevel& l) {
+    if constexpr (std::is_same_v<T, float>)
+        return {l.a32.data(), l.a_over_diagonal32.data(), l.prolong32.data(), l.restrict32.data()};
+    else
+        return {l.a.values.data(), l.a_over_diagonal.data(), l.prolong.values.data(), l.restrict_.values.data()};
+}
+
+std::vector<float> rounded(const std::vector<double>& v) { return std::vector<float>(v.begin(), v.end()); }
 
 // The smoother from zero and its residual (the header's "down" line): x = D^-1 (c0 b + c1 r1) and
 // r = b - A x. A's entries come divided by their column's diagonal, as mg_presmooth_first and
@@ -276,14 +287,15 @@ void presmooth(const MultigridLevel& level, const Vectors<T>& b, Vectors<T>& x, 
     const std::size_t n = b.size();
     const ChebyshevSmoother& s = level.smoother;
     const T c0 = T(s.c0), c1 = T(s.c1), theta_inverse = T(s.theta_inverse);
+    const T* ad = values_in<T>(level).a_over_diagonal;
     Vectors<T> mix(n);  // c0 b + c1 r1
     for (std::size_t i = 0; i < n; ++i)
-        mix[i] = c0 * b[i] + c1 * (b[i] - theta_inverse * row_times_in(level.a, b, i, &level.inverse_diagonal));
+        mix[i] = c0 * b[i] + c1 * (b[i] - theta_inverse * row_times_in(level.a, ad, b, i));
     x.resize(n);
     r.resize(n);
     for (std::size_t i = 0; i < n; ++i) {
         x[i] = T(level.inverse_diagonal[i]) * mix[i];
-        r[i] = b[i] - row_times_in(level.a, mix, i, &level.inverse_diagonal);
+        r[i] = b[i] - row_times_in(level.a, ad, mix, i);
     }
 }
 
@@ -293,11 +305,12 @@ Vectors<T> postsmooth(const MultigridLevel& level, const Vectors<T>& b, const Ve
     const std::size_t n = b.size();
     const ChebyshevSmoother& s = level.smoother;
     const T c1 = T(s.c1), k = T(s.k), theta_inverse = T(s.theta_inverse);
+    const T* a = values_in<T>(level).a;
     Vectors<T> x1(n), z(n);
     for (std::size_t i = 0; i < n; ++i)
-        x1[i] = x[i] + (theta_inverse * T(level.inverse_diagonal[i])) * (b[i] - row_times_in(level.a, x, i));
+        x1[i] = x[i] + (theta_inverse * T(level.inverse_diagonal[i])) * (b[i] - row_times_in(level.a, a, x, i));
     for (std::size_t i = 0; i < n; ++i)
-        z[i] = x1[i] + k * (x1[i] - x[i]) + (c1 * T(level.inverse_diagonal[i])) * (b[i] - row_times_in(level.a, x1, i));
+        z[i] = x1[i] + k * (x1[i] - x[i]) + (c1 * T(level.inverse_diagonal[i])) * (b[i] - row_times_in(level.a, a, x1, i));
     return z;
 }
 
@@ -318,9 +331,10 @@ Vectors<T> cycle(const Multigrid& mg, std::size_t l, const Vectors<T>& b) {
     Vectors<T> x, r;
     presmooth(level, b, x, r);
     Vectors<T> coarse_b(level.restrict_.rows());
-    for (std::size_t i = 0; i < coarse_b.size(); ++i) coarse_b[i] = row_times_in(level.restrict_, r, i);
+    const LevelValues<T> values = values_in<T>(level);
+    for (std::size_t i = 0; i < coarse_b.size(); ++i) coarse_b[i] = row_times_in(level.restrict_, values.restrict_, r, i);
     const Vectors<T> coarse_x = cycle(mg, l + 1, coarse_b);
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] += row_times_in(level.prolong, coarse_x, i);
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] += row_times_in(level.prolong, values.prolong, coarse_x, i);
     return postsmooth(level, b, x);
 }
 
@@ -345,7 +359,7 @@ ChebyshevSmoother chebyshev_smoother(double rho) {
 }
 
 glm::dvec2 row_times(const CsrMatrix& m, const std::vector<glm::dvec2>& v, std::size_t i) {
-    return row_times_in(m, v, i);
+    return row_times_in(m, m.values.data(), v, i);
 }
 
 Multigrid build_multigrid(const SpdSystem& problem) {
@@ -378,6 +392,13 @@ Multigrid build_multigrid(const SpdSystem& problem) {
         level.smoother = chebyshev_smoother(rho);
         level.prolong = csr_of(prolong);
         level.restrict_ = csr_of(restriction);
+        level.a_over_diagonal.resize(level.a.values.size());
+        for (std::size_t k = 0; k < level.a.values.size(); ++k)
+            level.a_over_diagonal[k] = level.a.values[k] * level.inverse_diagonal[level.a.columns[k]];
+        level.a32 = rounded(level.a.values);
+        level.a_over_diagonal32 = rounded(level.a_over_diagonal);
+        level.prolong32 = rounded(level.prolong.values);
+        level.restrict32 = rounded(level.restrict_.values);
         mg.levels.push_back(std::move(level));
         a = std::move(next);
     }

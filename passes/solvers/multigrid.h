@@ -58,6 +58,10 @@ struct MultigridLevel {
     ChebyshevSmoother smoother;
     CsrMatrix prolong;    // this level's rows, the next level's columns
     CsrMatrix restrict_;  // prolong transposed
+    // The CPU cycle's entries: a's over their column's diagonal (the presmoothing's), and a's, P's,
+    // R's and those rounded to float once, as the GPU's images hold them.
+    std::vector<double> a_over_diagonal;
+    std::vector<float> a32, a_over_diagonal32, prolong32, restrict32;
 };
 
 struct Multigrid {

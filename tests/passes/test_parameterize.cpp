@@ -178,7 +178,7 @@ TEST_F(Parameterize, LooseIteratesAndOneFullSolveGiveTheMapWithFewerSolverIterat
     // The reweighting's iterates solved to 1e-5 and the returned weights once more to 1e-8, against
     // every iterate to 1e-8: the same map to a thousandth of the square (under a pixel of any image
     // up to 1000 x 1000), fold-free, for fewer solver iterations in all.
-    const geo::Mesh mesh = bent_grid(24);
+    const geo::Mesh mesh = bent_grid(48);
     for (auto variant : {ParameterizeVariant::Curvature, ParameterizeVariant::Stretch}) {
         SCOPED_TRACE(passes::variant_name(variant));
         const passes::Parameterization tight =
