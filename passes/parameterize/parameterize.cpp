@@ -76,12 +76,12 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         weights = floater_weights(mesh, adj);
     }
 
+    // Every solve is preconditioned by the V-cycle of the first system's hierarchy: the reweighted
+    // systems drift from it, but a rebuilt one saves no iterations (mannequin_devil: 8-20 a solve
+    // either way) and costs 20 ms each time. A solve takes 8-80 iterations, checked every 4.
+    PreconditionerCache hierarchy;
     // The weighted system from `start` to a relative residual of `tolerance`; adds its iterations to
     // `solver_iterations`.
-    // Preconditioned by the V-cycle of the first system's hierarchy throughout: the reweighted
-    // systems drift from it, but a rebuilt one saves no iterations (mannequin_devil: 8-20 a solve
-    // either way) and costs 20 ms each time.
-    PreconditionerCache hierarchy;
     auto solve_to = [&](const std::vector<glm::dvec2>& start, double tolerance, std::size_t& solver_iterations) {
         const LinearSystem system = detail::tutte_system(adj, weights, in.interior, fixed_uv, start);
         const SolveOptions solve_options{.tolerance = tolerance,

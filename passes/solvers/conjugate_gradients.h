@@ -78,8 +78,8 @@ private:
     double rz_rhs_ = 0.0;
     double start_residual_ = 1.0;
     std::unique_ptr<GpuVcycle> cycle_;
-    Image apply_entries_;     // the finest operator's entries in double, for q = A p
-    Image apply_rows_;        // its rows when there is no smoothed level (else level 0's)
+    Image apply_entries_;  // the finest operator's entries in double, for q = A p
+    Image apply_rows_;     // its rows when there is no smoothed level (else level 0's)
     Image x_, r_, p_, q_;
     Buffer rz_[2], pq_;  // rz_[rz_index_] holds r.z between calls (each iteration writes the other)
     int rz_index_ = 0;

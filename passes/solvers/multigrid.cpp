@@ -310,7 +310,8 @@ Vectors<T> postsmooth(const MultigridLevel& level, const Vectors<T>& b, const Ve
     for (std::size_t i = 0; i < n; ++i)
         x1[i] = x[i] + (theta_inverse * T(level.inverse_diagonal[i])) * (b[i] - row_times_in(level.a, a, x, i));
     for (std::size_t i = 0; i < n; ++i)
-        z[i] = x1[i] + k * (x1[i] - x[i]) + (c1 * T(level.inverse_diagonal[i])) * (b[i] - row_times_in(level.a, a, x1, i));
+        z[i] =
+            x1[i] + k * (x1[i] - x[i]) + (c1 * T(level.inverse_diagonal[i])) * (b[i] - row_times_in(level.a, a, x1, i));
     return z;
 }
 
@@ -332,7 +333,8 @@ Vectors<T> cycle(const Multigrid& mg, std::size_t l, const Vectors<T>& b) {
     presmooth(level, b, x, r);
     Vectors<T> coarse_b(level.restrict_.rows());
     const LevelValues<T> values = values_in<T>(level);
-    for (std::size_t i = 0; i < coarse_b.size(); ++i) coarse_b[i] = row_times_in(level.restrict_, values.restrict_, r, i);
+    for (std::size_t i = 0; i < coarse_b.size(); ++i)
+        coarse_b[i] = row_times_in(level.restrict_, values.restrict_, r, i);
     const Vectors<T> coarse_x = cycle(mg, l + 1, coarse_b);
     for (std::size_t i = 0; i < x.size(); ++i) x[i] += row_times_in(level.prolong, values.prolong, coarse_x, i);
     return postsmooth(level, b, x);

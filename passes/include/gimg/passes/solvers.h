@@ -76,9 +76,9 @@ struct SolveOptions {
     // solve_symmetric, in the Euclidean norm for solve_general (both on the free rows).
     double tolerance = 1e-8;
     std::size_t max_iterations = 10000;
-    std::uint32_t iterations_per_check = 16;  // iterations recorded per submission (GPU)
+    std::uint32_t iterations_per_check = 16;                 // iterations recorded per submission (GPU)
     Preconditioner preconditioner = Preconditioner::Jacobi;  // solve_general's
-    PreconditionerCache* reuse = nullptr;                     // solve_general's, with Multigrid
+    PreconditionerCache* reuse = nullptr;                    // solve_general's, with Multigrid
 };
 
 struct SolveResult {
