@@ -133,7 +133,11 @@ QuadMap map_quad_region(Context* ctx, const QuadRegion& region, const QuadMapOpt
         }
         case QuadSolver::Krylov: {
             const LinearSystem s = detail::tutte_system(adj, w, interior, fixed, out.start);
-            const SolveOptions so{.tolerance = o.krylov_tolerance, .max_iterations = 20000};
+            // The V-cycle of the system's symmetric part: a tenth of Jacobi's iterations.
+            const SolveOptions so{.tolerance = o.krylov_tolerance,
+                                  .max_iterations = 20000,
+                                  .iterations_per_check = 4,
+                                  .preconditioner = Preconditioner::Multigrid};
             const SolveResult r = ctx ? solve_general(*ctx, s, so) : solve_general_cpu(s, so);
             if (!r.converged) throw geo::InputError("the region's system did not converge");
             for (std::size_t i = 0; i < n; ++i) out.uv[i] = {r.x[2 * i], r.x[2 * i + 1]};
@@ -198,7 +202,8 @@ std::vector<glm::dvec3> barycentric_map(Context* ctx, const QuadRegion& r, QuadW
         for (int c = 0; c < 3; ++c) s.fixed_values.push_back(fixed[i][c]);
     std::vector<glm::dvec3> out(n);
     if (ctx) {
-        const SolveResult res = solve_general(*ctx, s, {.tolerance = 1e-12, .max_iterations = 20000});
+        const SolveResult res = solve_general(
+            *ctx, s, {.tolerance = 1e-12, .max_iterations = 20000, .preconditioner = Preconditioner::Multigrid});
         if (!res.converged) throw geo::InputError("the barycentric system did not converge");
         for (std::size_t i = 0; i < n; ++i) out[i] = {res.x[3 * i], res.x[3 * i + 1], res.x[3 * i + 2]};
     } else {
