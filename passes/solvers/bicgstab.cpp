@@ -93,11 +93,12 @@ SpdSystem symmetric_laplacian(const CsrMatrix& a, const std::vector<double>& bou
             out.values.push_back(value);
             magnitude += std::abs(value);
         }
-        // A row without off-diagonal entries keeps A's diagonal (a Laplacian would leave it 0).
-        if (magnitude == 0.0)
-            for (std::uint32_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
-                if (a.columns[k] == i) magnitude = std::abs(a.values[k]);
-        out.diagonal[i] = magnitude;
+        // Plus what A's own row has beyond diagonal dominance (a shift, a mass term), so that a
+        // system without fixed rows keeps a nonsingular Laplacian: 0 on Tutte and Floater rows.
+        double own = 0.0, others = boundary.empty() ? 0.0 : boundary[i];
+        for (std::uint32_t k = a.offsets[i]; k < a.offsets[i + 1]; ++k)
+            (a.columns[k] == i ? own : others) += std::abs(a.values[k]);
+        out.diagonal[i] = magnitude + std::max(0.0, own - others);
         out.row_offsets.push_back(std::uint32_t(out.columns.size()));
     }
     out.rhs.assign(n, glm::dvec2(0.0));

@@ -32,9 +32,11 @@ struct BicgState {
 
 // The Laplacian a multigrid preconditioner of a non-symmetric A is built from: off-diagonal entries
 // (a_ij + a_ji) / 2, each diagonal the sum of its row's off-diagonal magnitudes plus `boundary`
-// (row i's |a_ij| summed over the columns eliminated as fixed). Symmetric and diagonally dominant,
-// so positive definite where a row touches the boundary, as build_multigrid needs; A's own diagonal
-// (1 on every row of a row-normalised system) would leave it indefinite wherever w_ij + w_ji > 2 w.
+// (row i's |a_ij| summed over the columns eliminated as fixed) plus A's own excess over diagonal
+// dominance, max(0, |a_ii| - sum_j |a_ij|) (a shift or mass term; 0 on Tutte and Floater rows).
+// Symmetric and diagonally dominant, so positive definite where a row touches the boundary or has
+// an excess, as build_multigrid needs. A's own diagonal (1 on every row of a row-normalised system)
+// would leave it indefinite wherever w_ij + w_ji > 2 w; the larger of the two doubled the iterations.
 SpdSystem symmetric_laplacian(const CsrMatrix& a, const std::vector<double>& boundary);
 
 // `a` holds every entry, diagonal included (no zero diagonal).

@@ -378,3 +378,22 @@ TEST_F(Solvers, ClearErrorsForUnfitSystems) {
     zero_diagonal.b = {1.0, 2.0};
     EXPECT_THROW(passes::solve_general(ctx(), zero_diagonal), geo::InputError);
 }
+
+TEST_F(Solvers, GeneralWithTheMultigridCycleSolvesAShiftedSystemWithoutFixedRows) {
+    // I - W + a shift on every row, nothing fixed: the Laplacian of the symmetric part alone would
+    // be singular; the cycle's Laplacian keeps each row's excess over diagonal dominance.
+    const geo::Mesh mesh = jittered_grid(40);
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    const SparseMatrix a = laplacian(adj, std::vector<double>(adj.edge_count(), 1.0), 0.05, true);
+    std::vector<double> truth;
+    const LinearSystem s = system_with_solution(a, std::vector<std::uint8_t>(a.size, 0), 2, truth);
+    const SolveOptions jacobi{.tolerance = 1e-10, .max_iterations = 3000, .iterations_per_check = 4};
+    SolveOptions multigrid = jacobi;
+    multigrid.preconditioner = passes::Preconditioner::Multigrid;
+    const SolveResult by_jacobi = passes::solve_general_cpu(s, jacobi);
+    for (const SolveResult& r : {passes::solve_general(ctx(), s, multigrid), passes::solve_general_cpu(s, multigrid)}) {
+        ASSERT_TRUE(r.converged) << r.residual;
+        EXPECT_LT(max_difference(r.x, truth), 1e-8);
+        EXPECT_LT(2 * r.iterations, by_jacobi.iterations);
+    }
+}
