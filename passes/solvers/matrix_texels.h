@@ -81,15 +81,14 @@ inline std::vector<glm::uvec4> entry_texels(const CsrMatrix& m) {
     return entries;
 }
 
-// A matrix's entries as texels (column, value's bits) in float, each value times its column's
-// `scale` when one is given (one per column; empty for none) before the rounding.
-inline Image upload_float_entries(Context& ctx, const CsrMatrix& m, const std::vector<double>& scale,
+// A matrix's entries as texels (column, value's bits) in float, the values given already rounded
+// (MultigridLevel's, which the CPU cycle reads too).
+inline Image upload_float_entries(Context& ctx, const CsrMatrix& m, const std::vector<float>& values,
                                   const std::string& name) {
-    std::vector<glm::uvec2> entries(m.values.size());
+    std::vector<glm::uvec2> entries(values.size());
     for (std::size_t k = 0; k < entries.size(); ++k) {
-        const float value = float(scale.empty() ? m.values[k] : m.values[k] * scale[m.columns[k]]);
         std::uint32_t bits;
-        std::memcpy(&bits, &value, sizeof bits);
+        std::memcpy(&bits, &values[k], sizeof bits);
         entries[k] = {m.columns[k], bits};
     }
     return upload_texel_array(ctx, std::move(entries), Format::RG32U, name);
@@ -110,9 +109,9 @@ inline Image upload_rows(Context& ctx, const CsrMatrix& m, const std::vector<dou
     return upload_texels(ctx, std::move(rows), name + " rows");
 }
 
-inline TexelMatrix upload_matrix_texels(Context& ctx, const CsrMatrix& m, const std::vector<double>& row_values,
-                                        const std::string& name) {
-    return {upload_rows(ctx, m, row_values, name), upload_float_entries(ctx, m, {}, name + " entries"),
+inline TexelMatrix upload_matrix_texels(Context& ctx, const CsrMatrix& m, const std::vector<float>& values,
+                                        const std::vector<double>& row_values, const std::string& name) {
+    return {upload_rows(ctx, m, row_values, name), upload_float_entries(ctx, m, values, name + " entries"),
             std::uint32_t(m.rows())};
 }
 

@@ -44,10 +44,10 @@ GpuVcycle::GpuVcycle(Context& ctx, const Multigrid& mg, const std::string& name)
     for (std::size_t l = 0; l < mg.levels.size(); ++l) {
         const std::string level_name = name + " level " + std::to_string(l);
         const MultigridLevel& level = mg.levels[l];
-        levels_.push_back({upload_matrix_texels(ctx, level.a, level.inverse_diagonal, level_name + " A"),
-                           upload_matrix_texels(ctx, level.prolong, {}, level_name + " P"),
-                           upload_matrix_texels(ctx, level.restrict_, {}, level_name + " R"),
-                           upload_float_entries(ctx, level.a, level.inverse_diagonal, level_name + " A D^-1 entries"),
+        levels_.push_back({upload_matrix_texels(ctx, level.a, level.a32, level.inverse_diagonal, level_name + " A"),
+                           upload_matrix_texels(ctx, level.prolong, level.prolong32, {}, level_name + " P"),
+                           upload_matrix_texels(ctx, level.restrict_, level.restrict32, {}, level_name + " R"),
+                           upload_float_entries(ctx, level.a, level.a_over_diagonal32, level_name + " A D^-1 entries"),
                            level.smoother});
     }
     coarsest_inverse_ = upload_double_texels(ctx, mg.coarsest_inverse, name + " coarsest inverse");
