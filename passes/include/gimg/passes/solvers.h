@@ -95,4 +95,11 @@ SolveResult solve_symmetric_cpu(const LinearSystem& system, const SolveOptions& 
 SolveResult solve_general(Context& ctx, const LinearSystem& system, const SolveOptions& options = {});
 SolveResult solve_general_cpu(const LinearSystem& system, const SolveOptions& options = {});
 
+// For a run of systems whose matrices drift (reweighting iterations): sets system.start to the
+// last of `past` (earlier solutions, oldest first, each n * rhs_count) plus the combination of its
+// differences from the others that leaves the least residual |b - A x| on the free rows, per
+// right-hand side. Costs one product with A per difference; with one past solution the start is
+// that solution.
+void project_start(LinearSystem& system, const std::vector<std::vector<double>>& past);
+
 }  // namespace gimg::passes
