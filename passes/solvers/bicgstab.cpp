@@ -124,7 +124,7 @@ BicgState start_bicgstab(const CsrMatrix& a, const std::vector<glm::dvec2>& b, c
 
 void bicgstab_cpu(const CsrMatrix& a, BicgState& s, std::uint32_t iterations, const Multigrid* mg) {
     const std::size_t n = a.rows();
-    const std::vector<double> inv = inverse_diagonal(a);
+    const std::vector<double> inv = mg ? std::vector<double>() : inverse_diagonal(a);
     std::vector<glm::dvec2> y(n), sv(n), z(n), t(n);
     for (std::uint32_t it = 0; it < iterations; ++it) {
         glm::dvec2 beta;
