@@ -69,6 +69,36 @@ TEST_F(Parameterize, APlanarSquareGridMapsToItself) {
         }
 }
 
+TEST_F(Parameterize, CornersMoveToNearbyEarsSoThatNoFaceLiesFlatOnASide) {
+    // A 1.2 x 1 grid: the quarter points of its perimeter (4.4) fall 0.1 short of two of its corners,
+    // one grid step. A corner holding a single triangle (an ear) that is not a square's corner lies
+    // flat on a side, and no sample of the image would fall on it.
+    const geo::Mesh grid = geo::make_grid(12, 10, 1.2, 1.0);
+    const geo::MeshAdjacency adj = geo::build_adjacency(grid);
+    std::vector<std::uint32_t> ears;  // rectangle corners with one triangle
+    for (std::uint32_t v = 0; v < grid.vertex_count(); ++v) {
+        const glm::dvec3 p = grid.positions[v];
+        const bool corner = (p.x < 1e-9 || p.x > 1.2 - 1e-9) && (p.y < 1e-9 || p.y > 1.0 - 1e-9);
+        std::size_t faces = 0;
+        for (const glm::uvec3& t : grid.triangles) faces += t.x == v || t.y == v || t.z == v;
+        if (corner && faces == 1) ears.push_back(v);
+    }
+    ASSERT_EQ(ears.size(), 2u);
+    const passes::SquareBoundary boundary = passes::square_boundary(grid, adj);
+    for (std::uint32_t e : ears)
+        EXPECT_NE(std::find(boundary.corners.begin(), boundary.corners.end(), e), boundary.corners.end())
+            << "ear " << e << " at (" << grid.positions[e].x << ", " << grid.positions[e].y << ")";
+    const passes::Parameterization map =
+        passes::parameterize_square(nullptr, grid, {.variant = ParameterizeVariant::Floater});
+    double smallest = 1.0;
+    for (const glm::uvec3& t : grid.triangles) {
+        const glm::dvec2 a = map.uv[t.x], b = map.uv[t.y], c = map.uv[t.z];
+        smallest = std::min(smallest, 0.5 * ((b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)));
+    }
+    // Every face keeps at least a tenth of a cell of the 12 x 10 grid mapped to the square.
+    EXPECT_GT(smallest, 0.1 * 0.5 / 120.0);
+}
+
 TEST_F(Parameterize, FloatersWeightsReproduceAPlanarMesh) {
     const geo::Mesh grid = jittered_grid(9);
     const geo::MeshAdjacency adj = geo::build_adjacency(grid);
