@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 namespace gimg::passes {
@@ -82,38 +83,77 @@ std::vector<std::size_t> ear_apexes(const geo::Mesh& mesh, const geo::MeshAdjace
     return out;
 }
 
-// Quarter arc lengths from loop[0]: the loop vertex nearest each fraction, kept distinct and in
-// order; then each corner moves to the nearest ear apex within a 32nd of the perimeter (an eighth
-// of a side), where a patch's natural corners, which carry single triangles, usually lie
-// (three_peaks: 2 % of the perimeter off). Further moves cost more than the ear: mannequin_devil's
-// one ear, 6 % away, would take 2.2 dB off its 257 x 257 image.
+// The loop position nearest arc length `target`, measured around the loop.
+std::size_t nearest_position(const std::vector<double>& arc, double target) {
+    const std::size_t n = arc.size() - 1;
+    const double total = arc[n];
+    target = std::fmod(target, total);
+    if (target < 0.0) target += total;
+    const std::size_t above = std::size_t(std::lower_bound(arc.begin(), arc.begin() + std::ptrdiff_t(n), target) -
+                                          arc.begin());  // arc[above] >= target, or n
+    const std::size_t below = above == 0 ? n - 1 : above - 1;
+    const double to_below = above == 0 ? target + total - arc[below] : target - arc[below];
+    const double to_above = arc[above] - target;
+    return to_above <= to_below ? above % n : below;
+}
+
+// How far the boundary turns at loop position i: the angle between the chords to the loop points
+// `reach` of arc length before and after it (nearest vertices).
+double turning(const geo::Mesh& mesh, const std::vector<std::uint32_t>& loop, const std::vector<double>& arc,
+               std::size_t i, double reach) {
+    const std::size_t n = loop.size();
+    std::size_t before = nearest_position(arc, arc[i] - reach), after = nearest_position(arc, arc[i] + reach);
+    if (before == i) before = (i + n - 1) % n;
+    if (after == i) after = (i + 1) % n;
+    const glm::dvec3 a = mesh.positions[loop[before]], b = mesh.positions[loop[i]], c = mesh.positions[loop[after]];
+    const double l = glm::length(b - a) * glm::length(c - b);
+    return l > 0.0 ? std::acos(std::clamp(glm::dot(b - a, c - b) / l, -1.0, 1.0)) : 0.0;
+}
+
+// Distinct and in the loop's order from the first.
+bool in_loop_order(const std::array<std::size_t, 4>& at, std::size_t n) {
+    for (int c = 1; c < 4; ++c)
+        if ((at[c] + n - at[0]) % n <= (at[c - 1] + n - at[0]) % n) return false;
+    return true;
+}
+
+// Corners a quarter of the perimeter apart: of every such set, the four where the boundary turns
+// the most, measured over an eighth of a side (a 32nd of the perimeter) so that a zigzag of single
+// edges does not count. That finds a patch's natural corners where it has them, and elsewhere puts
+// the square's 90-degree turns where the boundary bends already (nefertiti at 257: curvature
+// 89.6 dB against 89.4 from the smallest index; mushroom's density 89.6 against 87.8). Then each
+// corner moves to the nearest ear apex within a 32nd of the perimeter, where a patch's natural
+// corners, which carry single triangles, lie when its sides are unequal (three_peaks: 2 % of the
+// perimeter off). Corner 0 is the one with the smallest vertex index.
 std::array<std::uint32_t, 4> default_corners(const geo::Mesh& mesh, const geo::MeshAdjacency& adj,
                                              const std::vector<std::uint32_t>& loop, const std::vector<double>& arc) {
     const std::size_t n = loop.size();
-    std::array<std::size_t, 4> at{};
-    for (int c = 1; c < 4; ++c) {
-        const double target = arc[n] * c / 4.0;
-        std::size_t best = at[c - 1] + 1;
-        for (std::size_t i = best; i + (4 - c) <= n; ++i)
-            if (std::abs(arc[i] - target) < std::abs(arc[best] - target)) best = i;
-        at[c] = best;
+    const double total = arc[n];
+    std::array<std::size_t, 4> at{0, 0, 0, 0};
+    double start = 0.0, most = -1.0;
+    for (std::size_t s = 0; s < n; ++s) {
+        std::array<std::size_t, 4> candidate{};
+        for (int c = 0; c < 4; ++c) candidate[c] = nearest_position(arc, arc[s] + total * c / 4.0);
+        if (!in_loop_order(candidate, n)) continue;
+        double turned = 0.0;
+        for (std::size_t i : candidate) turned += turning(mesh, loop, arc, i, total / 32.0);
+        if (turned > most + 1e-9) most = turned, at = candidate, start = arc[s];
     }
+    if (most < 0.0) at = {0, 1, 2, 3};  // no quarter points are distinct: the loop's first four
     std::array<std::size_t, 4> snapped = at;
     const std::vector<std::size_t> ears = ear_apexes(mesh, adj, loop);
     for (int c = 0; c < 4; ++c) {
-        const double target = arc[n] * c / 4.0;
-        double nearest = arc[n] / 32.0;
+        const double target = std::fmod(start + total * c / 4.0, total);
+        double nearest = total / 32.0;
         for (std::size_t i : ears) {
-            const double d = std::abs(arc[i] - target), around = std::min(d, arc[n] - d);
+            const double d = std::abs(arc[i] - target), around = std::min(d, total - d);
             if (around <= nearest) nearest = around, snapped[c] = i;
         }
     }
-    // Distinct and in the loop's order from corner 0 on, or the quarter points as they were.
-    bool in_order = true;
-    for (int c = 1; c < 4; ++c)
-        in_order = in_order && (snapped[c] + n - snapped[0]) % n > (snapped[c - 1] + n - snapped[0]) % n;
-    const std::array<std::size_t, 4>& chosen = in_order ? snapped : at;
-    return {loop[chosen[0]], loop[chosen[1]], loop[chosen[2]], loop[chosen[3]]};
+    const std::array<std::size_t, 4>& chosen = in_loop_order(snapped, n) ? snapped : at;
+    std::array<std::uint32_t, 4> out{loop[chosen[0]], loop[chosen[1]], loop[chosen[2]], loop[chosen[3]]};
+    std::rotate(out.begin(), std::min_element(out.begin(), out.end()), out.end());
+    return out;
 }
 
 }  // namespace

@@ -40,11 +40,11 @@ struct SquareBoundary {
 // Throws geo::InputError with the reason unless the mesh is one component, manifold, oriented and
 // has exactly one boundary loop of at least 4 vertices (and no vertex outside its faces).
 void check_disk_mesh(const geo::Mesh& mesh);
-// Corners: the given boundary vertices (in boundary order), or those at arc-length fractions 0,
-// 1/4, 1/2, 3/4 from the boundary vertex with the smallest index, each moved to the nearest apex
-// of an ear (a face of three consecutive boundary vertices, which would lie flat on a side) within
-// a 32nd of the perimeter. Throws geo::InputError when a given corner is not on the boundary
-// or the four are not distinct and in order.
+// Corners: the given boundary vertices (in boundary order), or four a quarter of the perimeter
+// apart where the boundary turns the most, each moved to the nearest apex of an ear (a face of
+// three consecutive boundary vertices, which would lie flat on a side) within a 32nd of the
+// perimeter; corner 0 is the one with the smallest index (docs/gim.md). Throws geo::InputError
+// when a given corner is not on the boundary or the four are not distinct and in order.
 SquareBoundary square_boundary(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
                                const std::optional<std::array<std::uint32_t, 4>>& corners = std::nullopt);
 
