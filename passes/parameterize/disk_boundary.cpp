@@ -121,7 +121,7 @@ bool in_loop_order(const std::array<std::size_t, 4>& at, std::size_t n) {
 // the most, measured over an eighth of a side (a 32nd of the perimeter) so that a zigzag of single
 // edges does not count. That finds a patch's natural corners where it has them, and elsewhere puts
 // the square's 90-degree turns where the boundary bends already (nefertiti at 257: curvature
-// 89.6 dB against 89.4 from the smallest index; mushroom's density 89.6 against 87.8). Then each
+// 89.6 dB against 89.4 from the smallest index; mushroom's density 89.4 against 87.8). Then each
 // corner moves to the nearest ear apex within a 32nd of the perimeter, where a patch's natural
 // corners, which carry single triangles, lie when its sides are unequal (three_peaks: 2 % of the
 // perimeter off). Corner 0 is the one with the smallest vertex index.

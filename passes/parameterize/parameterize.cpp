@@ -85,8 +85,8 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
     // The weighted system from `start` to a relative residual of `tolerance`; adds its iterations to
     // `solver_iterations`.
     // Each reweighted solve starts from the combination of the last iterates that leaves the least
-    // residual (project_start): mannequin_devil's curvature run takes 136 solver iterations instead of
-    // 271, its density run 433 instead of 974. More than 4 iterates save no more.
+    // residual (project_start): mannequin_devil's curvature run takes 137 solver iterations instead of
+    // 271, its density run 470 instead of 974 (final solves included). More than 4 iterates save no more.
     std::vector<std::vector<double>> past;  // oldest first
     auto solve_to = [&](const std::vector<glm::dvec2>& start, double tolerance, std::size_t& solver_iterations,
                         bool from_past = false) {

@@ -115,8 +115,8 @@ TEST_F(Parameterize, CornersFindASquarePatchsCornersWhateverItsNumbering) {
         passes::parameterize_square(nullptr, renumbered, {.variant = ParameterizeVariant::Floater});
     for (std::uint32_t c : map.boundary.corners) {
         const glm::dvec3 p = renumbered.positions[c];
-        EXPECT_TRUE((p.x == 0.0 || p.x == 1.0) && (p.y == 0.0 || p.y == 1.0)) << "corner " << c << " at " << p.x
-                                                                             << ", " << p.y;
+        EXPECT_TRUE((p.x == 0.0 || p.x == 1.0) && (p.y == 0.0 || p.y == 1.0))
+            << "corner " << c << " at " << p.x << ", " << p.y;
     }
     double worst = 0.0;
     for (const glm::uvec3& t : renumbered.triangles) {
