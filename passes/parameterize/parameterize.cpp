@@ -94,7 +94,10 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         if (from_past) project_start(system, past);
         const SolveOptions solve_options{.tolerance = tolerance,
                                          .max_iterations = 20000,
-                                         .iterations_per_check = 4,
+                                         // The CPU twin knows its residual after every iteration
+                                         // and stops at the first under the tolerance (mannequin_devil:
+                                         // 15-23 % fewer iterations); the GPU reads it back every 4.
+                                         .iterations_per_check = ctx ? 4u : 1u,
                                          .preconditioner = Preconditioner::Multigrid,
                                          .reuse = &hierarchy};
         const SolveResult r =
