@@ -130,13 +130,15 @@ std::array<std::uint32_t, 4> default_corners(const geo::Mesh& mesh, const geo::M
     const std::size_t n = loop.size();
     const double total = arc[n];
     std::array<std::size_t, 4> at{0, 0, 0, 0};
+    std::vector<double> turn(n);
+    for (std::size_t i = 0; i < n; ++i) turn[i] = turning(mesh, loop, arc, i, total / 32.0);
     double start = 0.0, most = -1.0;
     for (std::size_t s = 0; s < n; ++s) {
         std::array<std::size_t, 4> candidate{};
         for (int c = 0; c < 4; ++c) candidate[c] = nearest_position(arc, arc[s] + total * c / 4.0);
         if (!in_loop_order(candidate, n)) continue;
         double turned = 0.0;
-        for (std::size_t i : candidate) turned += turning(mesh, loop, arc, i, total / 32.0);
+        for (std::size_t i : candidate) turned += turn[i];
         if (turned > most + 1e-9) most = turned, at = candidate, start = arc[s];
     }
     if (most < 0.0) at = {0, 1, 2, 3};  // no quarter points are distinct: the loop's first four
