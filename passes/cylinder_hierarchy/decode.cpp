@@ -40,7 +40,7 @@ HierarchyGrid decode_cylinder_hierarchy(const CylinderHierarchy& h, std::uint32_
         }
     HierarchyGrid grid = detail::level_one_grid(b, t1, v1);
     for (std::uint32_t l = 2, s = b; l <= level; ++l, s *= 2) {
-        const detail::LevelLaunches launches = detail::level_launches(grid);
+        const detail::LevelLaunches launches = detail::level_launches(grid, b);
         const std::size_t count = std::size_t(s) * s;
         std::vector<float> th(count), tv(count), td(count);
         std::vector<std::uint8_t> hh(count), hv(count), hd(count);
@@ -70,11 +70,13 @@ geo::Mesh hierarchy_mesh(const HierarchyGrid& g, const CylinderFrame& frame) {
         const glm::dvec3 d = g.points[a] - g.points[b];
         return glm::dot(d, d);
     };
-    for (std::uint32_t v = 0; v + 1 < s; ++v)
+    for (std::uint32_t v = 0; v < s; ++v) {
+        if (!detail::rows_adjacent(v, s, g.base)) continue;
+        const std::uint32_t v1 = (v + 1) % s;
         for (std::uint32_t u = 0; u < s; ++u) {
             const std::uint32_t u1 = (u + 1) % s;
-            const std::size_t c[4] = {std::size_t(v) * s + u, std::size_t(v) * s + u1, std::size_t(v + 1) * s + u,
-                                      std::size_t(v + 1) * s + u1};
+            const std::size_t c[4] = {std::size_t(v) * s + u, std::size_t(v) * s + u1, std::size_t(v1) * s + u,
+                                      std::size_t(v1) * s + u1};
             if (!(g.valid[c[0]] && g.valid[c[1]] && g.valid[c[2]] && g.valid[c[3]])) continue;
             const bool faces_plus = g.outward[c[0]] + g.outward[c[1]] + g.outward[c[2]] + g.outward[c[3]] >= 0;
             const detail::BlockTriangles t =
@@ -82,6 +84,7 @@ geo::Mesh hierarchy_mesh(const HierarchyGrid& g, const CylinderFrame& frame) {
             for (const auto& tri : t.corner)
                 mesh.triangles.push_back({vertex[c[tri[0]]], vertex[c[tri[1]]], vertex[c[tri[2]]]});
         }
+    }
     detail::finish_mesh(mesh);
     return mesh;
 }

@@ -18,7 +18,7 @@ namespace {
 const Spirv kDecodeLevel = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_decode_level_comp);
 
 struct DecodePush {
-    std::uint32_t step, side, n;
+    std::uint32_t step, side, n, base;
 };
 
 }  // namespace
@@ -31,6 +31,9 @@ HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarch
     std::vector<std::uint32_t> valid(h.valid.begin(), h.valid.end());
     std::vector<double> dirs;
     for (const auto& d : cylinder_directions(b)) dirs.insert(dirs.end(), {d[0], d[1]});
+    // The radial samples' directions per next grid of side M, from entry M - B.
+    for (std::uint32_t m = 2 * b; m <= n; m *= 2)
+        for (const auto& d : detail::radial_directions(m, b)) dirs.insert(dirs.end(), {d[0], d[1]});
     Buffer band_t = upload_buffer(ctx, h.t, "hierarchy t"), band_valid = upload_buffer(ctx, valid, "hierarchy valid"),
            directions = upload_buffer(ctx, dirs, "hierarchy directions");
 
@@ -44,7 +47,7 @@ HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarch
     // Each step binds every buffer; the ones a step does not touch are written so they are defined.
     auto step = [&](std::uint32_t which, std::uint32_t side, BufferHandle& cur, BufferHandle& cur_valid,
                     BufferHandle& cells, BufferHandle& next, BufferHandle& next_valid) {
-        const DecodePush push{which, side, n};
+        const DecodePush push{which, side, n, b};
         g.add_compute_pass(
             "decode hierarchy: step " + std::to_string(which) + " at " + std::to_string(side),
             [&](PassBuilder& pb) {
@@ -82,6 +85,7 @@ HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarch
 
     HierarchyGrid out;
     out.side = side;
+    out.base = b;
     const std::size_t count = std::size_t(side) * side;
     std::vector<double> points(4 * count);
     std::vector<std::uint32_t> kinds(count);

@@ -26,6 +26,13 @@ void check_hierarchy_sizes(std::uint32_t base, std::uint32_t size) {
                               std::to_string(base) + " times a power of 2 (base at least 2, size at most 16384)");
 }
 
+HierarchyMiss hierarchy_miss(const std::string& name) {
+    if (name == "surface") return HierarchyMiss::Surface;
+    if (name == "empty") return HierarchyMiss::Invalid;
+    if (name == "radial") return HierarchyMiss::Radial;
+    throw geo::InputError("hierarchy misses: \"" + name + "\" is not surface, empty or radial");
+}
+
 std::uint32_t CylinderHierarchy::levels() const {
     std::uint32_t l = 1;
     for (std::uint32_t s = base; s < size; s *= 2) ++l;
@@ -64,25 +71,48 @@ CylinderHierarchy encode_hierarchy(const CylinderImage& first, double first_ms, 
     lap();
     out.level_ms.front() += first_ms;
     for (std::uint32_t s = b; s < n; s *= 2) {
-        const LevelLaunches launches = level_launches(grid);
+        const LevelLaunches launches = level_launches(grid, b);
         const std::size_t count = std::size_t(s) * s;
         // One cast for the level: H, V and D one after another.
         std::vector<Launch> all;
         all.reserve(3 * count);
         for (const auto* band : {&launches.h, &launches.v, &launches.d})
             all.insert(all.end(), band->begin(), band->end());
-        const std::vector<std::optional<double>> t = cast(all);
+        std::vector<std::optional<double>> t = cast(all);
+        // A normal ray that found nothing, with HierarchyMiss::Radial: the radial ray at its sample.
+        if (options.miss == HierarchyMiss::Radial) {
+            const std::uint32_t next = 2 * s;
+            const std::vector<std::array<double, 2>> dirs = radial_directions(next, b);
+            std::vector<Launch> again;
+            std::vector<std::size_t> where;
+            for (std::size_t k = 0; k < all.size(); ++k) {
+                if (!all[k].valid || all[k].radial || t[k]) continue;
+                const std::size_t band = k / count, i = k % count;
+                const std::uint32_t u = std::uint32_t(i % s), v = std::uint32_t(i / s);
+                const std::uint32_t col = 2 * u + (band != 1), row = 2 * v + (band != 0);
+                const Launch r = radial_launch(dirs[col], row_height(row, next, b));
+                if (!r.valid) continue;
+                again.push_back(r);
+                where.push_back(k);
+            }
+            const std::vector<std::optional<double>> t2 = cast(again);
+            for (std::size_t r = 0; r < where.size(); ++r) {
+                all[where[r]] = again[r];
+                t[where[r]] = t2[r];
+            }
+        }
         std::vector<float> values[3];
         std::vector<std::uint8_t> kinds[3];
         for (int k = 0; k < 3; ++k) {
             values[k].assign(count, 0.0f);
             kinds[k].assign(count, kHierarchyEmpty);
             for (std::size_t i = 0; i < count; ++i) {
-                if (!all[k * count + i].valid) continue;
+                const Launch& l = all[k * count + i];
+                if (!l.valid) continue;
                 if (const auto& hit = t[k * count + i]) {
                     values[k][i] = float(*hit);
-                    kinds[k][i] = kHierarchyHit;
-                } else if (options.miss == HierarchyMiss::Surface) {
+                    kinds[k][i] = l.radial ? kHierarchyRadial : kHierarchyHit;
+                } else if (options.miss == HierarchyMiss::Surface && !l.radial) {
                     kinds[k][i] = kHierarchyMiss;
                 }
             }
@@ -116,6 +146,10 @@ CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const Cylinde
             for (std::size_t i = begin; i < end; ++i) {
                 const detail::Launch& l = launches[i];
                 if (!l.valid) continue;
+                if (l.radial) {
+                    if (const auto hit = bvh.intersect_nearest(detail::radial_ray(l))) t[i] = 1.0 + hit->t;
+                    continue;
+                }
                 const bool inside = detail::inside_by_parity(bvh.crossings(detail::parity_segment(l.origin)));
                 if (const auto hit = bvh.intersect_nearest(detail::launch_ray(l, inside, options.reach)))
                     t[i] = inside ? hit->t : -hit->t;

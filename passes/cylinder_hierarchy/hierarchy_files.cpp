@@ -66,7 +66,10 @@ void write_hierarchy_files(const std::filesystem::path& dir, const CylinderHiera
     mask.resize(h.t.size());
     for (std::size_t i = 0; i < t.size(); ++i) {
         t[i] = h.valid[i] ? h.t[i] : 0.0f;
-        mask[i] = h.valid[i] == kHierarchyHit ? 1.0f : h.valid[i] == kHierarchyMiss ? 0.5f : 0.0f;
+        mask[i] = h.valid[i] == kHierarchyHit      ? 1.0f
+                  : h.valid[i] == kHierarchyRadial ? 0.75f
+                  : h.valid[i] == kHierarchyMiss   ? 0.5f
+                                                   : 0.0f;
     }
     geo::OutputSet files;
     geo::write_exr(exr, dir / "hierarchy.exr");
@@ -77,7 +80,9 @@ void write_hierarchy_files(const std::filesystem::path& dir, const CylinderHiera
         {"size", h.size},
         {"levels", h.levels()},
         {"reach", h.reach},
-        {"mask", "1 hit, 0.5 a ray that found nothing within reach (kept on the interpolated surface), 0 empty"},
+        {"mask",
+         "1 hit, 0.75 a radial ray's hit (t from the wall), 0.5 a ray that found nothing within reach (kept on "
+         "the interpolated surface), 0 empty"},
         {"layout",
          "level 1 top-left; level L: horizontal band right, vertical below, diagonal "
          "bottom-right"},
@@ -118,13 +123,16 @@ HierarchyFiles read_hierarchy_files(const std::filesystem::path& exr_path) {
     h.valid.resize(t->second.size());
     for (std::size_t i = 0; i < h.t.size(); ++i) {
         const float m = mask->second[i], v = t->second[i];
-        if (m != 0.0f && m != 0.5f && m != 1.0f)
+        if (m != 0.0f && m != 0.5f && m != 0.75f && m != 1.0f)
             throw geo::InputError(exr_path.string() + ": mask = " + std::to_string(m) + " at pixel " +
-                                  std::to_string(i) + " (it must be 0, 0.5 or 1)");
+                                  std::to_string(i) + " (it must be 0, 0.5, 0.75 or 1)");
         if (m != 0.0f && !(std::abs(v) <= 4.0f))
             throw geo::InputError(exr_path.string() + ": t = " + std::to_string(v) + " at pixel " + std::to_string(i) +
                                   " (a distance inside the cylinder is at most 4)");
-        h.valid[i] = m == 1.0f ? kHierarchyHit : m == 0.5f ? kHierarchyMiss : kHierarchyEmpty;
+        h.valid[i] = m == 1.0f    ? kHierarchyHit
+                     : m == 0.75f ? kHierarchyRadial
+                     : m == 0.5f  ? kHierarchyMiss
+                                  : kHierarchyEmpty;
         h.t[i] = h.valid[i] ? v : 0.0f;
     }
     if (j.value("image_stamp", std::string()) != detail::stamp_of(h.size, h.size, h.valid, h.t))

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 
 namespace gimg::passes::detail {
@@ -34,15 +35,26 @@ glm::dvec3 oriented(const glm::dvec3& sum, const glm::dvec3& origin, int outward
 
 }  // namespace
 
+double row_height(std::uint32_t j, std::uint32_t side, std::uint32_t base) {
+    const double b = double(base ? base : side);
+    const double y = 1.0 - (double(j) * (b / double(side)) + 0.5) / b;
+    return y > 0.0 ? y : y + 1.0;
+}
+
+bool rows_adjacent(std::uint32_t v, std::uint32_t side, std::uint32_t base) {
+    return row_height(v, side, base) > row_height((v + 1) % side, side, base);
+}
+
 HierarchyGrid level_one_grid(std::uint32_t base, const std::vector<float>& t, const std::vector<std::uint8_t>& valid) {
     HierarchyGrid g;
     g.side = base;
+    g.base = base;
     g.points.assign(std::size_t(base) * base, glm::dvec3(0.0));
     g.valid = valid;
     g.outward.assign(g.points.size(), 1);
     const auto dirs = cylinder_directions(base);
     for (std::uint32_t v = 0; v < base; ++v) {
-        const double y = 1.0 - (double(v) + 0.5) / double(base);
+        const double y = row_height(v, base, base);
         for (std::uint32_t u = 0; u < base; ++u) {
             const std::size_t i = std::size_t(v) * base + u;
             if (!valid[i]) continue;
@@ -54,15 +66,18 @@ HierarchyGrid level_one_grid(std::uint32_t base, const std::vector<float>& t, co
     return g;
 }
 
-LevelLaunches level_launches(const HierarchyGrid& g) {
+LevelLaunches level_launches(const HierarchyGrid& g, std::uint32_t base) {
     const std::uint32_t s = g.side;
-    auto at = [&](std::uint32_t u, std::uint32_t v) { return std::size_t(v) * s + (u % s); };
+    auto at = [&](std::uint32_t u, std::uint32_t v) { return std::size_t(v % s) * s + (u % s); };
     LevelLaunches out;
     out.h.resize(std::size_t(s) * s);
     out.v.resize(std::size_t(s) * s);
     out.d.resize(std::size_t(s) * s);
+    std::vector<std::uint8_t> adjacent(s);
+    for (std::uint32_t v = 0; v < s; ++v) adjacent[v] = rows_adjacent(v, s, base);
     // Cell centres first: the edge samples use them.
-    for (std::uint32_t v = 0; v + 1 < s; ++v)
+    for (std::uint32_t v = 0; v < s; ++v) {
+        if (!adjacent[v]) continue;
         for (std::uint32_t u = 0; u < s; ++u) {
             const std::size_t a = at(u, v), b = at(u + 1, v), c = at(u, v + 1), d = at(u + 1, v + 1);
             Launch& l = out.d[at(u, v)];
@@ -78,9 +93,10 @@ LevelLaunches level_launches(const HierarchyGrid& g) {
             for (int k = 0; k < 4; ++k) add_unit_normal(sum, l.origin, ring[k], ring[(k + 1) % 4]);
             l.normal = oriented(sum, l.origin, l.outward);
         }
+    }
     for (std::uint32_t v = 0; v < s; ++v)
         for (std::uint32_t u = 0; u < s; ++u) {
-            // Horizontal: between (u, v) and (u + 1, v); the cells above (row v - 1) and below (row v).
+            // Horizontal: between (u, v) and (u + 1, v); the cells below (row v) and above (row v - 1).
             const std::size_t a = at(u, v), b = at(u + 1, v);
             Launch& h = out.h[at(u, v)];
             if (g.valid[a] && g.valid[b]) {
@@ -89,14 +105,13 @@ LevelLaunches level_launches(const HierarchyGrid& g) {
                 h.span = glm::distance(g.points[a], g.points[b]);
                 h.outward = g.outward[a];
                 glm::dvec3 sum(0.0);
-                if (v + 1 < s && out.d[at(u, v)].valid)
-                    add_unit_normal(sum, g.points[a], g.points[b], out.d[at(u, v)].origin);
-                if (v > 0 && out.d[at(u, v - 1)].valid)
-                    add_unit_normal(sum, g.points[b], g.points[a], out.d[at(u, v - 1)].origin);
+                if (out.d[at(u, v)].valid) add_unit_normal(sum, g.points[a], g.points[b], out.d[at(u, v)].origin);
+                if (out.d[at(u, v + s - 1)].valid)
+                    add_unit_normal(sum, g.points[b], g.points[a], out.d[at(u, v + s - 1)].origin);
                 h.normal = oriented(sum, h.origin, h.outward);
             }
             // Vertical: between (u, v) and (u, v + 1); the cells to the left (column u - 1) and right.
-            if (v + 1 >= s) continue;
+            if (!adjacent[v]) continue;
             const std::size_t c = at(u, v + 1);
             Launch& vl = out.v[at(u, v)];
             if (!(g.valid[a] && g.valid[c])) continue;
@@ -111,7 +126,39 @@ LevelLaunches level_launches(const HierarchyGrid& g) {
             if (left.valid) add_unit_normal(sum, g.points[a], g.points[c], left.origin);
             vl.normal = oriented(sum, vl.origin, vl.outward);
         }
+    // The samples the rules above leave out, in the next grid of side 2S at (2u + 1, 2v), (2u,
+    // 2v + 1) and (2u + 1, 2v + 1): radial rays.
+    const std::vector<std::array<double, 2>> dirs = radial_directions(2 * s, base);
+    auto radial = [&](Launch& l, std::uint32_t i, std::uint32_t j) {
+        if (!l.valid) l = radial_launch(dirs[i], row_height(j, 2 * s, base));
+    };
+    for (std::uint32_t v = 0; v < s; ++v)
+        for (std::uint32_t u = 0; u < s; ++u) {
+            radial(out.h[at(u, v)], 2 * u + 1, 2 * v);
+            radial(out.v[at(u, v)], 2 * u, 2 * v + 1);
+            radial(out.d[at(u, v)], 2 * u + 1, 2 * v + 1);
+        }
     return out;
+}
+
+std::vector<std::array<double, 2>> radial_directions(std::uint32_t side, std::uint32_t base) {
+    std::vector<std::array<double, 2>> d(side);
+    const double scale = double(base) / double(side);
+    for (std::uint32_t i = 0; i < side; ++i) {
+        const double theta = 2.0 * std::numbers::pi * (double(i) * scale + 0.5) / double(base);
+        d[i] = {std::cos(theta), std::sin(theta)};
+    }
+    return d;
+}
+
+Launch radial_launch(const std::array<double, 2>& direction, double y) {
+    Launch l;
+    if (!(y > 0.0 && y < 1.0)) return l;
+    l.valid = 1;
+    l.radial = 1;
+    l.origin = {direction[0], y, direction[1]};
+    l.normal = {-direction[0], 0.0, -direction[1]};
+    return l;
 }
 
 HierarchyGrid interleave(const HierarchyGrid& g, const LevelLaunches& l, const std::vector<float>& th,
@@ -121,15 +168,20 @@ HierarchyGrid interleave(const HierarchyGrid& g, const LevelLaunches& l, const s
     const std::uint32_t s = g.side, n = 2 * s;
     HierarchyGrid out;
     out.side = n;
+    out.base = g.base;
     out.points.assign(std::size_t(n) * n, glm::dvec3(0.0));
     out.valid.assign(out.points.size(), 0);
     out.outward.assign(out.points.size(), 1);
-    auto put = [&](std::uint32_t u, std::uint32_t v, const Launch& launch, float t, std::uint8_t kind) {
+    const std::vector<std::array<double, 2>> dirs = radial_directions(n, g.base ? g.base : s);
+    auto put = [&](std::uint32_t u, std::uint32_t v, const Launch& normal_launch, float t, std::uint8_t kind) {
         const std::size_t i = std::size_t(v) * n + u;
-        if (!launch.valid || kind == kHierarchyEmpty) return;
+        if (kind == kHierarchyEmpty) return;
+        const Launch launch =
+            kind == kHierarchyRadial ? radial_launch(dirs[u], row_height(v, n, g.base)) : normal_launch;
+        if (!launch.valid) return;
         out.points[i] = launch.origin + double(t) * launch.normal;
         out.valid[i] = kind;
-        out.outward[i] = launch.outward;
+        out.outward[i] = launch.radial ? (t <= 1.0f ? 1 : -1) : launch.outward;
     };
     for (std::uint32_t v = 0; v < s; ++v)
         for (std::uint32_t u = 0; u < s; ++u) {

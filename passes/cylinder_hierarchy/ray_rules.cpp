@@ -24,4 +24,14 @@ geo::Ray launch_ray(const Launch& l, bool inside, double reach) {
     return ray;
 }
 
+geo::Ray radial_ray(const Launch& l) {
+    geo::Ray ray;
+    ray.origin = {0.0, l.origin.y, 0.0};
+    ray.direction = l.normal;
+    ray.t_min = -1.0;
+    ray.t_max = 1.0;
+    ray.front_faces_only = true;
+    return ray;
+}
+
 }  // namespace gimg::passes::detail

@@ -26,5 +26,8 @@ geo::Ray parity_segment(const glm::dvec3& origin);
 inline bool inside_by_parity(std::uint32_t crossings) { return crossings % 2 == 1; }
 // The ray from a launch point, inside firing along the outward normal.
 geo::Ray launch_ray(const Launch& l, bool inside, double reach);
+// A radial launch's ray: the ordinary image's (from the axis outwards, t in [-1, 1], the nearest
+// front face to the wall); its value is 1 + t, the distance from the wall.
+geo::Ray radial_ray(const Launch& l);
 
 }  // namespace gimg::passes::detail

@@ -29,7 +29,7 @@ struct HierarchyBenchOptions {
     std::vector<std::uint32_t> sizes{64, 128, 256};
     std::uint32_t base = 32;
     double reach = passes::CylinderHierarchyOptions{}.reach;
-    std::string misses = "surface";
+    std::string misses = "radial";
     std::uint64_t samples = 300000;
     std::string json;
 };
@@ -73,10 +73,7 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
             const double ord_ms =
                 time_ms([&] { ordinary = passes::reconstruct_cpu(passes::cylinder_raycast(cyl, n, n), frame, off); });
             const passes::CylinderHierarchyOptions options{
-                .base = o.base,
-                .size = n,
-                .reach = o.reach,
-                .miss = o.misses == "empty" ? passes::HierarchyMiss::Invalid : passes::HierarchyMiss::Surface};
+                .base = o.base, .size = n, .reach = o.reach, .miss = passes::hierarchy_miss(o.misses)};
             const double hier_ms = time_ms([&] { h = passes::cylinder_hierarchy_cpu(cyl, options); });
             passes::CylinderHierarchy on_gpu;
             const double gpu_ms = time_ms([&] { on_gpu = passes::cylinder_hierarchy_gpu(ctx, cyl, options); });
@@ -125,9 +122,9 @@ void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global) {
     add_count_option(cmd, "--base", o->base, 2, 8192, "Level 1 is B x B (default 32)");
     add_number_option(cmd, "--reach", o->reach, 0.0, 1e6, "Ray reach in parent spans (0: without limit; default 2)");
     cmd->add_option("--misses", o->misses,
-                    "A ray that finds nothing within reach leaves a sample on the interpolated surface (surface, "
-                    "default) or a hole (empty)")
-        ->check(CLI::IsMember({"surface", "empty"}));
+                    "A ray that finds nothing within reach gives way to the ordinary image's ray (radial, default), "
+                    "leaves a sample on the interpolated surface (surface) or a hole (empty)")
+        ->check(CLI::IsMember({"surface", "empty", "radial"}));
     add_count_option(cmd, "--samples", o->samples, 1000, 100'000'000, "Surface samples per direction (default 300000)");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_hierarchy_bench(*o, global); }); });

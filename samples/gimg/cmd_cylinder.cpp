@@ -20,7 +20,7 @@ struct CylinderOptions {
     bool auto_size = false, no_align = false;
     std::uint32_t base = 32;
     double reach = passes::CylinderHierarchyOptions{}.reach;
-    std::string misses = "surface";
+    std::string misses = "radial";
     bool cpu = false;
 };
 
@@ -39,19 +39,15 @@ void run_hierarchy(const CylinderOptions& o, const GlobalOptions& global) {
     if (mesh.face_count() == 0) throw geo::InputError(o.mesh + " has no faces to project");
     const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh, !o.no_align);
     const passes::CylinderHierarchyOptions options{
-        .base = o.base,
-        .size = n,
-        .reach = o.reach,
-        .miss = o.misses == "empty" ? passes::HierarchyMiss::Invalid : passes::HierarchyMiss::Surface};
+        .base = o.base, .size = n, .reach = o.reach, .miss = passes::hierarchy_miss(o.misses)};
     std::shared_ptr<Context> ctx;
     if (!o.cpu) ctx = open_context(global);
     const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, frame);
     const passes::CylinderHierarchy h =
         ctx ? passes::cylinder_hierarchy_gpu(*ctx, cyl, options) : passes::cylinder_hierarchy_cpu(cyl, options);
     std::size_t valid = 0;
-    for (auto v : h.valid) valid += v != passes::kHierarchyEmpty;  // a hit or a miss kept on the surface
-    if (valid == 0)
-        throw geo::InputError(o.mesh + ": the hierarchy's first level covers no pixel; try a larger --base");
+    for (auto v : h.valid) valid += v != passes::kHierarchyEmpty;  // hits, radial hits, misses kept on the surface
+    if (valid == 0) throw geo::InputError(o.mesh + ": no ray of the hierarchy meets the model; try a larger --base");
     passes::write_hierarchy_files(o.out, h, frame, {o.mesh, "hierarchical"});
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!global.quiet) {
@@ -139,9 +135,10 @@ void add_cylinder_command(CLI::App& app, const GlobalOptions& global) {
                       "hierarchical: a ray goes at most this many times the distance between its parents (0: "
                       "without limit, as the thesis; default 2)");
     cmd->add_option("--misses", opts->misses,
-                    "hierarchical: a ray that finds nothing leaves a sample on the interpolated surface (surface, "
-                    "default) or a hole (empty)")
-        ->check(CLI::IsMember({"surface", "empty"}));
+                    "hierarchical: a ray that finds nothing within reach gives way to the ordinary image's ray at its "
+                    "angle and height (radial, default), leaves a sample on the interpolated surface (surface) or a "
+                    "hole (empty)")
+        ->check(CLI::IsMember({"surface", "empty", "radial"}));
     cmd->add_flag("--cpu", opts->cpu, "hierarchical: cast on the CPU instead of the GPU (the same hierarchy)");
     cmd->add_flag("--no-align", opts->no_align, "Keep the model's orientation (no PCA), only centre and scale");
     cmd->add_option("--json", opts->json, "Write the figures as JSON");

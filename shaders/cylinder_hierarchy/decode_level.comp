@@ -6,12 +6,14 @@
 //    normals);
 //  2 edges and interleave: the H and V launches, then the next grid (side 2S): G'[2v][2u] = G,
 //    [2v][2u + 1] = H, [2v + 1][2u] = V, [2v + 1][2u + 1] = D, each new point origin + t normal.
-// Validity: 0 empty, 1 hit, 2 a miss kept on the surface (as CylinderHierarchy::valid).
+// Validity: 0 empty, 1 hit, 2 a miss kept on the surface, 3 a radial ray's hit (as
+// CylinderHierarchy::valid). Rows wrap: those below the bottom sit above row 0 (launch_rays.h).
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(std430, binding = 0) readonly buffer BandT { float band_t[]; };      // N x N
 layout(std430, binding = 1) readonly buffer BandValid { uint band_valid[]; };
-layout(std430, binding = 2) readonly buffer Directions { double dirs[]; };  // cos, sin per level-1 column
+// cos, sin per level-1 column, then per next grid of side M = 2B, 4B, .. N per column (from M - B)
+layout(std430, binding = 2) readonly buffer Directions { double dirs[]; };
 layout(std430, binding = 3) buffer Grid { double grid[]; };                // 4 per point: x, y, z, outward
 layout(std430, binding = 4) buffer GridValid { uint grid_valid[]; };
 layout(std430, binding = 5) buffer Cells { double cell[]; };               // 8 per cell: origin, normal, outward, valid
@@ -21,6 +23,7 @@ layout(push_constant) uniform Push {
     uint step;
     uint side;  // S
     uint n;     // the image's side N
+    uint base;  // B
 };
 
 dvec3 cross_cpu(dvec3 x, dvec3 y) {
@@ -35,7 +38,17 @@ double length_cpu(dvec3 x) { return sqrt(dot_cpu(x, x)); }
 
 dvec3 point(uint i) { return dvec3(grid[4 * i], grid[4 * i + 1], grid[4 * i + 2]); }
 double outward_of(uint i) { return grid[4 * i + 3]; }
-uint at(uint u, uint v) { return v * side + (u % side); }
+uint at(uint u, uint v) { return (v % side) * side + (u % side); }
+
+// launch_rays.cpp's row_height and rows_adjacent.
+double row_height(uint j, uint grid_side) {
+    const double b = double(base);
+    precise double y = 1.0LF - (double(j) * (b / double(grid_side)) + 0.5LF) / b;
+    if (y > 0.0LF) return y;
+    precise double wrapped = y + 1.0LF;
+    return wrapped;
+}
+bool rows_adjacent(uint v) { return row_height(v, side) > row_height((v + 1u) % side, side); }
 dvec3 cell_origin(uint c) { return dvec3(cell[8 * c], cell[8 * c + 1], cell[8 * c + 2]); }
 bool cell_valid(uint c) { return cell[8 * c + 7] != 0.0LF; }
 
@@ -69,6 +82,14 @@ uint band_d(uint u, uint v) { return (side + v) * n + side + u; }
 void put(uint u, uint v, bool launch_valid, dvec3 origin, dvec3 normal, double outward, uint band) {
     const uint i = v * (2u * side) + u;
     const uint kind = band_valid[band];
+    if (kind == 3u) {  // a radial ray at this sample's angle and height
+        const double y = row_height(v, 2u * side);
+        const uint k = 2u * side - base + u;
+        launch_valid = y > 0.0LF && y < 1.0LF;
+        origin = dvec3(dirs[2 * k], y, dirs[2 * k + 1]);
+        normal = dvec3(-dirs[2 * k], 0.0LF, -dirs[2 * k + 1]);
+        outward = band_t[band] <= 1.0 ? 1.0LF : -1.0LF;
+    }
     if (!launch_valid || kind == 0u) {
         next[4 * i] = 0.0LF;
         next[4 * i + 1] = 0.0LF;
@@ -92,7 +113,7 @@ void main() {
     if (step == 0u) {
         const uint b = v * n + u;
         precise double d = 1.0LF - double(band_t[b]);
-        precise double y = 1.0LF - (double(v) + 0.5LF) / double(side);
+        const double y = row_height(v, side);
         if (band_valid[b] != 0u) {
             precise double x = d * dirs[2 * u];
             precise double z = d * dirs[2 * u + 1];
@@ -111,7 +132,7 @@ void main() {
     }
     if (step == 1u) {
         cell[8 * i + 7] = 0.0LF;
-        if (v + 1u >= side) return;
+        if (!rows_adjacent(v)) return;
         const uint a = at(u, v), b = at(u + 1u, v), c = at(u, v + 1u), d = at(u + 1u, v + 1u);
         if (grid_valid[a] == 0u || grid_valid[b] == 0u || grid_valid[c] == 0u || grid_valid[d] == 0u) return;
         precise dvec3 sum4 = ((point(a) + point(b)) + point(c)) + point(d);
@@ -141,14 +162,14 @@ void main() {
         const bool valid = grid_valid[a] != 0u && grid_valid[b] != 0u;
         precise dvec3 origin = 0.5LF * (point(a) + point(b));
         dvec3 sum = dvec3(0.0LF);
-        if (valid && v + 1u < side && cell_valid(at(u, v))) add_unit_normal(sum, point(a), point(b), cell_origin(at(u, v)));
-        if (valid && v > 0u && cell_valid(at(u, v - 1u)))
-            add_unit_normal(sum, point(b), point(a), cell_origin(at(u, v - 1u)));
+        if (valid && cell_valid(at(u, v))) add_unit_normal(sum, point(a), point(b), cell_origin(at(u, v)));
+        if (valid && cell_valid(at(u, v + side - 1u)))
+            add_unit_normal(sum, point(b), point(a), cell_origin(at(u, v + side - 1u)));
         const dvec3 normal = valid ? oriented(sum, origin, outward_of(a)) : dvec3(0.0LF);
         put(2u * u + 1u, 2u * v, valid, origin, normal, outward_of(a), band_h(u, v));
     }
     {  // V: between (u, v) and (u, v + 1); the cells to the right (column u) and left (column u - 1).
-        const bool has_lower = v + 1u < side;
+        const bool has_lower = rows_adjacent(v);
         const uint c = has_lower ? at(u, v + 1u) : a;
         const bool valid = has_lower && grid_valid[a] != 0u && grid_valid[c] != 0u;
         precise dvec3 origin = 0.5LF * (point(a) + point(c));
@@ -163,7 +184,7 @@ void main() {
     }
     {  // D: the cell's launch.
         const uint ci = at(u, v);
-        const bool valid = v + 1u < side && cell_valid(ci);
+        const bool valid = cell_valid(ci);
         const dvec3 origin = cell_origin(ci);
         const dvec3 normal = dvec3(cell[8 * ci + 3], cell[8 * ci + 4], cell[8 * ci + 5]);
         put(2u * u + 1u, 2u * v + 1u, valid, origin, normal, cell[8 * ci + 6], band_d(u, v));

@@ -22,6 +22,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <vector>
 
 namespace gimg::passes {
@@ -29,8 +30,12 @@ namespace gimg::passes {
 // What a ray that finds no surface within its reach leaves.
 enum class HierarchyMiss {
     Surface,  // a sample on the interpolated surface (t = 0), marked as a miss: the grid stays whole
-    Invalid,  // no sample: a hole, and none of its descendants
+    Invalid,  // no sample: a hole, whose descendants are cast radially
+    Radial,   // the ordinary image's ray at the sample's angle and height, from the wall
 };
+
+// "surface", "empty" or "radial" (the command line's --misses); throws geo::InputError otherwise.
+HierarchyMiss hierarchy_miss(const std::string& name);
 
 struct CylinderHierarchyOptions {
     std::uint32_t base = 32;   // B: level 1 is B x B
@@ -41,11 +46,14 @@ struct CylinderHierarchyOptions {
     // fin across the gap; too short a reach never gets behind an occluder. The trade-off is
     // measured in docs/cylinder-hierarchy.md.
     double reach = 2.0;
-    HierarchyMiss miss = HierarchyMiss::Surface;
+    HierarchyMiss miss = HierarchyMiss::Radial;
 };
 
 // Per sample of a hierarchy or a decoded grid.
-enum : std::uint8_t { kHierarchyEmpty = 0, kHierarchyHit = 1, kHierarchyMiss = 2 };
+// kHierarchyRadial: a hit of the ordinary image's ray at the sample's own angle and height (from the
+// wall towards the axis; t the distance from the wall), cast where a sample's parents are not all
+// valid or, with HierarchyMiss::Radial, where its own ray found nothing.
+enum : std::uint8_t { kHierarchyEmpty = 0, kHierarchyHit = 1, kHierarchyMiss = 2, kHierarchyRadial = 3 };
 
 // The multiresolution image: N x N, row-major from the top row, in the band layout above. Level 1
 // holds t = 1 - d (the distance from the wall); later levels the signed distance along the outward
@@ -78,8 +86,12 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
 
 // The grid of points a hierarchy decodes to at `level` (1 .. levels()): side B 2^(level - 1),
 // points in the cylinder frame, row-major from the top row.
+// Rows run down from the top; the rows that fall below the cylinder's bottom (the last rows of the
+// V and D bands) wrap to its top, above row 0, so row side - 1 neighbours row 0 and the one seam
+// lies between the last row above the bottom and the first wrapped one.
 struct HierarchyGrid {
     std::uint32_t side = 0;
+    std::uint32_t base = 0;  // level 1's side B, which places the rows (0: B = side)
     std::vector<glm::dvec3> points;
     std::vector<std::uint8_t> valid;   // kHierarchyEmpty, kHierarchyHit or kHierarchyMiss
     std::vector<std::int8_t> outward;  // +1: seen from the wall directly, -1: through the axis
