@@ -87,7 +87,10 @@ void write_hierarchy_files(const std::filesystem::path& dir, const CylinderHiera
          "level 1 top-left; level L: horizontal band right, vertical below, diagonal "
          "bottom-right"},
         {"level_1", "t = 1 - d along the inward radial ray"},
-        {"later_levels", "signed distance along the outward normal of the launch point"}};
+        {"later_levels",
+         "signed distance along the outward normal of the launch point; radial samples (mask 0.75) the distance "
+         "from the wall at their column's angle and their row's height"},
+        {"rows", "row j of a grid of side S at height 1 - (j B / S + 0.5) / B, plus 1 where that is not above 0"}};
     j["source"] = info.source;
     j["method"] = info.method;
     j["image_stamp"] = detail::stamp_of(h.size, h.size, h.valid, h.t);
