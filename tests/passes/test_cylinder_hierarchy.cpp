@@ -43,6 +43,17 @@ std::pair<double, std::size_t> off_surface(const gp::CylinderMesh& mesh, const g
     return {worst, valid};
 }
 
+// A sphere of radius 0.3 (its vertices first) with a plate in front of it on the +x side.
+geo::Mesh sphere_behind_a_plate() {
+    geo::Mesh model = geo::make_icosphere(0.3, 4);
+    const geo::Mesh plate = geo::make_box({0.04, 0.16, 0.5}, 4);
+    const auto first = std::uint32_t(model.positions.size());
+    for (const auto& p : plate.positions) model.positions.push_back(p + glm::dvec3(0.42, 0.0, 0.0));
+    for (const auto& t : plate.triangles) model.triangles.push_back(t + glm::uvec3(first));
+    model.normals.clear();
+    return model;
+}
+
 }  // namespace
 
 TEST(CylinderHierarchy, SamplesOfASphereLieOnItAtEveryLevel) {
@@ -86,12 +97,8 @@ TEST(CylinderHierarchy, ReachesBehindAPlateThatHidesTheBody) {
     // A sphere with a plate in front of it (seen from the +x wall): one projection sees the plate,
     // not the band of the sphere behind it. The hierarchy casts around the plate's edges and
     // samples that band; measured as the distance from the band's points to each reconstruction.
-    geo::Mesh model = geo::make_icosphere(0.3, 4);
-    const geo::Mesh plate = geo::make_box({0.04, 0.16, 0.5}, 4);
-    const auto first = std::uint32_t(model.positions.size());
-    for (const auto& p : plate.positions) model.positions.push_back(p + glm::dvec3(0.42, 0.0, 0.0));
-    for (const auto& t : plate.triangles) model.triangles.push_back(t + glm::uvec3(first));
-    model.normals.clear();
+    const geo::Mesh model = sphere_behind_a_plate();
+    const auto first = std::uint32_t(geo::make_icosphere(0.3, 4).positions.size());
     const gp::CylinderFrame frame = gp::fit_cylinder_frame(model, false);
     const gp::CylinderMesh mesh = gp::make_cylinder_mesh(model, frame);
 
@@ -167,12 +174,7 @@ TEST(CylinderHierarchy, MissesGiveWayToTheOrdinaryImagesRays) {
     // A sphere behind a plate: rays launched between the plate and the sphere find nothing within
     // their reach. Kept on the interpolated surface they hang in the gap; radial, each is the
     // ordinary image's sample at its angle and height, on the surface.
-    geo::Mesh model = geo::make_icosphere(0.3, 4);
-    const geo::Mesh plate = geo::make_box({0.04, 0.16, 0.5}, 4);
-    const auto first = std::uint32_t(model.positions.size());
-    for (const auto& p : plate.positions) model.positions.push_back(p + glm::dvec3(0.42, 0.0, 0.0));
-    for (const auto& t : plate.triangles) model.triangles.push_back(t + glm::uvec3(first));
-    model.normals.clear();
+    const geo::Mesh model = sphere_behind_a_plate();
     const gp::CylinderMesh mesh = gp::make_cylinder_mesh(model, gp::fit_cylinder_frame(model, false));
     auto count = [](const gp::CylinderHierarchy& h, std::uint8_t kind) {
         return std::count(h.valid.begin(), h.valid.end(), kind);
