@@ -172,12 +172,13 @@ HierarchyGrid interleave(const HierarchyGrid& g, const LevelLaunches& l, const s
     out.points.assign(std::size_t(n) * n, glm::dvec3(0.0));
     out.valid.assign(out.points.size(), 0);
     out.outward.assign(out.points.size(), 1);
-    const std::vector<std::array<double, 2>> dirs = radial_directions(n, g.base ? g.base : s);
+    const std::uint32_t base = g.base ? g.base : s;
+    const std::vector<std::array<double, 2>> dirs = radial_directions(n, base);
     auto put = [&](std::uint32_t u, std::uint32_t v, const Launch& normal_launch, float t, std::uint8_t kind) {
         const std::size_t i = std::size_t(v) * n + u;
         if (kind == kHierarchyEmpty) return;
         const Launch launch =
-            kind == kHierarchyRadial ? radial_launch(dirs[u], row_height(v, n, g.base)) : normal_launch;
+            kind == kHierarchyRadial ? radial_launch(dirs[u], row_height(v, n, base)) : normal_launch;
         if (!launch.valid) return;
         out.points[i] = launch.origin + double(t) * launch.normal;
         out.valid[i] = kind;

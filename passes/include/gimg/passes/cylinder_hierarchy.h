@@ -12,7 +12,9 @@
 // normal, one outside against it. Values are stored as the thesis's multiresolution image: level 1
 // top-left, each level's horizontal band to the right, vertical band below, diagonal band
 // bottom-right, as the signed distance along the outward normal, so a decoder recomputes every
-// launch point and direction from the decoded points without the mesh.
+// launch point and direction from the decoded points without the mesh. Where a sample's parents
+// are not all valid (a model's ends, parts level 1 missed) or, by default, where its own ray finds
+// nothing, it is the ordinary image's ray at its own angle and height instead (ours).
 
 #include "gimg/engine/context.h"
 #include "gimg/geometry/mesh.h"
@@ -57,9 +59,11 @@ enum : std::uint8_t { kHierarchyEmpty = 0, kHierarchyHit = 1, kHierarchyMiss = 2
 
 // The multiresolution image: N x N, row-major from the top row, in the band layout above. Level 1
 // holds t = 1 - d (the distance from the wall); later levels the signed distance along the outward
-// normal. valid is kHierarchyHit for a hit, kHierarchyMiss for a ray that found nothing within
-// its reach (kept on the interpolated surface, t = 0), kHierarchyEmpty where a level-1 ray hit
-// nothing, a parent is empty, or the sample has no upper partner (the last row of V and D bands).
+// normal (radial samples: the distance from the wall). valid is kHierarchyHit for a hit,
+// kHierarchyRadial for a radial ray's hit, kHierarchyMiss for a ray that found nothing within its
+// reach (kept on the interpolated surface, t = 0), kHierarchyEmpty where a level-1 or radial ray
+// hit nothing, a ray missed with HierarchyMiss::Invalid, or the row lies at the cylinder's top or
+// bottom.
 struct CylinderHierarchy {
     std::uint32_t base = 0, size = 0;
     std::vector<float> t;
