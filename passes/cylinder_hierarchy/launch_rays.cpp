@@ -179,7 +179,8 @@ HierarchyGrid interleave(const HierarchyGrid& g, const LevelLaunches& l, const s
         if (kind == kHierarchyEmpty) return;
         const Launch launch =
             kind == kHierarchyRadial ? radial_launch(dirs[u], row_height(v, n, base)) : normal_launch;
-        if (!launch.valid) return;
+        // A radial launch carries only radial samples (as the GPU decoder reads any file).
+        if (!launch.valid || (launch.radial && kind != kHierarchyRadial)) return;
         out.points[i] = launch.origin + double(t) * launch.normal;
         out.valid[i] = kind;
         out.outward[i] = launch.radial ? (t <= 1.0f ? 1 : -1) : launch.outward;
