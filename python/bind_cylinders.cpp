@@ -45,7 +45,7 @@ void bind_cylinders(py::module_& m) {
     m.def(
         "cylinder_hierarchy",
         [](Device* device, const Positions& positions, const Faces& faces, std::uint32_t size, std::uint32_t base,
-           double reach, const std::string& misses) {
+           double reach, const std::string& misses, std::optional<double> threshold) {
             const geo::Mesh mesh = to_mesh(positions, faces);
             passes::check_hierarchy_sizes(base, size);
             if (!(reach >= 0.0)) throw geo::InputError("reach must be 0 (no limit) or more");
@@ -60,7 +60,7 @@ void bind_cylinders(py::module_& m) {
                 const passes::CylinderHierarchyOptions o{.base = base, .size = size, .reach = reach, .miss = miss};
                 h = device ? passes::cylinder_hierarchy_gpu(device->context(), cyl, o)
                            : passes::cylinder_hierarchy_cpu(cyl, o);
-                finest = passes::hierarchy_mesh(passes::decode_cylinder_hierarchy(h, h.levels()), frame);
+                finest = passes::hierarchy_mesh(passes::decode_cylinder_hierarchy(h, h.levels()), frame, threshold);
             }
             py::array_t<float> t({py::ssize_t(size), py::ssize_t(size)});
             py::array_t<std::uint8_t> valid({py::ssize_t(size), py::ssize_t(size)});
@@ -74,10 +74,12 @@ void bind_cylinders(py::module_& m) {
             return d;
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 256, py::arg("base") = 32,
-        py::arg("reach") = 2.0, py::arg("misses") = "radial",
+        py::arg("reach") = 2.0, py::arg("misses") = "radial", py::arg("threshold") = py::none(),
         "The thesis's hierarchical cylindrical image (gimg cylinder --method hierarchical), rays on the device (None: "
         "the CPU, the same hierarchy): a dict with t and valid (size x size: 0 empty, 1 hit, 2 a miss kept on the "
-        "surface, 3 a radial ray's hit), levels, the finest level's mesh (positions, faces) and the frame");
+        "surface, 3 a radial ray's hit), levels, the finest level's mesh (positions, faces; blocks with a side longer "
+        "than "
+        "threshold are holes: None twelve pitches, inf every block) and the frame");
     m.def(
         "cylinder_batch",
         [](Device& device, const py::list& meshes, std::uint32_t width, std::uint32_t height) {

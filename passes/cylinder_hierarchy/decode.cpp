@@ -10,6 +10,10 @@
 
 #include <glm/geometric.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
 #include <string>
 
 namespace gimg::passes {
@@ -57,7 +61,20 @@ HierarchyGrid decode_cylinder_hierarchy(const CylinderHierarchy& h, std::uint32_
     return grid;
 }
 
-geo::Mesh hierarchy_mesh(const HierarchyGrid& g, const CylinderFrame& frame) {
+double default_hierarchy_threshold(const HierarchyGrid& g) {
+    std::vector<double> radius;
+    for (std::size_t i = 0; i < g.points.size(); ++i)
+        if (g.valid[i]) radius.push_back(std::hypot(g.points[i].x, g.points[i].z));
+    if (radius.empty() || g.side == 0) return std::numeric_limits<double>::infinity();
+    const auto mid = radius.begin() + std::ptrdiff_t(radius.size() / 2);
+    std::nth_element(radius.begin(), mid, radius.end());
+    const double pitch = std::max(2.0 * std::numbers::pi * *mid / double(g.side), 1.0 / double(g.side));
+    return 12.0 * pitch;
+}
+
+geo::Mesh hierarchy_mesh(const HierarchyGrid& g, const CylinderFrame& frame, std::optional<double> threshold) {
+    const double longest = threshold ? *threshold : default_hierarchy_threshold(g);
+    const double longest_squared = longest * longest;
     geo::Mesh mesh;
     const std::uint32_t s = g.side;
     std::vector<std::uint32_t> vertex(g.points.size(), 0);
@@ -78,6 +95,9 @@ geo::Mesh hierarchy_mesh(const HierarchyGrid& g, const CylinderFrame& frame) {
             const std::size_t c[4] = {std::size_t(v) * s + u, std::size_t(v) * s + u1, std::size_t(v1) * s + u,
                                       std::size_t(v1) * s + u1};
             if (!(g.valid[c[0]] && g.valid[c[1]] && g.valid[c[2]] && g.valid[c[3]])) continue;
+            if (std::max({squared(c[0], c[1]), squared(c[0], c[2]), squared(c[1], c[3]), squared(c[2], c[3])}) >
+                longest_squared)
+                continue;
             const bool faces_plus = g.outward[c[0]] + g.outward[c[1]] + g.outward[c[2]] + g.outward[c[3]] >= 0;
             const detail::BlockTriangles t =
                 detail::block_triangles(squared(c[0], c[3]) <= squared(c[1], c[2]), faces_plus);

@@ -44,8 +44,8 @@ std::optional<float> parse_threshold(const std::string& text) {
 
 // hierarchy.exr (cylinder --method hierarchical): decoded at its last level, or --lod K levels up.
 void run_hierarchy_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global) {
-    if (o.fill_caps || !o.threshold.empty())
-        throw geo::InputError("--fill-caps and --threshold are for cylindrical and position images, not hierarchies");
+    if (o.fill_caps) throw geo::InputError("--fill-caps is for cylindrical images, not hierarchies");
+    const std::optional<float> threshold = parse_threshold(o.threshold);
     const passes::HierarchyFiles files = passes::read_hierarchy_files(o.image);
     const std::uint32_t levels = files.hierarchy.levels();
     if (o.lod >= levels)
@@ -58,28 +58,33 @@ void run_hierarchy_reconstruct(const ReconstructCliOptions& o, const GlobalOptio
     const double ms = time_ms([&] {
         grid = ctx ? passes::decode_cylinder_hierarchy_gpu(*ctx, files.hierarchy, levels - o.lod)
                    : passes::decode_cylinder_hierarchy(files.hierarchy, levels - o.lod);
-        mesh = passes::hierarchy_mesh(grid, files.frame);
+        mesh = passes::hierarchy_mesh(grid, files.frame, threshold ? std::optional<double>(*threshold) : std::nullopt);
     });
     if (mesh.face_count() == 0)
-        throw geo::InputError(o.image + ": nothing to reconstruct: no 2x2 block of valid samples at level " +
-                              std::to_string(levels - o.lod));
+        throw geo::InputError(o.image + ": nothing to reconstruct: no block of four valid samples at level " +
+                              std::to_string(levels - o.lod) +
+                              " with sides within the threshold (try --threshold off)");
     geo::save_mesh(mesh, o.out);
     if (!global.quiet)
         std::printf("%s: hierarchy %ux%u, level %u -> %zu vertices, %zu triangles in %.2f ms\nwrote %s\n",
                     o.image.c_str(), grid.side, grid.side, levels - o.lod, mesh.vertex_count(), mesh.face_count(), ms,
                     o.out.c_str());
-    nlohmann::json j{{"image", o.image},
-                     {"out", o.out},
-                     {"kind", "hierarchy"},
-                     {"width", grid.side},
-                     {"height", grid.side},
-                     {"lod", o.lod},
-                     {"level", levels - o.lod},
-                     {"levels", levels},
-                     {"vertices", mesh.vertex_count()},
-                     {"faces", mesh.face_count()},
-                     {"method", ctx ? "gpu" : "cpu"},
-                     {"seconds", ms / 1000.0}};
+    nlohmann::json j{
+        {"image", o.image},
+        {"out", o.out},
+        {"kind", "hierarchy"},
+        {"threshold", threshold && std::isinf(*threshold)
+                          ? nlohmann::json("off")
+                          : nlohmann::json(threshold ? double(*threshold) : passes::default_hierarchy_threshold(grid))},
+        {"width", grid.side},
+        {"height", grid.side},
+        {"lod", o.lod},
+        {"level", levels - o.lod},
+        {"levels", levels},
+        {"vertices", mesh.vertex_count()},
+        {"faces", mesh.face_count()},
+        {"method", ctx ? "gpu" : "cpu"},
+        {"seconds", ms / 1000.0}};
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }
@@ -153,7 +158,8 @@ void add_reconstruct_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_option("--out", opts->out, "Output mesh (.ply or .obj), with normals")->required();
     cmd->add_option("--threshold", opts->threshold,
                     "Largest distance jump inside a 2x2 block before it becomes a hole, or 'off' (default: six "
-                    "pixel pitches for cylindrical images, off for position images)");
+                    "pixel pitches for cylindrical images, off for position images; for hierarchies the longest side "
+                    "of a block, default twelve pitches)");
     cmd->add_flag("--fill-caps", opts->fill_caps, "Close the top and bottom openings (cylindrical images)");
     add_count_option(cmd, "--lod", opts->lod, 0, 14, "Reduce the image K times (2x2 means of valid pixels) first");
     cmd->add_flag("--cpu", opts->cpu, "Use the CPU reference instead of the GPU passes (same output)");
