@@ -74,7 +74,7 @@ void bind_cylinders(py::module_& m) {
             return d;
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 256, py::arg("base") = 32,
-        py::arg("reach") = 2.0, py::arg("misses") = "radial", py::arg("threshold") = py::none(),
+        py::arg("reach") = 8.0, py::arg("misses") = "radial", py::arg("threshold") = py::none(),
         "The thesis's hierarchical cylindrical image (gimg cylinder --method hierarchical), rays on the device (None: "
         "the CPU, the same hierarchy): a dict with t and valid (size x size: 0 empty, 1 hit, 2 a miss kept on the "
         "surface, 3 a radial ray's hit), levels, the finest level's mesh (positions, faces; blocks with a side longer "

@@ -139,7 +139,7 @@ void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global) {
                     "Meshes (default: armadillo, bunny, camel, homer, elephant of ../shared/meshes)");
     cmd->add_option("--size", o->sizes, "Final sizes N (default 64 128 256)");
     add_count_option(cmd, "--base", o->base, 2, 8192, "Level 1 is B x B (default 32)");
-    add_number_option(cmd, "--reach", o->reach, 0.0, 1e6, "Ray reach in parent spans (0: without limit; default 2)");
+    add_number_option(cmd, "--reach", o->reach, 0.0, 1e6, "Ray reach in parent spans (0: without limit; default 8)");
     cmd->add_option("--misses", o->misses,
                     "A ray that finds nothing within reach gives way to the ordinary image's ray (radial, default), "
                     "leaves a sample on the interpolated surface (surface) or a hole (empty)")

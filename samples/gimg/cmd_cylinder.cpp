@@ -133,7 +133,7 @@ void add_cylinder_command(CLI::App& app, const GlobalOptions& global) {
     add_count_option(cmd, "--base", opts->base, 2, 8192, "hierarchical: level 1 is B x B (default 32)");
     add_number_option(cmd, "--reach", opts->reach, 0.0, 1e6,
                       "hierarchical: a ray goes at most this many times the distance between its parents (0: "
-                      "without limit, as the thesis; default 2)");
+                      "without limit, as the thesis; default 8)");
     cmd->add_option("--misses", opts->misses,
                     "hierarchical: a ray that finds nothing within reach gives way to the ordinary image's ray at its "
                     "angle and height (radial, default), leaves a sample on the interpolated surface (surface) or a "

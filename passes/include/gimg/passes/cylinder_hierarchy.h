@@ -45,10 +45,11 @@ struct CylinderHierarchyOptions {
     std::uint32_t size = 256;  // N: the last level's grid is N x N (N = B 2^k)
     // How far a ray of level 2 and later may go, in units of the distance between its parents; 0:
     // without limit, as the thesis casts. A ray that travels much farther than its parents lie
-    // apart reaches another part of the model (the other ear, the body behind an arm) and pulls a
-    // fin across the gap; too short a reach never gets behind an occluder. The trade-off is
-    // measured in docs/cylinder-hierarchy.md.
-    double reach = 2.0;
+    // apart reaches another part of the model (the other ear, the body behind an arm), where the
+    // block between them is a fin that hierarchy_mesh's threshold cuts; too short a reach never
+    // gets behind an occluder (between camel's legs). The trade-off is measured in
+    // docs/cylinder-hierarchy.md.
+    double reach = 8.0;
     HierarchyMiss miss = HierarchyMiss::Radial;
 };
 
@@ -69,7 +70,7 @@ struct CylinderHierarchy {
     std::uint32_t base = 0, size = 0;
     std::vector<float> t;
     std::vector<std::uint8_t> valid;
-    double reach = 2.0;            // the options it was cast with (recorded in frame.json)
+    double reach = 8.0;            // the options it was cast with (recorded in frame.json)
     std::vector<double> level_ms;  // the encoder's wall time per level (not stored in files)
     double gpu_ms = 0.0;           // the GPU encoder's passes by timestamps (0 on the CPU or without them)
     double gpu_parity_ms = 0.0;    // of gpu_ms, the parity segments' passes (the rest: the rays)
