@@ -8,8 +8,9 @@
 
 namespace gimg::passes::detail {
 
-// Casts the valid launches of one level (launch_ray, parity included): the signed distance along
-// each launch's outward normal, or nullopt for a miss (and for invalid launches).
+// Casts the valid launches of one level (launch_ray, parity included; radial_ray for radial
+// ones): the signed distance along each launch's outward normal (for a radial launch the distance
+// from the wall), or nullopt for a miss (and for invalid launches).
 using CastLevel = std::function<std::vector<std::optional<double>>(const std::vector<Launch>& launches)>;
 
 // Level 1 from the ordinary B x B image (which took first_ms), then every later level through `cast`.
