@@ -82,7 +82,6 @@ CylinderHierarchy encode_hierarchy(const CylinderImage& first, double first_ms, 
         // A normal ray that found nothing, with HierarchyMiss::Radial: the radial ray at its sample.
         if (options.miss == HierarchyMiss::Radial) {
             const std::uint32_t next = 2 * s;
-            const std::vector<std::array<double, 2>> dirs = radial_directions(next, b);
             std::vector<Launch> again;
             std::vector<std::size_t> where;
             for (std::size_t k = 0; k < all.size(); ++k) {
@@ -90,7 +89,7 @@ CylinderHierarchy encode_hierarchy(const CylinderImage& first, double first_ms, 
                 const std::size_t band = k / count, i = k % count;
                 const std::uint32_t u = std::uint32_t(i % s), v = std::uint32_t(i / s);
                 const std::uint32_t col = 2 * u + (band != 1), row = 2 * v + (band != 0);
-                const Launch r = radial_launch(dirs[col], row_height(row, next, b));
+                const Launch r = radial_launch(launches.directions[col], row_height(row, next, b));
                 if (!r.valid) continue;
                 again.push_back(r);
                 where.push_back(k);

@@ -128,9 +128,9 @@ LevelLaunches level_launches(const HierarchyGrid& g, std::uint32_t base) {
         }
     // The samples the rules above leave out, in the next grid of side 2S at (2u + 1, 2v), (2u,
     // 2v + 1) and (2u + 1, 2v + 1): radial rays.
-    const std::vector<std::array<double, 2>> dirs = radial_directions(2 * s, base);
+    out.directions = radial_directions(2 * s, base);
     auto radial = [&](Launch& l, std::uint32_t i, std::uint32_t j) {
-        if (!l.valid) l = radial_launch(dirs[i], row_height(j, 2 * s, base));
+        if (!l.valid) l = radial_launch(out.directions[i], row_height(j, 2 * s, base));
     };
     for (std::uint32_t v = 0; v < s; ++v)
         for (std::uint32_t u = 0; u < s; ++u) {
@@ -173,12 +173,11 @@ HierarchyGrid interleave(const HierarchyGrid& g, const LevelLaunches& l, const s
     out.valid.assign(out.points.size(), 0);
     out.outward.assign(out.points.size(), 1);
     const std::uint32_t base = g.base ? g.base : s;
-    const std::vector<std::array<double, 2>> dirs = radial_directions(n, base);
     auto put = [&](std::uint32_t u, std::uint32_t v, const Launch& normal_launch, float t, std::uint8_t kind) {
         const std::size_t i = std::size_t(v) * n + u;
         if (kind == kHierarchyEmpty) return;
         const Launch launch =
-            kind == kHierarchyRadial ? radial_launch(dirs[u], row_height(v, n, base)) : normal_launch;
+            kind == kHierarchyRadial ? radial_launch(l.directions[u], row_height(v, n, base)) : normal_launch;
         // A radial launch carries only radial samples (as the GPU decoder reads any file).
         if (!launch.valid || (launch.radial && kind != kHierarchyRadial)) return;
         out.points[i] = launch.origin + double(t) * launch.normal;

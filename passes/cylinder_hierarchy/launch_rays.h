@@ -35,6 +35,7 @@ bool rows_adjacent(std::uint32_t v, std::uint32_t side, std::uint32_t base);
 // between rows v and v + 1 (mod S) and the cell centres; radial across the seam), row-major.
 struct LevelLaunches {
     std::vector<Launch> h, v, d;
+    std::vector<std::array<double, 2>> directions;  // radial_directions of the next grid (side 2S)
 };
 // (cos, sin) of the angle of every column of a grid of side `side`: 2 pi (i B / side + 0.5) / B.
 std::vector<std::array<double, 2>> radial_directions(std::uint32_t side, std::uint32_t base);

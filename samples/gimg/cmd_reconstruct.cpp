@@ -55,10 +55,12 @@ void run_hierarchy_reconstruct(const ReconstructCliOptions& o, const GlobalOptio
     if (!o.cpu) ctx = open_context(global);
     geo::Mesh mesh;
     passes::HierarchyGrid grid;
+    double longest = 0.0;  // the longest side a block keeps
     const double ms = time_ms([&] {
         grid = ctx ? passes::decode_cylinder_hierarchy_gpu(*ctx, files.hierarchy, levels - o.lod)
                    : passes::decode_cylinder_hierarchy(files.hierarchy, levels - o.lod);
-        mesh = passes::hierarchy_mesh(grid, files.frame, threshold ? std::optional<double>(*threshold) : std::nullopt);
+        longest = threshold ? double(*threshold) : passes::default_hierarchy_threshold(grid);
+        mesh = passes::hierarchy_mesh(grid, files.frame, longest);
     });
     if (mesh.face_count() == 0)
         throw geo::InputError(o.image + ": nothing to reconstruct: no block of four valid samples at level " +
@@ -69,22 +71,19 @@ void run_hierarchy_reconstruct(const ReconstructCliOptions& o, const GlobalOptio
         std::printf("%s: hierarchy %ux%u, level %u -> %zu vertices, %zu triangles in %.2f ms\nwrote %s\n",
                     o.image.c_str(), grid.side, grid.side, levels - o.lod, mesh.vertex_count(), mesh.face_count(), ms,
                     o.out.c_str());
-    nlohmann::json j{
-        {"image", o.image},
-        {"out", o.out},
-        {"kind", "hierarchy"},
-        {"threshold", threshold && std::isinf(*threshold)
-                          ? nlohmann::json("off")
-                          : nlohmann::json(threshold ? double(*threshold) : passes::default_hierarchy_threshold(grid))},
-        {"width", grid.side},
-        {"height", grid.side},
-        {"lod", o.lod},
-        {"level", levels - o.lod},
-        {"levels", levels},
-        {"vertices", mesh.vertex_count()},
-        {"faces", mesh.face_count()},
-        {"method", ctx ? "gpu" : "cpu"},
-        {"seconds", ms / 1000.0}};
+    nlohmann::json j{{"image", o.image},
+                     {"out", o.out},
+                     {"kind", "hierarchy"},
+                     {"threshold", std::isinf(longest) ? nlohmann::json("off") : nlohmann::json(longest)},
+                     {"width", grid.side},
+                     {"height", grid.side},
+                     {"lod", o.lod},
+                     {"level", levels - o.lod},
+                     {"levels", levels},
+                     {"vertices", mesh.vertex_count()},
+                     {"faces", mesh.face_count()},
+                     {"method", ctx ? "gpu" : "cpu"},
+                     {"seconds", ms / 1000.0}};
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }
