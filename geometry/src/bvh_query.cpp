@@ -22,37 +22,48 @@ double box_distance_squared(const BvhNode& node, const glm::dvec3& p) {
     return glm::dot(d, d);
 }
 
-// Slab test against the node's box for t in [t_near, t_far]; returns the entry t or +inf on a
-// miss. The interval is widened by a relative 1e-12 so that rounding in the slab arithmetic can
-// never cull a triangle lying on the box's face (the triangle test itself is exact).
+// The box test, in float and conservative, so that no rounding can cull a triangle the exact
+// triangle test would hit: every box is widened by w, 2^-18 (64 float epsilons) of the largest
+// coordinate in play (the tree's or the origin's), far beyond the rounding of the origin, the box
+// and the slab distances to float. Distances are measured in units of the direction's largest
+// component, so no inverse overflows; an axis whose component is at most 1e-30 of it counts as
+// parallel (along it the ray moves less than w inside any box it can reach). The GPU ray caster
+// (shaders/raycast/raycast.glsl) computes the same values.
 struct RaySlabs {
-    glm::dvec3 origin, inv_dir;
-    bool axis_parallel[3];
-    explicit RaySlabs(const Ray& ray) : origin(ray.origin) {
+    glm::vec3 origin, inv;
+    bool parallel[3];
+    float w, scale;
+    RaySlabs(const Ray& ray, const BvhNode& root) : origin(ray.origin) {
+        const glm::dvec3& d = ray.direction;
+        const double m = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
+        scale = float(m);
         for (int a = 0; a < 3; ++a) {
-            axis_parallel[a] = ray.direction[a] == 0.0;
-            inv_dir[a] = axis_parallel[a] ? 0.0 : 1.0 / ray.direction[a];
+            parallel[a] = std::abs(d[a]) <= 1e-30 * m;
+            inv[a] = parallel[a] ? 0.0f : float(m / d[a]);
         }
+        float scene = 0.0f;
+        for (int a = 0; a < 3; ++a)
+            scene = std::max({scene, std::abs(root.bounds_min[a]), std::abs(root.bounds_max[a])});
+        w = 0x1p-18f * (scene + std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z)}));
     }
+    // A lower bound of the distance at which the ray enters the node's box within [t_near, t_far],
+    // or +inf on a miss (always for a zero direction, which hits nothing).
     double enter(const BvhNode& node, double t_near, double t_far) const {
-        t_near -= 1e-12 * std::abs(t_near);
-        t_far += 1e-12 * std::abs(t_far);
-        for (int a = 0; a < 3; ++a) {
-            if (axis_parallel[a]) {
-                if (origin[a] < double(node.bounds_min[a]) || origin[a] > double(node.bounds_max[a]))
-                    return std::numeric_limits<double>::infinity();
+        constexpr double kMiss = std::numeric_limits<double>::infinity();
+        if (!(scale > 0.0f)) return kMiss;
+        const float a = float(t_near * double(scale)), b = float(t_far * double(scale));
+        float tn = a - 2.4e-7f * std::abs(a), tf = b + 2.4e-7f * std::abs(b);
+        for (int k = 0; k < 3; ++k) {
+            const float lo = node.bounds_min[k] - w, hi = node.bounds_max[k] + w;
+            if (parallel[k]) {
+                if (origin[k] < lo || origin[k] > hi) return kMiss;
                 continue;
             }
-            double t0 = (double(node.bounds_min[a]) - origin[a]) * inv_dir[a];
-            double t1 = (double(node.bounds_max[a]) - origin[a]) * inv_dir[a];
-            if (t0 > t1) std::swap(t0, t1);
-            t0 -= 1e-12 * std::abs(t0);
-            t1 += 1e-12 * std::abs(t1);
-            t_near = std::max(t_near, t0);
-            t_far = std::min(t_far, t1);
-            if (t_near > t_far) return std::numeric_limits<double>::infinity();
+            const float t0 = (lo - origin[k]) * inv[k], t1 = (hi - origin[k]) * inv[k];
+            tn = std::max(tn, std::min(t0, t1));
+            tf = std::min(tf, std::max(t0, t1));
         }
-        return t_near;
+        return tn <= tf ? double(tn) / double(scale) : kMiss;
     }
 };
 
@@ -104,7 +115,7 @@ ClosestPointResult TriangleBvh::closest_point(const glm::dvec3& p, double max_di
 
 std::optional<RayHit> TriangleBvh::intersect_nearest(const Ray& ray) const {
     if (nodes_.empty()) return std::nullopt;
-    const RaySlabs slabs(ray);
+    const RaySlabs slabs(ray, nodes_[0]);
     RayHit best;
     best.t = ray.t_max;
     struct Entry {
@@ -155,7 +166,7 @@ namespace {
 template <class Visit>
 void for_each_hit(const BvhNodeArray& nodes, const Ray& ray, Visit&& visit) {
     if (nodes.empty()) return;
-    const RaySlabs slabs(ray);
+    const RaySlabs slabs(ray, nodes[0]);
     std::uint32_t stack[kStackSize];
     int top = 0;
     stack[top++] = 0;
