@@ -245,6 +245,8 @@ void describe_device(Device& d, const VkPhysicalDeviceFeatures2* enabled) {
     info.subgroup_size = p11.subgroupSize;
     info.subgroup_arithmetic = (p11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
                                (p11.subgroupSupportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT);
+    info.subgroup_vote = (p11.subgroupSupportedStages & VK_SHADER_STAGE_COMPUTE_BIT) &&
+                         (p11.subgroupSupportedOperations & VK_SUBGROUP_FEATURE_VOTE_BIT);
     info.max_image_dimension_2d = d.limits.maxImageDimension2D;
     d.max_allocation_size = p11.maxMemoryAllocationSize;
 

@@ -1,5 +1,5 @@
-// GpuRayCaster: the BVH's nodes and corners (double) in texel arrays, its face order in a storage
-// buffer, and one compute pass (shaders/raycast/raycast.comp) per call.
+// GpuRayCaster: the BVH's nodes (depth first, with skip links) and corners (double) in texel arrays,
+// its face order in a storage buffer, and one compute pass (shaders/raycast/raycast.glsl) per call.
 #include "gimg/passes/raycast.h"
 
 #include "gimg/engine/error.h"
@@ -9,10 +9,12 @@
 #include "gimg/geometry/error.h"
 
 #include "raycast/raycast_comp.h"
+#include "raycast/raycast_plain_comp.h"
 
 #include <glm/vec4.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 
 namespace gimg::passes {
@@ -20,10 +22,40 @@ namespace gimg::passes {
 namespace {
 
 const Spirv kRaycast = GIMG_SPIRV(gimg_spv_raycast_raycast_comp);
+const Spirv kRaycastPlain = GIMG_SPIRV(gimg_spv_raycast_raycast_plain_comp);
 
 struct RaycastPush {
     std::uint32_t count, mode, front_faces_only;
+    float scene;
 };
+
+// The shader's node texels: depth first, so an inner node's first child follows it; texel 2k is
+// (lo, the node after k's subtree), 2k + 1 (hi, leaf: (first << 3) | count, 0 for inner nodes).
+std::vector<glm::uvec4> depth_first_texels(const geo::BvhNodeArray& nodes) {
+    std::vector<glm::uvec4> out;
+    out.reserve(2 * nodes.size());
+    auto place = [&](auto&& self, std::uint32_t n) -> void {
+        const geo::BvhNode& nd = nodes[n];
+        if (nd.is_leaf() && (nd.count > 7 || nd.first >= (1u << 29)))
+            throw geo::InputError(
+                "GPU ray casting: a BVH leaf the shader cannot address (more than 7 triangles, or "
+                "beyond 2^29)");
+        const std::size_t at = out.size();
+        glm::uvec4 lo(0u), hi(0u);
+        std::memcpy(&lo, &nd.bounds_min, sizeof nd.bounds_min);
+        std::memcpy(&hi, &nd.bounds_max, sizeof nd.bounds_max);
+        hi.w = nd.is_leaf() ? (nd.first << 3) | nd.count : 0u;
+        out.push_back(lo);
+        out.push_back(hi);
+        if (!nd.is_leaf()) {
+            self(self, nd.first);
+            self(self, nd.first + 1);
+        }
+        out[at].w = std::uint32_t(out.size() / 2);
+    };
+    place(place, 0);
+    return out;
+}
 
 }  // namespace
 
@@ -32,19 +64,23 @@ struct GpuRayCaster::State {
     geo::TriangleBvh bvh;
     Image nodes, corners;  // texel arrays (the shader's header says how)
     Buffer faces;
+    float scene = 0.0f;  // the largest |coordinate| of the root box
+    bool votes = false;
     explicit State(Context& c) : ctx(c) {}
 };
 
-GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh) : state_(std::make_unique<State>(ctx)) {
+GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCasterOptions& options)
+    : state_(std::make_unique<State>(ctx)) {
     if (!ctx.device_info().shader_float64)
         throw Error(ErrorKind::Unsupported, "GPU ray casting needs shaderFloat64 (use the CPU ray caster)");
     if (mesh.face_count() == 0) throw geo::InputError("ray casting: the mesh has no faces");
     State& s = *state_;
+    s.votes = options.subgroup_votes && ctx.device_info().subgroup_vote;
     s.bvh = geo::TriangleBvh(mesh);
-    const auto& nodes = s.bvh.nodes();
-    std::vector<glm::uvec4> node_texels(2 * nodes.size());
-    std::memcpy(node_texels.data(), nodes.data(), nodes.size() * sizeof(geo::BvhNode));
-    s.nodes = upload_texel_array(ctx, std::move(node_texels), Format::RGBA32U, "raycast nodes");
+    const geo::BvhNode& root = s.bvh.nodes()[0];
+    for (int a = 0; a < 3; ++a)
+        s.scene = std::max({s.scene, std::abs(root.bounds_min[a]), std::abs(root.bounds_max[a])});
+    s.nodes = upload_texel_array(ctx, depth_first_texels(s.bvh.nodes()), Format::RGBA32U, "raycast nodes");
     std::vector<glm::uvec4> corner_texels(5 * s.bvh.triangles().size(), glm::uvec4(0));
     for (std::size_t i = 0; i < s.bvh.triangles().size(); ++i) {
         const auto& t = s.bvh.triangles()[i];
@@ -62,7 +98,8 @@ RaycastHandles add_raycast(Graph& graph, GpuRayCaster& caster, BufferHandle rays
     GpuRayCaster::State& s = *caster.state_;
     auto nodes = graph.import_image(s.nodes), tris = graph.import_image(s.corners);
     auto faces = graph.import_buffer(s.faces);
-    const RaycastPush push{count, mode, front_faces_only ? 1u : 0u};
+    const RaycastPush push{count, mode, front_faces_only ? 1u : 0u, s.scene};
+    const Spirv& kernel = s.votes ? kRaycast : kRaycastPlain;
     graph.add_compute_pass(
         name,
         [&](PassBuilder& b) {
@@ -73,7 +110,7 @@ RaycastHandles add_raycast(Graph& graph, GpuRayCaster& caster, BufferHandle rays
             face = b.write(face, Access::ComputeWrite);
         },
         [=](Cmd& c) {
-            c.dispatch_threads(kRaycast, {count}, {nodes, tris, faces, rays, t, face}, push);
+            c.dispatch_threads(kernel, {count}, {nodes, tris, faces, rays, t, face}, push);
         });
     return {t, face};
 }

@@ -46,6 +46,7 @@ struct DeviceInfo {
     std::uint32_t max_push_constants_size = 0;
     std::uint32_t subgroup_size = 0;
     bool subgroup_arithmetic = false;  // compute shaders have subgroupAdd and the like
+    bool subgroup_vote = false;        // compute shaders have subgroupAll and subgroupAny
     std::uint32_t max_image_dimension_2d = 0;
     double timestamp_period_ns = 0.0;  // 0 when the queue has no timestamps
     std::string summary() const;       // one line: name, type, driver, API version

@@ -1,9 +1,9 @@
 #pragma once
-// Rays through a mesh on the GPU (docs/raycast.md): the mesh core's BVH (geo::TriangleBvh)
-// uploaded as it is, traversed per ray in a compute pass, the ray-triangle test and the slab test
-// in double precision with the CPU's arithmetic term for term, so every answer equals
-// geo::TriangleBvh's: the same face and the same t for the nearest hit, the same count of
-// crossings. Any origin and direction.
+// Rays through a mesh on the GPU (docs/raycast.md): the mesh core's BVH (geo::TriangleBvh) laid
+// out depth first with skip links and walked per ray in a compute pass, the boxes tested
+// conservatively in float and the triangles in double precision with the CPU's arithmetic term for
+// term, so every answer equals geo::TriangleBvh's: the same face and the same t for the nearest
+// hit, the same count of crossings. Any origin and direction.
 
 #include "gimg/engine/context.h"
 #include "gimg/engine/graph.h"
@@ -29,10 +29,16 @@ struct RaycastHandles {
     BufferHandle t, face;  // the new versions of the caller's buffers
 };
 
+struct GpuRayCasterOptions {
+    // Let the lanes of a subgroup wait for each other before testing triangles (subgroupAll),
+    // where the device has subgroup votes in compute shaders. The answers are the same either way.
+    bool subgroup_votes = true;
+};
+
 class GpuRayCaster {
 public:
     // Builds the BVH on the CPU and uploads it. Needs shaderFloat64 (gimg::Error otherwise).
-    GpuRayCaster(Context& ctx, const geo::Mesh& mesh);
+    GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCasterOptions& options = {});
     ~GpuRayCaster();
     GpuRayCaster(const GpuRayCaster&) = delete;
     GpuRayCaster& operator=(const GpuRayCaster&) = delete;
