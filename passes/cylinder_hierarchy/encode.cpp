@@ -1,5 +1,5 @@
 // The hierarchy's encoder: level 1 from the ordinary image, every later level's rays cast by the
-// CPU (the BVH in double precision) or the GPU (GpuRayCaster, the same arithmetic). Each level's
+// CPU (the BVH in double precision) or the GPU (cast_launches.glsl, the same arithmetic). Each level's
 // grid is rebuilt from the stored float values, exactly as the decoder will, so encoder and
 // decoder agree on every later launch, and the CPU and GPU encoders give the same hierarchy.
 #include "gimg/passes/cylinder_hierarchy.h"
@@ -142,17 +142,8 @@ CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const Cylinde
     return detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
         std::vector<std::optional<double>> t(launches.size());
         geo::parallel_for_chunks(launches.size(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i) {
-                const detail::Launch& l = launches[i];
-                if (!l.valid) continue;
-                if (l.radial) {
-                    if (const auto hit = bvh.intersect_nearest(detail::radial_ray(l))) t[i] = 1.0 + hit->t;
-                    continue;
-                }
-                const bool inside = detail::inside_by_parity(bvh.crossings(detail::parity_segment(l.origin)));
-                if (const auto hit = bvh.intersect_nearest(detail::launch_ray(l, inside, options.reach)))
-                    t[i] = inside ? hit->t : -hit->t;
-            }
+            for (std::size_t i = begin; i < end; ++i)
+                if (launches[i].valid) t[i] = detail::cast_launch(bvh, launches[i], options.reach);
         });
         return t;
     });

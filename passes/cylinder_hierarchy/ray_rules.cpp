@@ -34,4 +34,14 @@ geo::Ray radial_ray(const Launch& l) {
     return ray;
 }
 
+std::optional<double> cast_launch(const geo::TriangleBvh& bvh, const Launch& l, double reach) {
+    if (l.radial) {
+        if (const auto hit = bvh.intersect_nearest(radial_ray(l))) return 1.0 + hit->t;
+        return std::nullopt;
+    }
+    const bool inside = inside_by_parity(bvh.crossings(parity_segment(l.origin)));
+    if (const auto hit = bvh.intersect_nearest(launch_ray(l, inside, reach))) return inside ? hit->t : -hit->t;
+    return std::nullopt;
+}
+
 }  // namespace gimg::passes::detail

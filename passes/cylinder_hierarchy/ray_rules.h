@@ -11,9 +11,11 @@
 //  - the value stored is the signed distance along the outward normal.
 #include "launch_rays.h"
 
+#include "gimg/geometry/bvh.h"
 #include "gimg/geometry/triangle_queries.h"
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace gimg::passes::detail {
@@ -29,5 +31,8 @@ geo::Ray launch_ray(const Launch& l, bool inside, double reach);
 // A radial launch's ray: the ordinary image's (from the axis outwards, t in [-1, 1], the nearest
 // front face to the wall); its value is 1 + t, the distance from the wall.
 geo::Ray radial_ray(const Launch& l);
+// A valid launch cast through the CPU BVH by these rules: its value (the signed distance along
+// the outward normal, or for a radial launch the distance from the wall), nullopt for a miss.
+std::optional<double> cast_launch(const geo::TriangleBvh& bvh, const Launch& l, double reach);
 
 }  // namespace gimg::passes::detail

@@ -7,6 +7,7 @@
 #include "gimg/engine/upload.h"
 #include "gimg/geometry/bvh.h"
 #include "gimg/geometry/error.h"
+#include "gimg/geometry/parallel_for.h"
 
 #include "raycast/raycast_comp.h"
 #include "raycast/raycast_plain_comp.h"
@@ -93,13 +94,20 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCast
 
 GpuRayCaster::~GpuRayCaster() = default;
 
+const geo::TriangleBvh& GpuRayCaster::bvh() const { return state_->bvh; }
+
+RaycastTree import_raycast_tree(Graph& graph, GpuRayCaster& caster) {
+    GpuRayCaster::State& s = *caster.state_;
+    return {graph.import_image(s.nodes), graph.import_image(s.corners), graph.import_buffer(s.faces), s.scene, s.votes};
+}
+
 RaycastHandles add_raycast(Graph& graph, GpuRayCaster& caster, BufferHandle rays, BufferHandle t, BufferHandle face,
                            std::uint32_t count, std::uint32_t mode, bool front_faces_only, const std::string& name) {
-    GpuRayCaster::State& s = *caster.state_;
-    auto nodes = graph.import_image(s.nodes), tris = graph.import_image(s.corners);
-    auto faces = graph.import_buffer(s.faces);
-    const RaycastPush push{count, mode, front_faces_only ? 1u : 0u, s.scene};
-    const Spirv& kernel = s.votes ? kRaycast : kRaycastPlain;
+    const RaycastTree tree = import_raycast_tree(graph, caster);
+    const auto nodes = tree.nodes, tris = tree.corners;
+    const auto faces = tree.faces;
+    const RaycastPush push{count, mode, front_faces_only ? 1u : 0u, tree.scene};
+    const Spirv& kernel = tree.votes ? kRaycast : kRaycastPlain;
     graph.add_compute_pass(
         name,
         [&](PassBuilder& b) {
@@ -120,15 +128,18 @@ std::vector<std::uint32_t> GpuRayCaster::run(std::span<const geo::Ray> rays, std
     State& s = *state_;
     if (rays.empty()) return {};
     const bool front = rays.front().front_faces_only;
-    std::vector<double> packed(8 * rays.size());
-    for (std::size_t i = 0; i < rays.size(); ++i) {
-        const geo::Ray& r = rays[i];
+    for (const geo::Ray& r : rays)
         if (r.front_faces_only != front)
             throw geo::InputError("GpuRayCaster: every ray of one call must have the same front_faces_only");
-        const double v[8] = {r.origin.x,    r.origin.y,    r.origin.z, r.direction.x,
-                             r.direction.y, r.direction.z, r.t_min,    r.t_max};
-        std::memcpy(&packed[8 * i], v, sizeof v);
-    }
+    std::vector<double> packed(8 * rays.size());
+    geo::parallel_for_chunks(rays.size(), 4096, [&](std::size_t, std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            const geo::Ray& r = rays[i];
+            const double v[8] = {r.origin.x,    r.origin.y,    r.origin.z, r.direction.x,
+                                 r.direction.y, r.direction.z, r.t_min,    r.t_max};
+            std::memcpy(&packed[8 * i], v, sizeof v);
+        }
+    });
     const auto count = std::uint32_t(rays.size());
     Buffer ray_buf = upload_buffer(s.ctx, packed, "rays");
     Buffer t_buf = s.ctx.create_buffer({VkDeviceSize(count) * 8, "ray t"});

@@ -118,7 +118,6 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
                               {"level_ms", h.level_ms},
                               {"gpu_ms", gpu_ms},
                               {"gpu_pass_ms", on_gpu.gpu_ms},
-                              {"gpu_parity_ms", on_gpu.gpu_parity_ms},
                               {"gpu_level_ms", on_gpu.level_ms},
                               {"cut", {{"a_to_b_rms", hca}, {"b_to_a_rms", hcb}, {"symmetric_rms", hcs}}}}}});
         }

@@ -321,11 +321,9 @@ TEST_F(CylinderHierarchyGpu, TheGpuEncoderGivesTheCpuHierarchy) {
             std::size_t hits = 0;
             for (auto v : cpu.valid) hits += v == gp::kHierarchyHit;
             EXPECT_GT(hits, 2000u);
-            // Where the device times passes (lavapipe and GPUs do), the parity segments are a part
-            // of the passes' time, as are the rays.
-            if (gpu.gpu_ms > 0.0) {
-                EXPECT_GT(gpu.gpu_parity_ms, 0.0);
-                EXPECT_LT(gpu.gpu_parity_ms, gpu.gpu_ms);
+            // Where the device times passes (lavapipe and GPUs do), the encoder reports their time.
+            if (ctx().device_info().timestamp_period_ns > 0.0) {
+                EXPECT_GT(gpu.gpu_ms, 0.0);
             }
         }
     }

@@ -73,7 +73,6 @@ struct CylinderHierarchy {
     double reach = 8.0;            // the options it was cast with (recorded in frame.json)
     std::vector<double> level_ms;  // the encoder's wall time per level (not stored in files)
     double gpu_ms = 0.0;           // the GPU encoder's passes by timestamps (0 on the CPU or without them)
-    double gpu_parity_ms = 0.0;    // of gpu_ms, the parity segments' passes (the rest: the rays)
     std::uint32_t levels() const;  // 1 + log2(size / base)
 };
 
@@ -84,9 +83,9 @@ void check_hierarchy_sizes(std::uint32_t base, std::uint32_t size);
 // The mesh is in the cylinder frame (make_cylinder_mesh). Throws geo::InputError for sizes that
 // are not B 2^k with B >= 2.
 CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const CylinderHierarchyOptions& options = {});
-// The encoder with its rays on the GPU (GpuRayCaster: per level a pass of parity segments and a
-// pass of rays; the launch points on the host): the CPU encoder's hierarchy bit for bit. Needs
-// shaderFloat64.
+// The encoder with its rays on the GPU (per level one pass: each launch's parity segment, then its
+// ray, through GpuRayCaster's tree; the launch points on the host): the CPU encoder's hierarchy bit
+// for bit. Needs shaderFloat64.
 CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
                                          const CylinderHierarchyOptions& options = {});
 

@@ -7,6 +7,7 @@
 
 #include "gimg/engine/context.h"
 #include "gimg/engine/graph.h"
+#include "gimg/geometry/bvh.h"
 #include "gimg/geometry/mesh.h"
 #include "gimg/geometry/triangle_queries.h"
 
@@ -51,8 +52,11 @@ public:
 
     // GPU time of the last call's pass (0 where the device has no timestamps).
     double last_gpu_ms() const { return last_gpu_ms_; }
+    // The CPU BVH the tree was uploaded from (the same answers).
+    const geo::TriangleBvh& bvh() const;
 
 private:
+    friend struct RaycastTree import_raycast_tree(Graph&, GpuRayCaster&);
     friend RaycastHandles add_raycast(Graph&, GpuRayCaster&, BufferHandle, BufferHandle, BufferHandle, std::uint32_t,
                                       std::uint32_t, bool, const std::string&);
     std::vector<std::uint32_t> run(std::span<const geo::Ray> rays, std::uint32_t mode, std::vector<double>* t);
@@ -60,6 +64,18 @@ private:
     std::unique_ptr<State> state_;
     double last_gpu_ms_ = 0.0;
 };
+
+// The caster's tree imported into a graph, for passes that walk it in their own shaders
+// (shaders/raycast/walk.glsl says how: bindings nodes, corners, faces; `scene` is its push constant
+// argument). `votes`: whether to use the shader's subgroup-vote variant. The caster must outlive the
+// plan.
+struct RaycastTree {
+    ImageHandle nodes, corners;
+    BufferHandle faces;
+    float scene = 0.0f;
+    bool votes = false;
+};
+RaycastTree import_raycast_tree(Graph& graph, GpuRayCaster& caster);
 
 // The cast recorded into a caller's graph: `rays` holds 8 doubles a ray (origin, direction,
 // t_min, t_max); `t` (a double a ray) and `face` (a uint a ray: the face, or the crossings) are
