@@ -41,6 +41,8 @@ CylinderRaycaster::CylinderRaycaster(const CylinderMesh& mesh, const CylinderTra
 
 CylinderRaycaster::~CylinderRaycaster() = default;
 
+const geo::TriangleBvh& CylinderRaycaster::bvh() const { return bvh_->tree; }
+
 CylinderImage CylinderRaycaster::project(std::uint32_t width, std::uint32_t height) const {
     CylinderImage image(width, height);
     const geo::TriangleBvh& bvh = bvh_->tree;

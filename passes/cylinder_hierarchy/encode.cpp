@@ -136,8 +136,9 @@ CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const Cylinde
     check_hierarchy_sizes(options.base, options.size);
     // Level 1 and the BVH the later levels cast through count as level 1's time.
     const auto start = std::chrono::steady_clock::now();
-    const CylinderImage first = cylinder_raycast(mesh, options.base, options.base);
-    const geo::TriangleBvh bvh(to_cylinder_frame(mesh));
+    const CylinderRaycaster caster(mesh);  // one BVH for level 1 and the rest
+    const CylinderImage first = caster.project(options.base, options.base);
+    const geo::TriangleBvh& bvh = caster.bvh();
     const double first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     return detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
         std::vector<std::optional<double>> t(launches.size());

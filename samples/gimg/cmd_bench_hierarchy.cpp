@@ -1,9 +1,11 @@
-// gimg bench hierarchical [--mesh PATH]... [--size N]... [--base B] [--reach R] [--samples N] [--json FILE]
+// gimg bench hierarchical [--mesh PATH]... [--size N]... [--base B] [--reach R] [--samples N] [--runs N]
+//                         [--json FILE]
 //
 // The thesis's table 3.1 redone: per mesh and size N, the ordinary N x N cylindrical image (ray
 // cast, every block connected) against the hierarchy from B x B, each reconstructed and measured
 // against the original both ways (RMS in cylinder units, radius 1, as the thesis reports), with
-// the wall time of each and of every level of the hierarchy.
+// the wall time of each and of every level of the hierarchy (the encoders' medians over --runs,
+// the CPU's and the GPU's taking turns).
 #include "bench_paths.h"
 #include "command_files.h"
 #include "commands.h"
@@ -32,8 +34,20 @@ struct HierarchyBenchOptions {
     double reach = passes::CylinderHierarchyOptions{}.reach;
     std::string misses = "radial";
     std::uint64_t samples = 300000;
+    std::uint32_t runs = 3;
     std::string json;
 };
+
+// Element-wise medians of per-level times.
+std::vector<double> level_medians(const std::vector<std::vector<double>>& runs) {
+    std::vector<double> out;
+    for (std::size_t k = 0; !runs.empty() && k < runs.front().size(); ++k) {
+        std::vector<double> v;
+        for (const auto& r : runs) v.push_back(r[k]);
+        out.push_back(median(v));
+    }
+    return out;
+}
 
 // RMS both ways and symmetric, in cylinder units.
 std::tuple<double, double, double> error_of(const geo::Mesh& original, const geo::Mesh& rebuilt, double scale,
@@ -54,8 +68,9 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
         std::printf(
             "gimg bench hierarchical: ordinary N x N ray cast (every block connected) vs hierarchy from %ux%u "
             "(reach %g, misses %s); RMS in cylinder units, original->reconstruction / reconstruction->original; times "
-            "in ms (the ordinary image; the hierarchy's CPU and GPU encoders, the same hierarchy)\n",
-            o.base, o.base, o.reach, o.misses.c_str());
+            "in ms (the ordinary image; the hierarchy's CPU and GPU encoders, the same hierarchy, medians of %u "
+            "runs)\n",
+            o.base, o.base, o.reach, o.misses.c_str(), o.runs);
         std::printf("%-14s %5s | %10s %10s %8s | %10s %10s %8s %8s | %s\n", "mesh", "N", "ord A->B", "ord B->A",
                     "ord ms", "hier A->B", "hier B->A", "cpu ms", "gpu ms", "per level cpu/gpu ms");
     }
@@ -78,11 +93,21 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
             });
             const passes::CylinderHierarchyOptions options{
                 .base = o.base, .size = n, .reach = o.reach, .miss = passes::hierarchy_miss(o.misses)};
-            const double hier_ms = time_ms([&] { h = passes::cylinder_hierarchy_cpu(cyl, options); });
             passes::CylinderHierarchy on_gpu;
-            const double gpu_ms = time_ms([&] { on_gpu = passes::cylinder_hierarchy_gpu(ctx, cyl, options); });
-            if (on_gpu.t != h.t || on_gpu.valid != h.valid)
-                throw std::runtime_error("bench hierarchical: the GPU encoder differs from the CPU encoder");
+            std::vector<double> cpu_runs, gpu_runs, pass_runs;
+            std::vector<std::vector<double>> cpu_levels, gpu_levels;
+            for (std::uint32_t r = 0; r < o.runs; ++r) {
+                cpu_runs.push_back(time_ms([&] { h = passes::cylinder_hierarchy_cpu(cyl, options); }));
+                gpu_runs.push_back(time_ms([&] { on_gpu = passes::cylinder_hierarchy_gpu(ctx, cyl, options); }));
+                if (on_gpu.t != h.t || on_gpu.valid != h.valid)
+                    throw std::runtime_error("bench hierarchical: the GPU encoder differs from the CPU encoder");
+                pass_runs.push_back(on_gpu.gpu_ms);
+                cpu_levels.push_back(h.level_ms);
+                gpu_levels.push_back(on_gpu.level_ms);
+            }
+            const double hier_ms = median(cpu_runs), gpu_ms = median(gpu_runs);
+            const std::vector<double> cpu_level_ms = level_medians(cpu_levels),
+                                      gpu_level_ms = level_medians(gpu_levels);
             const passes::HierarchyGrid grid = passes::decode_cylinder_hierarchy(h, h.levels());
             hierarchical = passes::hierarchy_mesh(grid, frame, std::numeric_limits<double>::infinity());
             const auto [oa, ob, os] = error_of(mesh, ordinary, frame.scale, o.samples);
@@ -92,9 +117,9 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
                 error_of(mesh, passes::reconstruct_cpu(image, frame, {}), frame.scale, o.samples);
             const auto [hca, hcb, hcs] = error_of(mesh, passes::hierarchy_mesh(grid, frame), frame.scale, o.samples);
             std::string levels;
-            for (std::size_t k = 0; k < h.level_ms.size(); ++k)
-                levels += (k ? " " : "") + std::to_string(int(h.level_ms[k] + 0.5)) + "/" +
-                          std::to_string(int(on_gpu.level_ms[k] + 0.5));
+            for (std::size_t k = 0; k < cpu_level_ms.size(); ++k)
+                levels += (k ? " " : "") + std::to_string(int(cpu_level_ms[k] + 0.5)) + "/" +
+                          std::to_string(int(gpu_level_ms[k] + 0.5));
             const std::string name = std::filesystem::path(path).stem().string();
             if (!global.quiet)
                 std::printf(
@@ -115,15 +140,16 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
                               {"symmetric_rms", hs},
                               {"b_to_a_rms", hb},
                               {"ms", hier_ms},
-                              {"level_ms", h.level_ms},
+                              {"level_ms", cpu_level_ms},
                               {"gpu_ms", gpu_ms},
-                              {"gpu_pass_ms", on_gpu.gpu_ms},
-                              {"gpu_level_ms", on_gpu.level_ms},
+                              {"gpu_over_cpu", gpu_ms / hier_ms},
+                              {"gpu_pass_ms", median(pass_runs)},
+                              {"gpu_level_ms", gpu_level_ms},
                               {"cut", {{"a_to_b_rms", hca}, {"b_to_a_rms", hcb}, {"symmetric_rms", hcs}}}}}});
         }
     }
-    nlohmann::json j{
-        {"base", o.base}, {"reach", o.reach}, {"misses", o.misses}, {"samples", o.samples}, {"rows", rows}};
+    nlohmann::json j{{"base", o.base},       {"reach", o.reach}, {"misses", o.misses},
+                     {"samples", o.samples}, {"runs", o.runs},   {"rows", rows}};
     add_machine_figures(j, &ctx);
     write_json(o.json, j);
 }
@@ -144,6 +170,7 @@ void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global) {
                     "leaves a sample on the interpolated surface (surface) or a hole (empty)")
         ->check(CLI::IsMember({"surface", "empty", "radial"}));
     add_count_option(cmd, "--samples", o->samples, 1000, 100'000'000, "Surface samples per direction (default 300000)");
+    add_count_option(cmd, "--runs", o->runs, 1, 1000, "Encoder runs, CPU and GPU taking turns; medians (default 3)");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_hierarchy_bench(*o, global); }); });
 }

@@ -27,6 +27,10 @@
 #include <span>
 #include <vector>
 
+namespace gimg::geo {
+class TriangleBvh;
+}  // namespace gimg::geo
+
 namespace gimg::passes {
 
 struct CylinderImage {
@@ -125,6 +129,8 @@ public:
     explicit CylinderRaycaster(const CylinderMesh& mesh, const CylinderTransform& transform = kIdentityTransform);
     ~CylinderRaycaster();
     CylinderImage project(std::uint32_t width, std::uint32_t height) const;
+    // The BVH over to_cylinder_frame(mesh, transform), for callers casting more rays at the mesh.
+    const geo::TriangleBvh& bvh() const;
 
 private:
     struct Bvh;
