@@ -32,11 +32,12 @@ double box_distance_squared(const BvhNode& node, const glm::dvec3& p) {
 struct RaySlabs {
     glm::vec3 origin, inv;
     bool parallel[3];
-    float w, scale;
+    float w;
+    double scale;  // the direction's largest component (double: a direction of 1e-300 still hits)
     RaySlabs(const Ray& ray, const BvhNode& root) : origin(ray.origin) {
         const glm::dvec3& d = ray.direction;
         const double m = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
-        scale = float(m);
+        scale = m;
         for (int a = 0; a < 3; ++a) {
             parallel[a] = std::abs(d[a]) <= 1e-30 * m;
             inv[a] = parallel[a] ? 0.0f : float(m / d[a]);
@@ -50,8 +51,8 @@ struct RaySlabs {
     // or +inf on a miss (always for a zero direction, which hits nothing).
     double enter(const BvhNode& node, double t_near, double t_far) const {
         constexpr double kMiss = std::numeric_limits<double>::infinity();
-        if (!(scale > 0.0f)) return kMiss;
-        const float a = float(t_near * double(scale)), b = float(t_far * double(scale));
+        if (!(scale > 0.0)) return kMiss;
+        const float a = float(t_near * scale), b = float(t_far * scale);
         float tn = a - 2.4e-7f * std::abs(a), tf = b + 2.4e-7f * std::abs(b);
         for (int k = 0; k < 3; ++k) {
             const float lo = node.bounds_min[k] - w, hi = node.bounds_max[k] + w;
@@ -63,7 +64,7 @@ struct RaySlabs {
             tn = std::max(tn, std::min(t0, t1));
             tf = std::min(tf, std::max(t0, t1));
         }
-        return tn <= tf ? double(tn) / double(scale) : kMiss;
+        return tn <= tf ? double(tn) / scale : kMiss;
     }
 };
 

@@ -47,14 +47,15 @@ Node node(uint n) {
 struct Slabs {
     vec3 o, inv;
     bvec3 parallel;
-    float w, scale;
+    float w;
+    double scale;
 };
 
 Slabs slabs(dvec3 o, dvec3 d, float scene) {
     Slabs sl;
     sl.o = vec3(o);
     const double m = max(max(abs(d.x), abs(d.y)), abs(d.z));
-    sl.scale = float(m);
+    sl.scale = m;
     for (int a = 0; a < 3; ++a) {
         sl.parallel[a] = abs(d[a]) <= 1e-30LF * m;
         sl.inv[a] = sl.parallel[a] ? 0.0 : float(m / d[a]);
@@ -66,7 +67,7 @@ Slabs slabs(dvec3 o, dvec3 d, float scene) {
 
 // [t_near, t_far] in the slabs' units, rounded outward.
 vec2 slab_range(Slabs sl, double t_near, double t_far) {
-    const float a = float(t_near * double(sl.scale)), b = float(t_far * double(sl.scale));
+    const float a = float(t_near * sl.scale), b = float(t_far * sl.scale);
     precise vec2 range = vec2(a - 2.4e-7 * abs(a), b + 2.4e-7 * abs(b));
     return range;
 }
@@ -78,7 +79,7 @@ bool enters(Slabs sl, vec3 box_lo, vec3 box_hi, vec2 range) {
     const vec3 near = mix(min(t0, t1), vec3(-1.0 / 0.0), sl.parallel);
     const vec3 far = mix(max(t0, t1), vec3(1.0 / 0.0), sl.parallel);
     const bvec3 below = lessThan(sl.o, lo), above = greaterThan(sl.o, hi);
-    bool outside = !(sl.scale > 0.0);  // a zero direction hits nothing
+    bool outside = !(sl.scale > 0.0LF);  // a zero direction hits nothing
     for (int a = 0; a < 3; ++a) outside = outside || (sl.parallel[a] && (below[a] || above[a]));
     return !outside && max(max(near.x, near.y), max(near.z, range.x)) <= min(min(far.x, far.y), min(far.z, range.y));
 }

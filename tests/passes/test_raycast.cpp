@@ -53,7 +53,7 @@ protected:
 
     // Rays the float box test could lose if it were not conservative, on a mesh of axis-aligned
     // faces (flat boxes): along the axes and nearly so through every vertex, in the faces' planes,
-    // with directions from 1e-12 to 1e12 long, and from 1e4 away (the BVH's own test checks these
+    // with directions from 1e-300 to 1e12 long, and from 1e4 away (the BVH's own test checks these
     // against a scan over every face).
     static std::vector<geo::Ray> hard_rays(const geo::Mesh& m, bool front) {
         const geo::Bounds b = m.bounds();
@@ -62,7 +62,7 @@ protected:
         const glm::dvec3 dirs[] = {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {1, 1e-25, 0}, {1e-31, -1, 1e-20}, {1, 1, 0}};
         for (const glm::dvec3& p : m.positions)
             for (const glm::dvec3& dir : dirs)
-                for (double scale : {1.0, 1e-12, 1e12}) {
+                for (double scale : {1.0, 1e-12, 1e12, 1e-300}) {
                     geo::Ray ray;
                     ray.direction = scale * dir;
                     ray.origin = p - 2.0 * r * dir;
