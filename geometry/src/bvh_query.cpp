@@ -28,7 +28,7 @@ double box_distance_squared(const BvhNode& node, const glm::dvec3& p) {
 // and the slab distances to float. Distances are measured in units of the direction's largest
 // component, so no inverse overflows; an axis whose component is at most 1e-30 of it counts as
 // parallel (along it the ray moves less than w inside any box it can reach). The GPU ray caster
-// (shaders/raycast/raycast.glsl) computes the same values.
+// (shaders/raycast/walk.glsl) computes the same values.
 struct RaySlabs {
     glm::vec3 origin, inv;
     bool parallel[3];

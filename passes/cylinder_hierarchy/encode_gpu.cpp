@@ -15,7 +15,6 @@
 
 #include <chrono>
 #include <cmath>
-#include <limits>
 
 namespace gimg::passes {
 

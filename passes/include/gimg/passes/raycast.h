@@ -66,9 +66,9 @@ private:
 };
 
 // The caster's tree imported into a graph, for passes that walk it in their own shaders
-// (shaders/raycast/walk.glsl says how: bindings nodes, corners, faces; `scene` is its push constant
-// argument). `votes`: whether to use the shader's subgroup-vote variant. The caster must outlive the
-// plan.
+// (shaders/raycast/walk.glsl says how: bindings nodes, corners, faces; `scene` is the argument its
+// functions take). `votes`: whether to use the shader's subgroup-vote variant. The caster must
+// outlive the plan.
 struct RaycastTree {
     ImageHandle nodes, corners;
     BufferHandle faces;
