@@ -1,5 +1,6 @@
 // The GPU ray caster against geo::TriangleBvh: the same face and the same t for every nearest hit,
 // the same number of crossings, including rays through the corners and edges of a closed mesh.
+#include "flat_box_rays.h"
 #include "gpu_test.h"
 #include "test_data.h"
 
@@ -51,32 +52,6 @@ protected:
         return rays;
     }
 
-    // Rays the float box test could lose if it were not conservative, on a mesh of axis-aligned
-    // faces (flat boxes): along the axes and nearly so through every vertex, in the faces' planes,
-    // with directions from 1e-300 to 1e12 long, and from 1e4 away (the BVH's own test checks these
-    // against a scan over every face).
-    static std::vector<geo::Ray> hard_rays(const geo::Mesh& m, bool front) {
-        const geo::Bounds b = m.bounds();
-        const double r = b.diagonal();
-        std::vector<geo::Ray> rays;
-        const glm::dvec3 dirs[] = {{1, 0, 0}, {0, -1, 0}, {0, 0, 1}, {1, 1e-25, 0}, {1e-31, -1, 1e-20}, {1, 1, 0}};
-        for (const glm::dvec3& p : m.positions)
-            for (const glm::dvec3& dir : dirs)
-                for (double scale : {1.0, 1e-12, 1e12, 1e-300}) {
-                    geo::Ray ray;
-                    ray.direction = scale * dir;
-                    ray.origin = p - 2.0 * r * dir;
-                    ray.t_max = 4.0 * r / scale;
-                    ray.front_faces_only = front;
-                    rays.push_back(ray);
-                    ray.origin = p + 1e4 * r * glm::dvec3(0.6, -0.8, 0.0);  // far away, aimed at p
-                    ray.direction = scale * (p - ray.origin);
-                    ray.t_max = 2.0 / scale;
-                    rays.push_back(ray);
-                }
-        return rays;
-    }
-
     void expect_equal(const geo::Mesh& m, const passes::GpuRayCasterOptions& options = {},
                       std::vector<geo::Ray> (*make_rays)(const geo::Mesh&, bool) = rays_for) {
         const geo::TriangleBvh bvh(m);
@@ -118,6 +93,7 @@ TEST_F(Raycast, GpuEqualsTheBvhWithoutSubgroupVotes) {
     expect_equal(geo::make_icosphere(1.0, 3), {.subgroup_votes = false});
 }
 
+// The BVH's own test checks these rays against a scan over every face.
 TEST_F(Raycast, FloatBoxTestsLoseNoHitOnAxisAlignedFaces) {
     geo::Mesh box = geo::make_box({2.0, 1.0, 0.5}, 6);
     for (int far = 0; far < 2; ++far) {
@@ -125,7 +101,7 @@ TEST_F(Raycast, FloatBoxTestsLoseNoHitOnAxisAlignedFaces) {
         if (far) {
             for (glm::dvec3& p : box.positions) p += glm::dvec3(1000.0, -2000.0, 500.0);
         }
-        expect_equal(box, {}, hard_rays);
+        expect_equal(box, {}, gimg::test::flat_box_rays);
     }
 }
 
