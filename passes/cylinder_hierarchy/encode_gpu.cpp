@@ -90,11 +90,11 @@ std::vector<std::optional<double>> cast_level(Context& ctx, GpuRayCaster& caster
 }  // namespace
 
 CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
-                                         const CylinderHierarchyOptions& options) {
+                                         const CylinderHierarchyOptions& options, const GpuRayCasterOptions& walk) {
     check_hierarchy_sizes(options.base, options.size);
     // Level 1 and the BVH every level casts through count as level 1's time.
     const auto start = std::chrono::steady_clock::now();
-    GpuRayCaster caster(ctx, to_cylinder_frame(mesh));
+    GpuRayCaster caster(ctx, to_cylinder_frame(mesh), walk);
     const CylinderImage first = cylinder_raycast_gpu(caster, options.base, options.base);
     double gpu_ms = caster.last_gpu_ms();
     const double first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();

@@ -318,6 +318,11 @@ TEST_F(CylinderHierarchyGpu, TheGpuEncoderGivesTheCpuHierarchy) {
             const gp::CylinderHierarchy gpu = gp::cylinder_hierarchy_gpu(ctx(), mesh, options);
             ASSERT_EQ(gpu.valid, cpu.valid);
             ASSERT_EQ(gpu.t, cpu.t);
+            // The walk without subgroup votes (devices that lack them) gives the same hierarchy.
+            const gp::CylinderHierarchy plain =
+                gp::cylinder_hierarchy_gpu(ctx(), mesh, options, {.subgroup_votes = false});
+            ASSERT_EQ(plain.valid, cpu.valid);
+            ASSERT_EQ(plain.t, cpu.t);
             std::size_t hits = 0;
             for (auto v : cpu.valid) hits += v == gp::kHierarchyHit;
             EXPECT_GT(hits, 2000u);

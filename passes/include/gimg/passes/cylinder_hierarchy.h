@@ -19,6 +19,7 @@
 #include "gimg/engine/context.h"
 #include "gimg/geometry/mesh.h"
 #include "gimg/passes/cylinder.h"
+#include "gimg/passes/raycast.h"
 
 #include <glm/vec3.hpp>
 
@@ -85,9 +86,10 @@ void check_hierarchy_sizes(std::uint32_t base, std::uint32_t size);
 CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const CylinderHierarchyOptions& options = {});
 // The encoder with its rays on the GPU (per level one pass: each launch's parity segment, then its
 // ray, through GpuRayCaster's tree; the launch points on the host): the CPU encoder's hierarchy bit
-// for bit. Needs shaderFloat64.
+// for bit. Needs shaderFloat64. `walk` picks the walk's variant (gimg/passes/raycast.h).
 CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
-                                         const CylinderHierarchyOptions& options = {});
+                                         const CylinderHierarchyOptions& options = {},
+                                         const GpuRayCasterOptions& walk = {});
 
 // The grid of points a hierarchy decodes to at `level` (1 .. levels()): side B 2^(level - 1),
 // points in the cylinder frame, row-major from the top row.
