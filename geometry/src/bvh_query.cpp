@@ -24,7 +24,7 @@ double box_distance_squared(const BvhNode& node, const glm::dvec3& p) {
 
 // The box test, in float and conservative, so that no rounding can cull a triangle the exact
 // triangle test would hit: every box is widened by w, 2^-18 (64 float epsilons) of the largest
-// coordinate in play (the tree's or the origin's), far beyond the rounding of the origin, the box
+// coordinate in play (the tree's extent() or the origin's), far beyond the rounding of the origin, the box
 // and the slab distances to float. Distances are measured in units of the direction's largest
 // component, so no inverse overflows; an axis whose component is at most 1e-30 of it counts as
 // parallel (along it the ray moves less than w inside any box it can reach). The GPU ray caster
@@ -34,7 +34,7 @@ struct RaySlabs {
     bool parallel[3];
     float w;
     double scale;  // the direction's largest component (double: a direction of 1e-300 still hits)
-    RaySlabs(const Ray& ray, const BvhNode& root) : origin(ray.origin) {
+    RaySlabs(const Ray& ray, float extent) : origin(ray.origin) {
         const glm::dvec3& d = ray.direction;
         const double m = std::max({std::abs(d.x), std::abs(d.y), std::abs(d.z)});
         scale = m;
@@ -42,10 +42,7 @@ struct RaySlabs {
             parallel[a] = std::abs(d[a]) <= 1e-30 * m;
             inv[a] = parallel[a] ? 0.0f : float(m / d[a]);
         }
-        float scene = 0.0f;
-        for (int a = 0; a < 3; ++a)
-            scene = std::max({scene, std::abs(root.bounds_min[a]), std::abs(root.bounds_max[a])});
-        w = 0x1p-18f * (scene + std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z)}));
+        w = 0x1p-18f * (extent + std::max({std::abs(origin.x), std::abs(origin.y), std::abs(origin.z)}));
     }
     // A lower bound of the distance at which the ray enters the node's box within [t_near, t_far],
     // or +inf on a miss (always for a zero direction, which hits nothing).
@@ -116,7 +113,7 @@ ClosestPointResult TriangleBvh::closest_point(const glm::dvec3& p, double max_di
 
 std::optional<RayHit> TriangleBvh::intersect_nearest(const Ray& ray) const {
     if (nodes_.empty()) return std::nullopt;
-    const RaySlabs slabs(ray, nodes_[0]);
+    const RaySlabs slabs(ray, extent());
     RayHit best;
     best.t = ray.t_max;
     struct Entry {
@@ -165,9 +162,9 @@ namespace {
 // Visits every face whose box the ray enters in [t_min, t_max]; `visit(slot, hit)` returns false
 // to stop.
 template <class Visit>
-void for_each_hit(const BvhNodeArray& nodes, const Ray& ray, Visit&& visit) {
+void for_each_hit(const BvhNodeArray& nodes, float extent, const Ray& ray, Visit&& visit) {
     if (nodes.empty()) return;
-    const RaySlabs slabs(ray, nodes[0]);
+    const RaySlabs slabs(ray, extent);
     std::uint32_t stack[kStackSize];
     int top = 0;
     stack[top++] = 0;
@@ -188,7 +185,7 @@ void for_each_hit(const BvhNodeArray& nodes, const Ray& ray, Visit&& visit) {
 
 bool TriangleBvh::intersect_any(const Ray& ray) const {
     bool found = false;
-    for_each_hit(nodes_, ray, [&](std::uint32_t s) {
+    for_each_hit(nodes_, extent(), ray, [&](std::uint32_t s) {
         const Triangle& t = triangles_[s];
         TriangleHit h;
         found = intersect_ray_triangle(ray, t.a, t.b, t.c, h);
@@ -206,7 +203,7 @@ std::vector<RayHit> TriangleBvh::intersect_all(const Ray& ray) const {
         hits.push_back({h.t, face_order_[s], h.barycentric});
         return true;
     };
-    for_each_hit(nodes_, ray, [&](std::uint32_t s) {
+    for_each_hit(nodes_, extent(), ray, [&](std::uint32_t s) {
         test(s);
         if (!copy_slots_.empty())
             if (const auto c = copy_slots_.find(face_order_[s]); c != copy_slots_.end())

@@ -15,7 +15,6 @@
 #include <glm/vec4.hpp>
 
 #include <algorithm>
-#include <cmath>
 #include <cstring>
 
 namespace gimg::passes {
@@ -65,7 +64,7 @@ struct GpuRayCaster::State {
     geo::TriangleBvh bvh;
     Image nodes, corners;  // texel arrays (the shader's header says how)
     Buffer faces;
-    float scene = 0.0f;  // the largest |coordinate| of the root box
+    float scene = 0.0f;  // bvh.extent()
     bool votes = false;
     explicit State(Context& c) : ctx(c) {}
 };
@@ -78,9 +77,7 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCast
     State& s = *state_;
     s.votes = options.subgroup_votes && ctx.device_info().subgroup_vote;
     s.bvh = geo::TriangleBvh(mesh);
-    const geo::BvhNode& root = s.bvh.nodes()[0];
-    for (int a = 0; a < 3; ++a)
-        s.scene = std::max({s.scene, std::abs(root.bounds_min[a]), std::abs(root.bounds_max[a])});
+    s.scene = s.bvh.extent();
     s.nodes = upload_texel_array(ctx, depth_first_texels(s.bvh.nodes()), Format::RGBA32U, "raycast nodes");
     std::vector<glm::uvec4> corner_texels(5 * s.bvh.triangles().size(), glm::uvec4(0));
     for (std::size_t i = 0; i < s.bvh.triangles().size(); ++i) {

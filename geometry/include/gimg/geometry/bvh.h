@@ -10,6 +10,8 @@
 
 #include <glm/vec3.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -102,6 +104,14 @@ public:
         glm::dvec3 a, b, c;
     };
     const BvhNodeArray& nodes() const { return nodes_; }
+    // The largest |coordinate| of the root box (0 when empty): the ray box test widens boxes by
+    // 2^-18 of it (bvh_query.cpp), and the GPU ray caster passes it to its shader.
+    float extent() const {
+        float e = 0.0f;
+        for (int a = 0; !nodes_.empty() && a < 3; ++a)
+            e = std::max({e, std::abs(nodes_[0].bounds_min[a]), std::abs(nodes_[0].bounds_max[a])});
+        return e;
+    }
     // Corner positions in BVH order (the slots the leaves name; copies of a triangle sit in slots
     // no leaf names).
     const std::vector<Triangle>& triangles() const { return triangles_; }
