@@ -45,6 +45,7 @@ struct Row {
 };
 
 void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
+    for (std::uint32_t n : o.sizes) gim_size(n, 4);  // refuses 1 before any work
     std::vector<std::string> meshes = o.meshes;
     if (meshes.empty())
         for (const char* name :
@@ -59,8 +60,7 @@ void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
         const geo::Mesh mesh = geo::load_mesh(path);
         passes::check_disk_mesh(mesh);
         std::vector<std::uint32_t> sizes;
-        for (std::uint32_t n : o.sizes)
-            sizes.push_back(n ? n : std::max(2u, std::uint32_t(std::lround(std::sqrt(double(mesh.vertex_count()))))));
+        for (std::uint32_t n : o.sizes) sizes.push_back(gim_size(n, mesh.vertex_count()));
         auto errors_of = [&](const std::vector<glm::dvec2>& uv) {
             std::vector<GimError> e;
             for (std::uint32_t n : sizes)
@@ -158,7 +158,8 @@ void add_bench_gim_command(CLI::App& bench, const GlobalOptions& global) {
     cmd->add_option("--mesh", o->meshes,
                     "Disk meshes (default: mannequin_devil, nefertiti, mushroom, three_peaks, terrain of "
                     "../shared/meshes)");
-    cmd->add_option("--size", o->sizes, "Image sizes N; 0 = round(sqrt(vertices)) (default 0 65 129 257)");
+    add_count_list_option(cmd, "--size", o->sizes, 0, 16384,
+                          "Image sizes N; 0 = round(sqrt(vertices)) (default 0 65 129 257)");
     add_count_option(cmd, "--samples", o->samples, 1000, 100'000'000, "Surface samples per direction (default 300000)");
     add_count_option(cmd, "--cgal-iterations", o->cgal_iterations, 1, 1000,
                      "Iterations of CGAL's iterative authalic map (default 15)");

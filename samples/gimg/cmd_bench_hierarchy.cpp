@@ -162,7 +162,7 @@ void add_bench_hierarchy_command(CLI::App& bench, const GlobalOptions& global) {
         bench.add_subcommand("hierarchical", "Ordinary vs hierarchical cylindrical images (the thesis's table 3.1)");
     cmd->add_option("--mesh", o->meshes,
                     "Meshes (default: armadillo, bunny, camel, homer, elephant of ../shared/meshes)");
-    cmd->add_option("--size", o->sizes, "Final sizes N (default 64 128 256)");
+    add_count_list_option(cmd, "--size", o->sizes, 2, 16384, "Final sizes N (default 64 128 256)");
     add_count_option(cmd, "--base", o->base, 2, 8192, "Level 1 is B x B (default 32)");
     add_number_option(cmd, "--reach", o->reach, 0.0, 1e6, "Ray reach in parent spans (0: without limit; default 8)");
     cmd->add_option("--misses", o->misses,

@@ -37,10 +37,10 @@ nlohmann::json iteration_json(const passes::IterationReport& r) {
 }
 
 void run_gim(const GimOptions& o, const GlobalOptions& global) {
+    gim_size(o.size, 4);  // refuses 1 before the mesh is read
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
     passes::check_disk_mesh(mesh);
-    const std::uint32_t size =
-        o.size ? o.size : std::max(2u, std::uint32_t(std::lround(std::sqrt(double(mesh.vertex_count())))));
+    const std::uint32_t size = gim_size(o.size, mesh.vertex_count());
     passes::ParameterizeOptions po;
     po.variant = *passes::parse_variant(o.variant);
     po.max_iterations = o.iterations;
@@ -136,7 +136,7 @@ void add_gim_command(CLI::App& app, const GlobalOptions& global) {
     auto* cmd = app.add_subcommand("gim", "Disk mesh -> square parameterization -> geometry image -> mesh, measured");
     cmd->add_option("mesh", o->mesh, "Input mesh: one component, manifold, one boundary loop")->required();
     cmd->add_option("--out", o->out, "Output folder (gim.exr, reconstruction.ply, param.png, compare.png)")->required();
-    add_count_option(cmd, "--size", o->size, 2, 16384, "Image size N (N x N; default round(sqrt(vertices)))");
+    add_count_option(cmd, "--size", o->size, 0, 16384, "Image size N (N x N; 0, the default: round(sqrt(vertices)))");
     cmd->add_option("--variant", o->variant,
                     "tutte, floater, stretch (Yoshizawa et al. 2004), density, uniform3d or curvature (default)")
         ->check(CLI::IsMember({"tutte", "floater", "stretch", "density", "uniform3d", "curvature"}));

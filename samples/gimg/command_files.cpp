@@ -36,20 +36,22 @@ std::string join(const std::vector<std::string>& items) {
     return out;
 }
 
+// A whole number in [lo, hi], written in decimal digits only; the option's name in the message.
+unsigned long long ranged_count(const std::string& name, const std::string& text, unsigned long long lo,
+                                unsigned long long hi) {
+    const bool digits = !text.empty() && text.size() <= 20 && text.find_first_not_of("0123456789") == std::string::npos;
+    const unsigned long long v = digits ? std::stoull(text) : 0;
+    if (!digits || v < lo || v > hi)
+        throw geo::InputError(name + " takes a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                              ", got '" + text + "'");
+    return v;
+}
+
 template <class T>
 CLI::Option* add_ranged(CLI::App* cmd, const std::string& name, T& value, T lo, T hi, const std::string& help) {
     return cmd
         ->add_option_function<std::string>(
-            name,
-            [&value, name, lo, hi](const std::string& text) {
-                const bool digits =
-                    !text.empty() && text.size() <= 20 && text.find_first_not_of("0123456789") == std::string::npos;
-                const unsigned long long v = digits ? std::stoull(text) : 0;
-                if (!digits || v < lo || v > hi)
-                    throw geo::InputError(name + " takes a whole number from " + std::to_string(lo) + " to " +
-                                          std::to_string(hi) + ", got '" + text + "'");
-                value = T(v);
-            },
+            name, [&value, name, lo, hi](const std::string& text) { value = T(ranged_count(name, text, lo, hi)); },
             help)
         ->type_name("N");
 }
@@ -135,6 +137,19 @@ CLI::Option* add_count_option(CLI::App* cmd, const std::string& name, std::uint6
 CLI::Option* add_count_option(CLI::App* cmd, const std::string& name, std::uint32_t& value, std::uint32_t lo,
                               std::uint32_t hi, const std::string& help) {
     return add_ranged(cmd, name, value, lo, hi, help);
+}
+
+CLI::Option* add_count_list_option(CLI::App* cmd, const std::string& name, std::vector<std::uint32_t>& values,
+                                   std::uint32_t lo, std::uint32_t hi, const std::string& help) {
+    return cmd
+        ->add_option_function<std::vector<std::string>>(
+            name,
+            [&values, name, lo, hi](const std::vector<std::string>& texts) {
+                values.clear();
+                for (const std::string& text : texts) values.push_back(std::uint32_t(ranged_count(name, text, lo, hi)));
+            },
+            help)
+        ->type_name("N");
 }
 
 passes::View parse_view(const std::string& text) {

@@ -57,6 +57,9 @@ CLI::Option* add_count_option(CLI::App* cmd, const std::string& name, std::uint6
                               std::uint64_t hi, const std::string& help);
 CLI::Option* add_count_option(CLI::App* cmd, const std::string& name, std::uint32_t& value, std::uint32_t lo,
                               std::uint32_t hi, const std::string& help);
+// The same for an option taking several integers, each in [lo, hi]; given, they replace the defaults.
+CLI::Option* add_count_list_option(CLI::App* cmd, const std::string& name, std::vector<std::uint32_t>& values,
+                                   std::uint32_t lo, std::uint32_t hi, const std::string& help);
 // A decimal number in [lo, hi] (no hex, inf or nan).
 CLI::Option* add_number_option(CLI::App* cmd, const std::string& name, double& value, double lo, double hi,
                                const std::string& help);
