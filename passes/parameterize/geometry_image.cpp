@@ -1,7 +1,12 @@
 // Sampling a square map on the grid whose border lies on the boundary, with the existing sample pass.
 #include "gimg/geometry/error.h"
 #include "gimg/passes/parameterize.h"
+#include "gimg/passes/reconstruct.h"
 #include "gimg/passes/sample.h"
+
+#include "gimg/geometry/surface_distance.h"
+
+#include <algorithm>
 
 namespace gimg::passes {
 
@@ -33,6 +38,16 @@ PositionImage geometry_image_gpu(Context& ctx, const geo::Mesh& mesh, const std:
 
 PositionImage geometry_image_cpu(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size) {
     return sample_cpu(square_grid_mesh(mesh, uv, size), size);
+}
+
+double geometry_image_rms(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size,
+                          std::size_t samples) {
+    const geo::Mesh back = reconstruct_cpu(geometry_image_cpu(mesh, uv, size));
+    if (back.face_count() == 0) throw geo::InputError("the geometry image rebuilds no face");
+    geo::SurfaceDistanceOptions options;
+    options.sampling.sample_count = std::max<std::size_t>(samples, 1);
+    const geo::SurfaceDistance d = geo::surface_distance(mesh, back, options);
+    return std::max(d.a_to_b.rms, d.b_to_a.rms) / d.bbox_diagonal;
 }
 
 ImageHandle add_geometry_image(Graph& graph, BufferHandle positions, BufferHandle parameters, BufferHandle triangles,

@@ -137,6 +137,8 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         return stretch;
     };
     auto finish = [&](const std::vector<glm::dvec2>& uv, IterationReport report, Clock::time_point started) {
+        if (options.select_size > 0)
+            report.image_rms = geometry_image_rms(mesh, uv, options.select_size, options.select_samples);
         report.seconds = seconds_since(started);
         out.iterations.push_back(report);
         if (options.keep_iterates) out.iterates.push_back(uv);
@@ -155,6 +157,12 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
     }
     double best_stretch = first.l2_stretch;
     std::vector<double> returned_weights = weights;  // the weights of out.uv
+    // With select_size, the iterate of least image error is returned, whatever the variant's rule.
+    auto keep = [&](const std::vector<glm::dvec2>& map, std::size_t t) {
+        out.uv = map;
+        returned_weights = weights;
+        out.selected = t;
+    };
     for (std::size_t t = 1; t <= options.max_iterations; ++t) {
         started = Clock::now();
         IterationReport report;
@@ -169,18 +177,22 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         uv = solve(uv, report);
         stretch = measure(uv, report);
         finish(uv, report, started);
-        if (options.variant == ParameterizeVariant::Stretch) {
-            // Yoshizawa et al. stop when the L2 stretch stops falling and keep the best map.
+        if (options.select_size > 0) {
+            if (out.iterations[t].image_rms < out.iterations[out.selected].image_rms) keep(uv, t);
+        } else if (options.variant == ParameterizeVariant::Stretch) {
+            // Yoshizawa et al. keep the map of least L2 stretch.
             if (report.l2_stretch < best_stretch) {
                 best_stretch = report.l2_stretch;
-                out.uv = uv;
-                returned_weights = weights;
+                keep(uv, t);
             }
-            if (!(report.l2_stretch < out.iterations[t - 1].l2_stretch * (1.0 - options.stop_fall))) break;
         } else {
-            out.uv = uv;
-            returned_weights = weights;
-            if (t >= 2 && !(report.sigma_error < out.iterations[t - 1].sigma_error * (1.0 - options.stop_fall))) break;
+            keep(uv, t);
+        }
+        if (options.variant == ParameterizeVariant::Stretch) {
+            // Yoshizawa et al. stop when the L2 stretch stops falling.
+            if (!(report.l2_stretch < out.iterations[t - 1].l2_stretch * (1.0 - options.stop_fall))) break;
+        } else if (t >= 2 && !(report.sigma_error < out.iterations[t - 1].sigma_error * (1.0 - options.stop_fall))) {
+            break;
         }
     }
     if (iterate_tolerance > options.solve_tolerance) {

@@ -32,6 +32,7 @@ struct GimBenchOptions {
     std::uint64_t samples = 300000;
     std::uint64_t cgal_iterations = 15;
     bool cpu = true;
+    bool select = true;
     std::string json;
 };
 
@@ -41,7 +42,8 @@ struct Row {
     double seconds = 0.0;        // the map on the GPU (ours) or CGAL's parameterize()
     double cpu_seconds = 0.0;    // ours: the same map with the CPU twin
     std::size_t flipped = 0;
-    std::vector<GimError> errors;  // per size
+    std::vector<GimError> errors;       // per size
+    std::vector<std::size_t> selected;  // "-selected" rows: the iterate returned, per size
 };
 
 void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
@@ -98,6 +100,26 @@ void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
             }
             rows.push_back(std::move(row));
         }
+        // What --select returns: per size, the iterate whose image at that size rebuilds the mesh
+        // best (the CPU twin; its seconds include the measuring of every iterate).
+        if (o.select)
+            for (auto variant : {passes::ParameterizeVariant::Density, passes::ParameterizeVariant::Uniform3d,
+                                 passes::ParameterizeVariant::Curvature}) {
+                Row row{.method = std::string(passes::variant_name(variant)) + "-selected"};
+                for (std::uint32_t n : sizes) {
+                    passes::ParameterizeOptions po;
+                    po.variant = variant;
+                    po.select_size = n;
+                    const passes::Parameterization map = passes::parameterize_square(nullptr, mesh, po);
+                    if (row.selected.empty()) row.cpu_seconds = map.seconds;
+                    row.selected.push_back(map.selected);
+                    row.iterations = map.selected;
+                    row.flipped = std::max(row.flipped, passes::count_flipped(mesh, map.uv));
+                    row.errors.push_back(gim_error(
+                        mesh, passes::reconstruct_gpu(ctx, passes::geometry_image_gpu(ctx, mesh, map.uv, n), {}), so));
+                }
+                rows.push_back(std::move(row));
+            }
         if (cgal_available())
             for (auto method : {CgalSquareMap::MeanValue, CgalSquareMap::DiscreteAuthalic,
                                 CgalSquareMap::DiscreteConformal, CgalSquareMap::IterativeAuthalic}) {
@@ -133,6 +155,8 @@ void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
                 e["size"] = sizes[k];
                 per_size.push_back(e);
             }
+            if (!r.selected.empty())
+                for (std::size_t k = 0; k < sizes.size(); ++k) per_size[k]["selected_iteration"] = r.selected[k];
             jrows.push_back({{"method", r.method},
                              {"iterations", r.iterations},
                              {"seconds", r.seconds},
@@ -164,6 +188,8 @@ void add_bench_gim_command(CLI::App& bench, const GlobalOptions& global) {
     add_count_option(cmd, "--cgal-iterations", o->cgal_iterations, 1, 1000,
                      "Iterations of CGAL's iterative authalic map (default 15)");
     cmd->add_flag("!--no-cpu", o->cpu, "Skip timing the CPU twin of each map");
+    cmd->add_flag("!--no-select", o->select,
+                  "Skip the rows of what gim --select returns (density, uniform3d, curvature; a run per size)");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] { run_writing({}, {json_output(o->json)}, [&] { run_gim_bench(*o, global); }); });
 }

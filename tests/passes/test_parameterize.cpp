@@ -341,3 +341,52 @@ TEST_F(Parameterize, TheImageGridPutsItsBorderOnTheBoundary) {
     EXPECT_NEAR(gpu.xyz[3 * gpu.index(0, n - 1)], 0.0, inset + 1e-6);
     EXPECT_NEAR(gpu.xyz[3 * gpu.index(n - 1, 0)], 1.0, inset + 1e-6);
 }
+
+TEST(ParameterizeSelect, ReturnsTheIterateWhoseImageRebuildsTheMeshBest) {
+    // Every iterate solved to full accuracy and kept, so the returned map is the chosen iterate itself.
+    const geo::Mesh mesh = bent_grid(12);
+    passes::ParameterizeOptions o{.variant = ParameterizeVariant::Curvature, .keep_iterates = true};
+    o.select_size = 9;
+    o.select_samples = 20'000;
+    const passes::Parameterization map = passes::parameterize_square(nullptr, mesh, o);
+    ASSERT_GE(map.iterations.size(), 3u);
+    ASSERT_EQ(map.iterates.size(), map.iterations.size());
+    std::size_t least = 0;
+    for (std::size_t t = 0; t < map.iterations.size(); ++t) {
+        EXPECT_GT(map.iterations[t].image_rms, 0.0) << "iteration " << t;
+        if (map.iterations[t].image_rms < map.iterations[least].image_rms) least = t;
+    }
+    EXPECT_EQ(map.selected, least);
+    EXPECT_EQ(map.uv, map.iterates[least]);
+    EXPECT_EQ(passes::geometry_image_rms(mesh, map.uv, 9, 20'000), map.iterations[least].image_rms);
+    // Without select_size the last iterate comes back, and nothing is measured.
+    o.select_size = 0;
+    const passes::Parameterization last = passes::parameterize_square(nullptr, mesh, o);
+    EXPECT_EQ(last.selected, last.iterations.size() - 1);
+    EXPECT_EQ(last.uv, last.iterates.back());
+    EXPECT_EQ(last.iterations.back().image_rms, 0.0);
+}
+
+TEST(ParameterizeSelect, KeepsTheCurvatureMapOfANearlyFlatTerrainAboveFloaters) {
+    // Run to its stopping rule, the curvature reweighting draws terrain's samples into its one ridge
+    // and leaves the flat rest and the corners sparse: at N = 43 it ends 8 dB below Floater's start.
+    // Its early iterates are better than that start; --select returns one of them.
+    GIMG_REQUIRE_SHARED_MESH(path, "terrain.obj");
+    const geo::Mesh mesh = geo::load_mesh(path);
+    const std::uint32_t n = 43;
+    const std::size_t samples = 100'000;
+    auto psnr = [&](const std::vector<glm::dvec2>& uv) {
+        return -20.0 * std::log10(passes::geometry_image_rms(mesh, uv, n, samples));
+    };
+    const double floater =
+        psnr(passes::parameterize_square(nullptr, mesh, {.variant = ParameterizeVariant::Floater}).uv);
+    const double last =
+        psnr(passes::parameterize_square(nullptr, mesh, {.variant = ParameterizeVariant::Curvature}).uv);
+    passes::ParameterizeOptions o{.variant = ParameterizeVariant::Curvature};
+    o.select_size = n;
+    const passes::Parameterization selected = passes::parameterize_square(nullptr, mesh, o);
+    EXPECT_LT(last, floater - 3.0);
+    EXPECT_GT(psnr(selected.uv), floater + 1.0);
+    EXPECT_GT(selected.selected, 0u);
+    EXPECT_LT(selected.selected, selected.iterations.size() - 1);
+}

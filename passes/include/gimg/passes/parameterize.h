@@ -87,6 +87,12 @@ struct ParameterizeOptions {
     // Keep every iterate's map (Parameterization::iterates), for choosing one by another measure;
     // every iterate is then solved to solve_tolerance.
     bool keep_iterates = false;
+    // Return the iterate whose select_size x select_size geometry image rebuilds the mesh best
+    // (geometry_image_rms with select_samples samples each way, on the CPU) instead of the last one
+    // (stretch: instead of the one of least L2 stretch). 0: off. Iterate 0, Floater's map, is a
+    // candidate, so by that measure the map returned is never worse than the start.
+    std::uint32_t select_size = 0;
+    std::size_t select_samples = 50'000;
 };
 
 struct IterationReport {
@@ -97,6 +103,7 @@ struct IterationReport {
     std::size_t flipped = 0;            // parameter triangles of negative area
     std::size_t solver_iterations = 0;  // both solves where an iterate folded at the iterate tolerance
     double seconds = 0.0;               // reweighting and solve of this iteration
+    double image_rms = 0.0;             // with select_size: geometry_image_rms of this iterate
 };
 
 struct Parameterization {
@@ -105,6 +112,7 @@ struct Parameterization {
     std::vector<IterationReport> iterations;
     std::vector<std::vector<glm::dvec2>> iterates;  // with keep_iterates: every iterate's uv, 0 first
     std::size_t final_solver_iterations = 0;        // the returned map's solve to solve_tolerance
+    std::size_t selected = 0;                       // the iterate returned
     double seconds = 0.0;                           // the whole run, set-up included
 };
 
@@ -130,6 +138,13 @@ geo::Mesh square_grid_mesh(const geo::Mesh& mesh, const std::vector<glm::dvec2>&
 PositionImage geometry_image_gpu(Context& ctx, const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv,
                                  std::uint32_t size);
 PositionImage geometry_image_cpu(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size);
+
+// How well a map's N x N geometry image keeps the mesh: the larger of the two one-sided RMS
+// distances between the mesh and the image's reconstruction (reconstruct_cpu, never cut), relative
+// to the mesh's bounding-box diagonal, each measured with `samples` area samples (surface_distance.h).
+// CPU twins throughout, so the figure does not depend on the device.
+double geometry_image_rms(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size,
+                          std::size_t samples);
 // The GPU path recorded into a caller's graph: `parameters` hold 2 float32 a vertex as
 // square_grid_mesh places them (uv already on the image grid).
 ImageHandle add_geometry_image(Graph& graph, BufferHandle positions, BufferHandle parameters, BufferHandle triangles,
