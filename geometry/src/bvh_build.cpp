@@ -26,23 +26,6 @@ constexpr int kMedianSplitDepth = 64;
 // Subtrees smaller than this are not worth a thread.
 constexpr std::size_t kParallelSubtree = 16384;
 
-struct Box {
-    glm::dvec3 lo{std::numeric_limits<double>::infinity()};
-    glm::dvec3 hi{-std::numeric_limits<double>::infinity()};
-    void grow(const glm::dvec3& p) {
-        lo = glm::min(lo, p);
-        hi = glm::max(hi, p);
-    }
-    void grow(const Box& b) {
-        lo = glm::min(lo, b.lo);
-        hi = glm::max(hi, b.hi);
-    }
-    double half_area() const {
-        const glm::dvec3 d = hi - lo;
-        return d.x < 0.0 ? 0.0 : d.x * d.y + d.y * d.z + d.z * d.x;
-    }
-};
-
 // Outward rounding to float: the float box contains the double one (out-of-range values become
 // infinite, which still contains them).
 glm::vec3 round_down(const glm::dvec3& v) {
@@ -61,10 +44,30 @@ glm::vec3 round_down(const glm::dvec3& v) {
 
 glm::vec3 round_up(const glm::dvec3& v) { return -round_down(-v); }
 
+// Boxes in float, each triangle's rounded outward from its double corners: the union of such boxes
+// is the outward rounding of the double union (rounding is monotone), so the nodes' bounds are what
+// a double build would give, with half the memory to sweep.
+struct Box {
+    glm::vec3 lo{std::numeric_limits<float>::infinity()};
+    glm::vec3 hi{-std::numeric_limits<float>::infinity()};
+    void grow(const glm::vec3& p) {
+        lo = glm::min(lo, p);
+        hi = glm::max(hi, p);
+    }
+    void grow(const Box& b) {
+        lo = glm::min(lo, b.lo);
+        hi = glm::max(hi, b.hi);
+    }
+    double half_area() const {
+        const glm::dvec3 d = glm::dvec3(hi) - glm::dvec3(lo);
+        return d.x < 0.0 ? 0.0 : d.x * d.y + d.y * d.z + d.z * d.x;
+    }
+};
+
 struct PrimRef {
     Box box;
     std::uint32_t face;
-    glm::dvec3 centroid() const { return 0.5 * (box.lo + box.hi); }
+    glm::vec3 centroid() const { return 0.5f * (box.lo + box.hi); }
 };
 
 struct Range {
@@ -78,7 +81,12 @@ struct Split {
     int axis = -1;
     int bin = 0;  // primitives with bin index <= this go left
     double cost = std::numeric_limits<double>::infinity();
-    Box left, right, left_centroids, right_centroids;
+    Box left, right;
+};
+
+struct Bin {
+    Box box;
+    std::size_t count = 0;
 };
 
 class BvhBuilder {
@@ -88,9 +96,9 @@ public:
         : prims_(prims), mesh_(mesh), copy_of_(copy_of), options_(options), threads_(threads) {}
 
     void build_node(std::uint32_t index, Range range, BvhNodeArray& nodes, int depth) {
-        nodes[index].bounds_min = round_down(range.bounds.lo);
-        nodes[index].bounds_max = round_up(range.bounds.hi);
-        const glm::dvec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
+        nodes[index].bounds_min = range.bounds.lo;
+        nodes[index].bounds_max = range.bounds.hi;
+        const glm::vec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
         if (range.size() > options_.max_leaf_size && !(extent.x > 0.0 || extent.y > 0.0 || extent.z > 0.0))
             range.end = drop_copies(range);
         const std::size_t n = range.size();
@@ -179,47 +187,57 @@ private:
         return kept;
     }
 
-    static int bin_of(double c, double lo, double scale) {
-        return std::min(kBins - 1, static_cast<int>((c - lo) * scale));
+    // Bin of a centroid among `bins`; NaN (an infinite coordinate) goes to bin 0.
+    static int bin_of(float c, float lo, float scale, int bins) {
+        const float x = (c - lo) * scale;
+        return x > 0.0f ? (x < float(bins - 1) ? static_cast<int>(x) : bins - 1) : 0;
     }
 
     // Chooses and performs a split of `range`; false makes it a leaf.
     bool split(const Range& range, int depth, Range& left, Range& right) {
         const std::size_t n = range.size();
         if (n <= 1) return false;
-        const glm::dvec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
-        const bool all_centroids_equal = !(extent.x > 0.0 || extent.y > 0.0 || extent.z > 0.0);
+        const glm::vec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
+        const bool all_centroids_equal = !(extent.x > 0.0f || extent.y > 0.0f || extent.z > 0.0f);
         if (all_centroids_equal && n <= options_.max_leaf_size) return false;
         if (all_centroids_equal || depth >= kMedianSplitDepth) return median_split(range, left, right);
 
+        // One sweep over the range bins it along all three axes; a range of fewer than kBins
+        // triangles gets as many bins as triangles, since evaluating the planes costs more than
+        // binning there, and most ranges are small.
+        const int nb = int(std::min<std::size_t>(n, kBins));
+        std::array<float, 3> scale{};
+        for (int axis = 0; axis < 3; ++axis)
+            scale[axis] = extent[axis] > 0.0f && std::isfinite(extent[axis]) ? float(nb) / extent[axis] : 0.0f;
+        const glm::vec3 lo = range.centroid_bounds.lo;
+        std::array<std::array<Bin, kBins>, 3> bins;  // the first nb of each axis are used
+        for (std::size_t i = range.begin; i < range.end; ++i) {
+            const PrimRef& p = prims_[i];
+            const glm::vec3 c = p.centroid();
+            for (int axis = 0; axis < 3; ++axis) {
+                Bin& b = bins[axis][bin_of(c[axis], lo[axis], scale[axis], nb)];
+                b.box.grow(p.box);
+                ++b.count;
+            }
+        }
         Split best;
         for (int axis = 0; axis < 3; ++axis) {
-            if (!(extent[axis] > 0.0)) continue;
-            std::array<Box, kBins> boxes, centroids;
-            std::array<std::size_t, kBins> counts{};
-            const double lo = range.centroid_bounds.lo[axis];
-            const double scale = kBins * (1.0 - 1e-12) / extent[axis];
-            for (std::size_t i = range.begin; i < range.end; ++i) {
-                const glm::dvec3 c = prims_[i].centroid();
-                const int b = bin_of(c[axis], lo, scale);
-                boxes[b].grow(prims_[i].box);
-                centroids[b].grow(c);
-                counts[b]++;
-            }
+            if (!(scale[axis] > 0.0f)) continue;
+            const std::array<Bin, kBins>& axis_bins = bins[axis];
             // Sweep from the right, then evaluate each plane from the left.
             std::array<double, kBins> right_cost{};
             Box acc;
             std::size_t count = 0;
-            for (int b = kBins - 1; b > 0; --b) {
-                acc.grow(boxes[b]);
-                count += counts[b];
+            for (int b = nb - 1; b > 0; --b) {
+                acc.grow(axis_bins[b].box);
+                count += axis_bins[b].count;
                 right_cost[b] = acc.half_area() * double(count);
             }
             acc = Box{};
             count = 0;
-            for (int b = 0; b < kBins - 1; ++b) {
-                acc.grow(boxes[b]);
-                count += counts[b];
+            for (int b = 0; b < nb - 1; ++b) {
+                acc.grow(axis_bins[b].box);
+                count += axis_bins[b].count;
                 if (count == 0 || count == n) continue;
                 const double cost = acc.half_area() * double(count) + right_cost[b + 1];
                 if (cost < best.cost) {
@@ -228,42 +246,36 @@ private:
                     best.bin = b;
                 }
             }
-            if (best.axis == axis) {
-                best.left = best.right = best.left_centroids = best.right_centroids = Box{};
-                for (int b = 0; b < kBins; ++b) {
-                    (b <= best.bin ? best.left : best.right).grow(boxes[b]);
-                    (b <= best.bin ? best.left_centroids : best.right_centroids).grow(centroids[b]);
-                }
-            }
         }
         if (best.axis < 0) return median_split(range, left, right);
         // SAH in units of one triangle test, a traversal step costing about as much.
         const double split_cost = 1.0 + best.cost / range.bounds.half_area();
         if (n <= options_.max_leaf_size && split_cost >= double(n)) return false;
+        for (int b = 0; b < nb; ++b) (b <= best.bin ? best.left : best.right).grow(bins[best.axis][b].box);
 
         const int axis = best.axis;
-        const double lo = range.centroid_bounds.lo[axis];
-        const double scale = kBins * (1.0 - 1e-12) / extent[axis];
-        const auto mid =
-            std::partition(prims_.begin() + std::ptrdiff_t(range.begin), prims_.begin() + std::ptrdiff_t(range.end),
-                           [&](const PrimRef& p) { return bin_of(p.centroid()[axis], lo, scale) <= best.bin; });
+        const auto mid = std::partition(
+            prims_.begin() + std::ptrdiff_t(range.begin), prims_.begin() + std::ptrdiff_t(range.end),
+            [&](const PrimRef& p) { return bin_of(p.centroid()[axis], lo[axis], scale[axis], nb) <= best.bin; });
         const auto m = static_cast<std::size_t>(mid - prims_.begin());
-        left = {range.begin, m, best.left, best.left_centroids};
-        right = {m, range.end, best.right, best.right_centroids};
+        left = {range.begin, m, best.left, {}};
+        right = {m, range.end, best.right, {}};
+        for (Range* r : {&left, &right})
+            for (std::size_t i = r->begin; i < r->end; ++i) r->centroid_bounds.grow(prims_[i].centroid());
         return true;
     }
 
     // Halves the range at the median centroid along the widest centroid axis (by face index when
     // all centroids coincide), so the result never depends on the sort's internal order.
     bool median_split(const Range& range, Range& left, Range& right) {
-        const glm::dvec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
+        const glm::vec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
         int axis = 0;
         for (int a = 1; a < 3; ++a)
             if (extent[a] > extent[axis]) axis = a;
         const std::size_t m = range.begin + range.size() / 2;
         std::nth_element(prims_.begin() + std::ptrdiff_t(range.begin), prims_.begin() + std::ptrdiff_t(m),
                          prims_.begin() + std::ptrdiff_t(range.end), [&](const PrimRef& x, const PrimRef& y) {
-                             const double cx = x.centroid()[axis], cy = y.centroid()[axis];
+                             const float cx = x.centroid()[axis], cy = y.centroid()[axis];
                              return cx != cy ? cx < cy : x.face < y.face;
                          });
         left = {range.begin, m, {}, {}};
@@ -302,10 +314,9 @@ TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
         [&](std::size_t, std::size_t begin, std::size_t end) {
             for (std::size_t f = begin; f < end; ++f) {
                 const glm::uvec3& t = mesh.triangles[f];
+                const glm::dvec3 &a = mesh.positions[t.x], &b = mesh.positions[t.y], &c = mesh.positions[t.z];
                 PrimRef& p = prims[f];
-                p.box.grow(mesh.positions[t.x]);
-                p.box.grow(mesh.positions[t.y]);
-                p.box.grow(mesh.positions[t.z]);
+                p.box = {round_down(glm::min(glm::min(a, b), c)), round_up(glm::max(glm::max(a, b), c))};
                 p.face = static_cast<std::uint32_t>(f);
             }
         },
