@@ -21,7 +21,7 @@ void bind_surface_maps(py::module_& m) {
     m.def(
         "gim",
         [](Device* device, const Positions& positions, const Faces& faces, std::uint32_t size,
-           const std::string& variant, std::size_t iterations) {
+           const std::string& variant, std::size_t iterations, bool select) {
             const geo::Mesh mesh = to_mesh(positions, faces);
             const auto v = passes::parse_variant(variant);
             if (!v) throw geo::InputError("variant must be tutte, floater, stretch, density, uniform3d or curvature");
@@ -31,7 +31,9 @@ void bind_surface_maps(py::module_& m) {
             {
                 py::gil_scoped_release release;
                 Context* ctx = device ? &device->context() : nullptr;
-                map = passes::parameterize_square(ctx, mesh, {.variant = *v, .max_iterations = iterations});
+                passes::ParameterizeOptions options{.variant = *v, .max_iterations = iterations};
+                if (select) options.select_size = size;
+                map = passes::parameterize_square(ctx, mesh, options);
                 image = ctx ? passes::geometry_image_gpu(*ctx, mesh, map.uv, size)
                             : passes::geometry_image_cpu(mesh, map.uv, size);
                 back = ctx ? passes::reconstruct_gpu(*ctx, image) : passes::reconstruct_cpu(image);
@@ -53,13 +55,15 @@ void bind_surface_maps(py::module_& m) {
             d["positions"] = positions_array(back.positions);
             d["faces"] = faces_array(back.triangles);
             d["iterations"] = map.iterations.size() - 1;
+            d["selected_iteration"] = map.selected;
             d["flipped"] = passes::count_flipped(mesh, map.uv);
             return d;
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 129,
-        py::arg("variant") = "curvature", py::arg("iterations") = 50,
-        "A disk mesh's square map and N x N geometry image (gimg gim); device None runs the CPU twins. Returns "
-        "a dict: uv, image (N x N x 3), covered, positions and faces of the reconstruction, iterations, flipped");
+        py::arg("variant") = "curvature", py::arg("iterations") = 50, py::arg("select") = false,
+        "A disk mesh's square map and N x N geometry image (gimg gim); device None runs the CPU twins; select "
+        "returns the iterate whose image rebuilds the mesh best (gimg gim --select). Returns a dict: uv, image "
+        "(N x N x 3), covered, positions and faces of the reconstruction, iterations, selected_iteration, flipped");
     m.def(
         "quadmap",
         [](Device* device, const Positions& positions, const Faces& faces, std::vector<std::uint32_t> corners,

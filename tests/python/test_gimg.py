@@ -91,6 +91,13 @@ def test_gim_and_quadmap_match_the_command_line(device, tmp_path):
                    str(tmp_path / "gim"))
     assert result["iterations"] == len(cli["iterations"]) - 1
     assert len(result["faces"]) == cli["reconstruction_faces"]
+    assert result["selected_iteration"] == cli["selected_iteration"] == result["iterations"]
+    chosen = gimg.gim(None, positions, faces, size=17, variant="density", select=True)
+    scli = cli_json("gim", path, "--size", "17", "--variant", "density", "--select", "--cpu", "--samples", "20000",
+                    "--out", str(tmp_path / "gim_select"))
+    assert chosen["selected_iteration"] == scli["selected_iteration"]
+    rms = [it["image_rms"] for it in scli["iterations"]]
+    assert rms[scli["selected_iteration"]] == min(rms)
     quad = gimg.quadmap(device, positions, faces, [0, 8, 80, 72], solver="iterate")
     qcli = cli_json("quadmap", path, "--corners", "0,8,80,72", "--solver", "iterate", "--out", str(tmp_path / "q"))
     assert (quad["iterations_u"], quad["iterations_v"]) == (qcli["iterations_u"], qcli["iterations_v"])
