@@ -25,6 +25,7 @@ void bind_surface_maps(py::module_& m) {
             const geo::Mesh mesh = to_mesh(positions, faces);
             const auto v = passes::parse_variant(variant);
             if (!v) throw geo::InputError("variant must be tutte, floater, stretch, density, uniform3d or curvature");
+            size = passes::geometry_image_size(size, mesh.vertex_count());
             passes::Parameterization map;
             passes::PositionImage image;
             geo::Mesh back;

@@ -7,6 +7,7 @@
 #include "gimg/geometry/surface_distance.h"
 
 #include <algorithm>
+#include <cmath>
 
 namespace gimg::passes {
 
@@ -38,6 +39,14 @@ PositionImage geometry_image_gpu(Context& ctx, const geo::Mesh& mesh, const std:
 
 PositionImage geometry_image_cpu(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size) {
     return sample_cpu(square_grid_mesh(mesh, uv, size), size);
+}
+
+std::uint32_t geometry_image_size(std::uint32_t requested, std::size_t vertices) {
+    if (requested == 1)
+        throw geo::InputError(
+            "image size 1: a geometry image needs at least 2 x 2 pixels (size 0 means round(sqrt(vertices)))");
+    if (requested > 0) return requested;
+    return std::clamp(std::uint32_t(std::lround(std::sqrt(double(vertices)))), 2u, 16384u);
 }
 
 double geometry_image_rms(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size,

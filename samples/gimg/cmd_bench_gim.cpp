@@ -47,7 +47,7 @@ struct Row {
 };
 
 void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
-    for (std::uint32_t n : o.sizes) gim_size(n, 4);  // refuses 1 before any work
+    for (std::uint32_t n : o.sizes) passes::geometry_image_size(n, 4);  // refuses 1 before any work
     std::vector<std::string> meshes = o.meshes;
     if (meshes.empty())
         for (const char* name :
@@ -62,7 +62,7 @@ void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
         const geo::Mesh mesh = geo::load_mesh(path);
         passes::check_disk_mesh(mesh);
         std::vector<std::uint32_t> sizes;
-        for (std::uint32_t n : o.sizes) sizes.push_back(gim_size(n, mesh.vertex_count()));
+        for (std::uint32_t n : o.sizes) sizes.push_back(passes::geometry_image_size(n, mesh.vertex_count()));
         auto errors_of = [&](const std::vector<glm::dvec2>& uv) {
             std::vector<GimError> e;
             for (std::uint32_t n : sizes)

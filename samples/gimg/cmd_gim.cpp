@@ -37,10 +37,10 @@ nlohmann::json iteration_json(const passes::IterationReport& r) {
 }
 
 void run_gim(const GimOptions& o, const GlobalOptions& global) {
-    gim_size(o.size, 4);  // refuses 1 before the mesh is read
+    passes::geometry_image_size(o.size, 4);  // refuses 1 before the mesh is read
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
     passes::check_disk_mesh(mesh);
-    const std::uint32_t size = gim_size(o.size, mesh.vertex_count());
+    const std::uint32_t size = passes::geometry_image_size(o.size, mesh.vertex_count());
     passes::ParameterizeOptions po;
     po.variant = *passes::parse_variant(o.variant);
     po.max_iterations = o.iterations;

@@ -1,7 +1,6 @@
 #include "gim_report.h"
 
 #include "gimg/geometry/adjacency.h"
-#include "gimg/geometry/error.h"
 #include "gimg/passes/render.h"
 
 #include <glm/geometric.hpp>
@@ -10,13 +9,6 @@
 #include <cmath>
 
 namespace gimg::cli {
-
-std::uint32_t gim_size(std::uint32_t requested, std::size_t vertices) {
-    if (requested == 1)
-        throw geo::InputError("--size 1: a geometry image needs at least 2 x 2 pixels (0 means round(sqrt(vertices)))");
-    if (requested > 0) return requested;
-    return std::clamp(std::uint32_t(std::lround(std::sqrt(double(vertices)))), 2u, 16384u);
-}
 
 GimError gim_error(const geo::Mesh& original, const geo::Mesh& reconstruction,
                    const geo::SurfaceDistanceOptions& options) {

@@ -21,10 +21,6 @@ struct GimError {
     double psnr = 0.0;       // 20 log10(1 / rms)
 };
 
-// The image side that `--size N` asks for: N, or for 0 round(sqrt(vertices)) (the thesis's choice),
-// at least 2. Throws InputError for 1, which no geometry image can be.
-std::uint32_t gim_size(std::uint32_t requested, std::size_t vertices);
-
 GimError gim_error(const geo::Mesh& original, const geo::Mesh& reconstruction,
                    const geo::SurfaceDistanceOptions& options = {});
 nlohmann::json gim_error_json(const GimError& e);

@@ -139,6 +139,11 @@ PositionImage geometry_image_gpu(Context& ctx, const geo::Mesh& mesh, const std:
                                  std::uint32_t size);
 PositionImage geometry_image_cpu(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size);
 
+// The side of the geometry image that `requested` asks for: itself, or for 0 round(sqrt(vertices)),
+// the thesis's choice (about as many samples as vertices), within [2, 16384]. Throws
+// geo::InputError for 1, which no geometry image can be.
+std::uint32_t geometry_image_size(std::uint32_t requested, std::size_t vertices);
+
 // How well a map's N x N geometry image keeps the mesh: the larger of the two one-sided RMS
 // distances between the mesh and the image's reconstruction (reconstruct_cpu, never cut), relative
 // to the mesh's bounding-box diagonal, each measured with `samples` area samples (surface_distance.h).
