@@ -83,10 +83,16 @@ void Context::upload(Image& image, const void* pixels, VkDeviceSize bytes, bool 
         throw Error(ErrorKind::InvalidArgument, "upload of " + std::to_string(bytes) + " bytes into image '" +
                                                     image.name() + "' of " + std::to_string(image.byte_size()) +
                                                     " bytes");
+    upload(image, [&](std::span<std::byte> staging) {
+        std::memcpy(staging.data(), pixels, bytes);
+        std::memset(staging.data() + bytes, 0, staging.size() - bytes);
+    });
+}
+
+void Context::upload(Image& image, const std::function<void(std::span<std::byte>)>& fill) {
     detail::Device& d = *device_;
     Buffer staging = d.create_buffer({image.byte_size(), "staging image upload"}, MemoryUsage::Upload);
-    std::memcpy(staging.mapped(), pixels, bytes);
-    std::memset(static_cast<std::byte*>(staging.mapped()) + bytes, 0, image.byte_size() - bytes);
+    fill(std::span<std::byte>(static_cast<std::byte*>(staging.mapped()), image.byte_size()));
     d.flush_host_writes(staging);
     staging.set_last_access(Access::HostWrite);
     d.run_now([&](VkCommandBuffer cmd) {

@@ -16,6 +16,8 @@
 
 #include <algorithm>
 #include <cstring>
+#include <span>
+#include <stdexcept>
 
 namespace gimg::passes {
 
@@ -29,32 +31,45 @@ struct RaycastPush {
     float scene;
 };
 
-// The shader's node texels: depth first, so an inner node's first child follows it; texel 2k is
-// (lo, the node after k's subtree), 2k + 1 (hi, leaf: (first << 3) | count, 0 for inner nodes).
-std::vector<glm::uvec4> depth_first_texels(const geo::BvhNodeArray& nodes) {
-    std::vector<glm::uvec4> out;
-    out.reserve(2 * nodes.size());
+// The nodes reachable from the root (the builder leaves a padding node out).
+std::size_t reachable_nodes(const geo::BvhNodeArray& nodes) {
+    std::size_t count = 0;
+    std::vector<std::uint32_t> stack{0};
+    while (!stack.empty()) {
+        const geo::BvhNode& nd = nodes[stack.back()];
+        stack.pop_back();
+        ++count;
+        if (!nd.is_leaf()) stack.insert(stack.end(), {nd.first, nd.first + 1});
+    }
+    return count;
+}
+
+// The shader's node texels, written into `out` (2 per reachable node): depth first, so an inner
+// node's first child follows it; texel 2k is (lo, the node after k's subtree), 2k + 1 (hi, leaf:
+// (first << 3) | count, 0 for inner nodes).
+void depth_first_texels(const geo::BvhNodeArray& nodes, std::span<glm::uvec4> out) {
+    std::size_t size = 0;
     auto place = [&](auto&& self, std::uint32_t n) -> void {
         const geo::BvhNode& nd = nodes[n];
         if (nd.is_leaf() && (nd.count > 7 || nd.first >= (1u << 29)))
             throw geo::InputError(
                 "GPU ray casting: a BVH leaf the shader cannot address (more than 7 triangles, or "
                 "beyond 2^29)");
-        const std::size_t at = out.size();
+        const std::size_t at = size;
         glm::uvec4 lo(0u), hi(0u);
         std::memcpy(&lo, &nd.bounds_min, sizeof nd.bounds_min);
         std::memcpy(&hi, &nd.bounds_max, sizeof nd.bounds_max);
         hi.w = nd.is_leaf() ? (nd.first << 3) | nd.count : 0u;
-        out.push_back(lo);
-        out.push_back(hi);
+        out[size++] = lo;
+        out[size++] = hi;
         if (!nd.is_leaf()) {
             self(self, nd.first);
             self(self, nd.first + 1);
         }
-        out[at].w = std::uint32_t(out.size() / 2);
+        out[at].w = std::uint32_t(size / 2);
     };
     place(place, 0);
-    return out;
+    if (size != out.size()) throw std::logic_error("GPU ray casting: the tree's node count changed while laid out");
 }
 
 }  // namespace
@@ -78,14 +93,21 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCast
     s.votes = options.subgroup_votes && ctx.device_info().subgroup_vote;
     s.bvh = geo::TriangleBvh(mesh);
     s.scene = s.bvh.extent();
-    s.nodes = upload_texel_array(ctx, depth_first_texels(s.bvh.nodes()), Format::RGBA32U, "raycast nodes");
-    std::vector<glm::uvec4> corner_texels(5 * s.bvh.triangles().size(), glm::uvec4(0));
-    for (std::size_t i = 0; i < s.bvh.triangles().size(); ++i) {
-        const auto& t = s.bvh.triangles()[i];
-        const double v[9] = {t.a.x, t.a.y, t.a.z, t.b.x, t.b.y, t.b.z, t.c.x, t.c.y, t.c.z};
-        std::memcpy(&corner_texels[5 * i], v, sizeof v);
-    }
-    s.corners = upload_texel_array(ctx, std::move(corner_texels), Format::RGBA32U, "raycast corners");
+    // Both arrays are written straight into the upload's staging memory (bunny's corners: 6 MB).
+    s.nodes =
+        upload_texel_array<glm::uvec4>(ctx, 2 * reachable_nodes(s.bvh.nodes()), Format::RGBA32U, "raycast nodes",
+                                       [&](std::span<glm::uvec4> out) { depth_first_texels(s.bvh.nodes(), out); });
+    const auto& triangles = s.bvh.triangles();
+    s.corners = upload_texel_array<glm::uvec4>(
+        ctx, 5 * triangles.size(), Format::RGBA32U, "raycast corners", [&](std::span<glm::uvec4> out) {
+            geo::parallel_for_chunks(triangles.size(), 16384, [&](std::size_t, std::size_t begin, std::size_t end) {
+                for (std::size_t i = begin; i < end; ++i) {
+                    const auto& t = triangles[i];
+                    const double v[10] = {t.a.x, t.a.y, t.a.z, t.b.x, t.b.y, t.b.z, t.c.x, t.c.y, t.c.z, 0.0};
+                    std::memcpy(&out[5 * i], v, sizeof v);
+                }
+            });
+        });
     s.faces = upload_buffer(ctx, s.bvh.face_order(), "raycast face order");
 }
 

@@ -9,6 +9,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -130,6 +131,9 @@ public:
     // Whole-image transfers, tightly packed rows of bytes_per_pixel(format). With zero_rest, `bytes`
     // may be fewer than the image holds: the rest is zeros.
     void upload(Image& image, const void* pixels, VkDeviceSize bytes, bool zero_rest = false);
+    // The same with every byte of the image written by `fill` straight into the staging memory,
+    // which spares a large array its host copy.
+    void upload(Image& image, const std::function<void(std::span<std::byte>)>& fill);
     std::vector<std::byte> download(Image& image);
 
     // Waits for every submission gimg made on this context.

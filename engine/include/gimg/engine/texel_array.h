@@ -13,6 +13,7 @@
 #include "gimg/engine/format.h"
 
 #include <algorithm>
+#include <cstring>
 #include <cstdint>
 #include <span>
 #include <string>
@@ -54,6 +55,22 @@ Image upload_texel_array(Context& ctx, std::span<const T> texels, Format format,
 template <class T>
 Image upload_texel_array(Context& ctx, const std::vector<T>& texels, Format format, const std::string& name) {
     return upload_texel_array(ctx, std::span<const T>(texels), format, name);
+}
+
+// The same for `count` texels that fill(std::span<T>) writes in place (the padding after them is
+// zeros): no host array of them is made.
+template <class T, class Fill>
+Image upload_texel_array(Context& ctx, std::size_t count, Format format, const std::string& name, Fill&& fill) {
+    if (sizeof(T) != bytes_per_pixel(format))
+        throw Error(ErrorKind::InvalidArgument,
+                    name + ": " + std::to_string(sizeof(T)) + "-byte elements in " + to_string(format) + " texels");
+    check_texel_array_size(ctx, count, name);
+    Image image = ctx.create_image(texel_array_desc(count, format, name));
+    ctx.upload(image, [&](std::span<std::byte> bytes) {
+        std::memset(bytes.data() + count * sizeof(T), 0, bytes.size() - count * sizeof(T));
+        fill(std::span<T>(reinterpret_cast<T*>(bytes.data()), count));
+    });
+    return image;
 }
 
 }  // namespace gimg
