@@ -49,14 +49,21 @@ std::uint32_t geometry_image_size(std::uint32_t requested, std::size_t vertices)
     return std::clamp(std::uint32_t(std::lround(std::sqrt(double(vertices)))), 2u, 16384u);
 }
 
-double geometry_image_rms(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size,
-                          std::size_t samples) {
+double geometry_image_rms(const geo::Mesh& mesh, const geo::TriangleBvh& mesh_bvh, const std::vector<glm::dvec2>& uv,
+                          std::uint32_t size, std::size_t samples) {
     const geo::Mesh back = reconstruct_cpu(geometry_image_cpu(mesh, uv, size));
     if (back.face_count() == 0) throw geo::InputError("the geometry image rebuilds no face");
     geo::SurfaceDistanceOptions options;
     options.sampling.sample_count = std::max<std::size_t>(samples, 1);
-    const geo::SurfaceDistance d = geo::surface_distance(mesh, back, options);
-    return std::max(d.a_to_b.rms, d.b_to_a.rms) / d.bbox_diagonal;
+    // surface_distance's two directions, with the mesh's tree built once by the caller.
+    const double to_back = geo::one_sided_distance(mesh, geo::TriangleBvh(back), options).rms;
+    const double from_back = geo::one_sided_distance(back, mesh_bvh, options).rms;
+    return std::max(to_back, from_back) / mesh.bounds().diagonal();
+}
+
+double geometry_image_rms(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size,
+                          std::size_t samples) {
+    return geometry_image_rms(mesh, geo::TriangleBvh(mesh), uv, size, samples);
 }
 
 ImageHandle add_geometry_image(Graph& graph, BufferHandle positions, BufferHandle parameters, BufferHandle triangles,

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace gimg::passes {
 
@@ -136,9 +137,11 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         for (double a : uv_faces) report.flipped += a < 0.0;
         return stretch;
     };
+    std::optional<geo::TriangleBvh> mesh_bvh;  // for measuring the iterates' images
+    if (options.select_size > 0) mesh_bvh.emplace(mesh);
     auto finish = [&](const std::vector<glm::dvec2>& uv, IterationReport report, Clock::time_point started) {
         if (options.select_size > 0)
-            report.image_rms = geometry_image_rms(mesh, uv, options.select_size, options.select_samples);
+            report.image_rms = geometry_image_rms(mesh, *mesh_bvh, uv, options.select_size, options.select_samples);
         report.seconds = seconds_since(started);
         out.iterations.push_back(report);
         if (options.keep_iterates) out.iterates.push_back(uv);

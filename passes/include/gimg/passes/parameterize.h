@@ -16,6 +16,7 @@
 #include "gimg/engine/context.h"
 #include "gimg/engine/graph.h"
 #include "gimg/geometry/adjacency.h"
+#include "gimg/geometry/bvh.h"
 #include "gimg/geometry/mesh.h"
 #include "gimg/passes/reconstruct.h"
 
@@ -150,6 +151,9 @@ std::uint32_t geometry_image_size(std::uint32_t requested, std::size_t vertices)
 // CPU twins throughout, so the figure does not depend on the device.
 double geometry_image_rms(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv, std::uint32_t size,
                           std::size_t samples);
+// The same with the mesh's tree built once for many maps.
+double geometry_image_rms(const geo::Mesh& mesh, const geo::TriangleBvh& mesh_bvh, const std::vector<glm::dvec2>& uv,
+                          std::uint32_t size, std::size_t samples);
 // The GPU path recorded into a caller's graph: `parameters` hold 2 float32 a vertex as
 // square_grid_mesh places them (uv already on the image grid).
 ImageHandle add_geometry_image(Graph& graph, BufferHandle positions, BufferHandle parameters, BufferHandle triangles,
