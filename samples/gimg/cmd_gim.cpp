@@ -57,9 +57,10 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
         if (global.quiet) return;
         std::printf(
             "  iteration %2zu: E_sigma %.3e, area spread %.4f, L2 stretch %.4f, %zu flipped, %zu solver "
-            "iterations, %.3f s%s\n",
-            r.iteration, r.sigma_error, r.area_spread, r.l2_stretch, r.flipped, r.solver_iterations, r.seconds,
-            o.select ? (", image RMS " + std::to_string(r.image_rms)).c_str() : "");
+            "iterations, %.3f s",
+            r.iteration, r.sigma_error, r.area_spread, r.l2_stretch, r.flipped, r.solver_iterations, r.seconds);
+        if (o.select) std::printf(", image RMS %.3e", r.image_rms);
+        std::printf("\n");
     };
     if (!global.quiet)
         std::printf("%s: %zu vertices, %zu faces; %s map on the %s\n", o.mesh.c_str(), mesh.vertex_count(),
