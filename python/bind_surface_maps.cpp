@@ -60,7 +60,7 @@ void bind_surface_maps(py::module_& m) {
             d["flipped"] = passes::count_flipped(mesh, map.uv);
             return d;
         },
-        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 129,
+        py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 0,
         py::arg("variant") = "curvature", py::arg("iterations") = 50, py::arg("select") = false,
         "A disk mesh's square map and N x N geometry image (gimg gim); device None runs the CPU twins; select "
         "returns the iterate whose image rebuilds the mesh best (gimg gim --select). Returns a dict: uv, image "

@@ -99,6 +99,7 @@ def test_gim_and_quadmap_match_the_command_line(device, tmp_path):
     rms = [it["image_rms"] for it in scli["iterations"]]
     assert rms[scli["selected_iteration"]] == min(rms)
     assert gimg.gim(None, positions, faces, size=0, variant="floater")["image"].shape == (9, 9, 3)  # 81 vertices
+    assert gimg.gim(None, positions, faces, variant="floater")["image"].shape == (9, 9, 3)  # the default is size=0
     quad = gimg.quadmap(device, positions, faces, [0, 8, 80, 72], solver="iterate")
     qcli = cli_json("quadmap", path, "--corners", "0,8,80,72", "--solver", "iterate", "--out", str(tmp_path / "q"))
     assert (quad["iterations_u"], quad["iterations_v"]) == (qcli["iterations_u"], qcli["iterations_v"])

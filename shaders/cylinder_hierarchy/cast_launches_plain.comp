@@ -1,5 +1,0 @@
-#version 460
-// A hierarchy level's rays (cast_launches.glsl) for devices without subgroup votes in compute shaders.
-#extension GL_GOOGLE_include_directive : require
-#define RAYCAST_VOTE 0
-#include "cylinder_hierarchy/cast_launches.glsl"
