@@ -1,7 +1,7 @@
-// The hierarchy's encoder: level 1 from the ordinary image, every later level's rays cast by the
-// CPU (the BVH in double precision) or the GPU (cast_launches.glsl, the same arithmetic). Each level's
-// grid is rebuilt from the stored float values, exactly as the decoder will, so encoder and
-// decoder agree on every later launch, and the CPU and GPU encoders give the same hierarchy.
+// The hierarchy's CPU encoder (the GPU's is encode_gpu.cpp, the same arithmetic): level 1 from the
+// ordinary image, every later level's rays through the BVH in double precision. Each level's grid
+// is rebuilt from the stored float values, exactly as the decoder will, so encoder and decoder
+// agree on every later launch.
 #include "gimg/passes/cylinder_hierarchy.h"
 
 #include "gimg/geometry/bvh.h"
@@ -41,8 +41,7 @@ std::uint32_t CylinderHierarchy::levels() const {
 
 namespace detail {
 
-CylinderHierarchy encode_hierarchy(const CylinderImage& first, double first_ms, const CylinderHierarchyOptions& options,
-                                   const CastLevel& cast) {
+CylinderHierarchy start_hierarchy(const CylinderImage& first, const CylinderHierarchyOptions& options) {
     if (!(options.reach >= 0.0) || !std::isfinite(options.reach))
         throw geo::InputError("hierarchy reach must be a finite number >= 0 (0: without limit)");
     const std::uint32_t b = options.base, n = options.size;
@@ -52,21 +51,28 @@ CylinderHierarchy encode_hierarchy(const CylinderImage& first, double first_ms, 
     out.reach = options.reach;
     out.t.assign(std::size_t(n) * n, 0.0f);
     out.valid.assign(out.t.size(), kHierarchyEmpty);
+    // Level 1: the ordinary image at B x B, stored as the distance from the wall.
+    for (std::uint32_t v = 0; v < b; ++v)
+        for (std::uint32_t u = 0; u < b; ++u) {
+            const std::size_t i = std::size_t(v) * b + u, o = std::size_t(v) * n + u;
+            out.valid[o] = first.covered[i];
+            if (first.covered[i]) out.t[o] = float(1.0 - double(first.distance[i]));
+        }
+    return out;
+}
+
+CylinderHierarchy encode_hierarchy(const CylinderImage& first, double first_ms, const CylinderHierarchyOptions& options,
+                                   const CastLevel& cast) {
+    const std::uint32_t b = options.base, n = options.size;
     auto clock = std::chrono::steady_clock::now();
+    CylinderHierarchy out = start_hierarchy(first, options);
     auto lap = [&] {
         const auto now = std::chrono::steady_clock::now();
         out.level_ms.push_back(std::chrono::duration<double, std::milli>(now - clock).count());
         clock = now;
     };
-    // Level 1: the ordinary image at B x B, stored as the distance from the wall.
-    std::vector<float> t1(std::size_t(b) * b, 0.0f);
-    for (std::size_t i = 0; i < t1.size(); ++i)
-        if (first.covered[i]) t1[i] = float(1.0 - double(first.distance[i]));
-    for (std::uint32_t v = 0; v < b; ++v)
-        for (std::uint32_t u = 0; u < b; ++u) {
-            out.t[std::size_t(v) * n + u] = t1[std::size_t(v) * b + u];
-            out.valid[std::size_t(v) * n + u] = first.covered[std::size_t(v) * b + u];
-        }
+    std::vector<float> t1(std::size_t(b) * b);
+    for (std::size_t i = 0; i < t1.size(); ++i) t1[i] = out.t[(i / b) * n + i % b];
     HierarchyGrid grid = level_one_grid(b, t1, first.covered);
     lap();
     out.level_ms.front() += first_ms;

@@ -1,5 +1,5 @@
 #pragma once
-// The encoder's levels, whichever device casts the rays.
+// The CPU encoder's levels, and level 1 for both encoders.
 #include "launch_rays.h"
 
 #include <functional>
@@ -7,6 +7,10 @@
 #include <vector>
 
 namespace gimg::passes::detail {
+
+// The N x N hierarchy with level 1 in place: t = 1 - d of the ordinary B x B image, top-left.
+// Throws geo::InputError for a reach that is negative or not finite.
+CylinderHierarchy start_hierarchy(const CylinderImage& first, const CylinderHierarchyOptions& options);
 
 // Casts the valid launches of one level (launch_ray, parity included; radial_ray for radial
 // ones): the signed distance along each launch's outward normal (for a radial launch the distance

@@ -28,12 +28,14 @@ void add_unit_normal(glm::dvec3& sum, const glm::dvec3& a, const glm::dvec3& b, 
 glm::dvec3 oriented(const glm::dvec3& sum, const glm::dvec3& origin, int outward) {
     const double len = glm::length(sum);
     if (len > 1e-12) return double(outward) * sum / len;
-    const double r = std::hypot(origin.x, origin.z);
+    const double r = radius(origin);
     const glm::dvec3 radial = r > 0.0 ? glm::dvec3(origin.x / r, 0.0, origin.z / r) : glm::dvec3(1.0, 0.0, 0.0);
     return double(outward) * radial;
 }
 
 }  // namespace
+
+double radius(const glm::dvec3& p) { return std::sqrt(p.x * p.x + p.z * p.z); }
 
 double row_height(std::uint32_t j, std::uint32_t side, std::uint32_t base) {
     const double b = double(base ? base : side);

@@ -24,6 +24,9 @@ struct Launch {
     std::uint8_t radial = 0;
 };
 
+// A point's distance from the axis, sqrt(x^2 + z^2) (the GPU passes compute it alike).
+double radius(const glm::dvec3& p);
+
 // The height of row j of a grid of side `side` (level 1's side `base`; 0 means side): 1 - (j B /
 // side + 0.5) / B, plus 1 where that is not above the bottom (the wrapped rows).
 double row_height(std::uint32_t j, std::uint32_t side, std::uint32_t base);

@@ -5,7 +5,7 @@
 namespace gimg::passes::detail {
 
 geo::Ray parity_segment(const glm::dvec3& origin) {
-    const double r = std::hypot(origin.x, origin.z);
+    const double r = radius(origin);
     const glm::dvec3 wall = r > 0.0 ? glm::dvec3(origin.x / r, origin.y, origin.z / r) : glm::dvec3(1.0, origin.y, 0.0);
     geo::Ray segment;
     segment.origin = wall;

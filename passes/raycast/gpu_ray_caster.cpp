@@ -191,11 +191,7 @@ std::vector<GpuRayHit> GpuRayCaster::nearest(std::span<const geo::Ray> rays) {
 }
 
 std::vector<std::uint32_t> GpuRayCaster::crossings(std::span<const geo::Ray> rays) {
-    std::vector<std::uint32_t> counts = run(rays, 1, nullptr);
-    // Rays with more hits than the pass keeps: counted on the host, by the same rule.
-    for (std::size_t i = 0; i < counts.size(); ++i)
-        if (counts[i] == 0xffffffffu) counts[i] = state_->bvh.crossings(rays[i]);
-    return counts;
+    return run(rays, 1, nullptr);
 }
 
 }  // namespace gimg::passes

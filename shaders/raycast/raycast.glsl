@@ -30,5 +30,6 @@ void main() {
         return;
     }
     hit_t[r] = 0.0LF;
-    hit_face[r] = crossings_of(o, d, t_min, t_max, scene);
+    const uint crossings = crossings_of(o, d, t_min, t_max, scene);
+    hit_face[r] = crossings != kNone ? crossings : crossings_in_order(o, d, t_min, t_max, scene);
 }

@@ -1,5 +1,5 @@
 // The walk through geo::TriangleBvh's tree on the GPU, shared by every pass that casts rays
-// (raycast.comp, cylinder_hierarchy/cast_launches.comp). Define RAYCAST_VOTE (1 where the device has
+// (raycast.comp, cylinder_hierarchy/cast_level.comp). Define RAYCAST_VOTE (1 where the device has
 // subgroup votes in compute shaders) and declare the tree's bindings before including it:
 //   node_texels, corner_texels (rgba32ui images: texel arrays) and the buffer Faces { uint face_of[]; }.
 //
@@ -15,20 +15,11 @@
 // (first slot << 3) | count, 0 for inner nodes); slot s's corners are texels 5s .. 5s + 4, nine
 // doubles as pairs of uints. Texel arrays: common/texel_array.glsl (lavapipe gathers from images
 // but loads from storage buffers lane by lane).
+#include "common/double_cpu.glsl"
 #include "common/texel_array.glsl"
 
 const uint kNone = 0xffffffffu;
 const int kMaxHits = 64;
-
-dvec3 cross_cpu(dvec3 x, dvec3 y) {  // glm::cross, term for term
-    precise dvec3 r = dvec3(x.y * y.z - y.y * x.z, x.z * y.x - y.z * x.x, x.x * y.y - y.x * x.y);
-    return r;
-}
-
-double dot_cpu(dvec3 x, dvec3 y) {  // glm::dot: (x.x y.x + x.y y.y) + x.z y.z
-    precise double r = (x.x * y.x + x.y * y.y) + x.z * y.z;
-    return r;
-}
 
 struct Node {
     vec3 lo;
@@ -169,7 +160,7 @@ double nearest_hit(dvec3 o, dvec3 d, double t_min, double t_max, bool front, flo
 
 // The crossings in [t_min, t_max]: every hit, sorted, runs within 1e-12 merged (a ray through an
 // edge or a corner of a closed mesh crosses it once), as TriangleBvh::crossings; kNone for more than
-// kMaxHits hits (the host counts those itself).
+// kMaxHits hits (crossings_in_order counts those).
 uint crossings_of(dvec3 o, dvec3 d, double t_min, double t_max, float scene) {
     const Slabs sl = slabs(o, d, scene);
     const vec2 range = slab_range(sl, t_min, t_max);
@@ -194,5 +185,40 @@ uint crossings_of(dvec3 o, dvec3 d, double t_min, double t_max, float scene) {
     uint crossings = 0u;
     for (int k = 0; k < found; ++k)
         if (k == 0 || hits[k] - hits[k - 1] > 1e-12LF) ++crossings;
+    return crossings;
+}
+
+// The nearest hit distance in [after, t_max] (with `strictly`, above `after`), any orientation;
+// `found` false where there is none.
+double next_hit_distance(dvec3 o, dvec3 d, Slabs sl, double after, bool strictly, double t_max, out bool found) {
+    const uint end = node(0u).skip;
+    uint n = 0u;
+    double best_t = t_max;
+    found = false;
+    while (n != end) {
+        const uint leaf = next_leaf(n, end, sl, slab_range(sl, after, best_t));
+        for (uint s = leaf >> 3; s < (leaf >> 3) + (leaf & 7u); ++s) {
+            double t;
+            if (!hit_triangle(s, o, d, after, best_t, false, t) || (strictly && t == after)) continue;
+            best_t = t;
+            found = true;
+        }
+    }
+    return best_t;
+}
+
+// crossings_of without its limit, for the rare segment that crosses the model more than kMaxHits
+// times: the distinct hit distances in increasing order, one walk each, by the same merging rule.
+uint crossings_in_order(dvec3 o, dvec3 d, double t_min, double t_max, float scene) {
+    const Slabs sl = slabs(o, d, scene);
+    uint crossings = 0u;
+    double last = t_min;
+    bool found;
+    double t = next_hit_distance(o, d, sl, t_min, false, t_max, found);
+    while (found) {
+        if (crossings == 0u || t - last > 1e-12LF) ++crossings;
+        last = t;
+        t = next_hit_distance(o, d, sl, last, true, t_max, found);
+    }
     return crossings;
 }

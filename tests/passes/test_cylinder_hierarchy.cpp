@@ -330,6 +330,17 @@ TEST_F(CylinderHierarchyGpu, TheGpuEncoderGivesTheCpuHierarchy) {
             if (ctx().device_info().timestamp_period_ns > 0.0) {
                 EXPECT_GT(gpu.gpu_ms, 0.0);
             }
+            ASSERT_EQ(gpu.level_ms.size(), gpu.levels());
+        }
+        // A miss kept on the surface, or left empty, alike.
+        for (gp::HierarchyMiss miss : {gp::HierarchyMiss::Surface, gp::HierarchyMiss::Invalid}) {
+            const gp::CylinderHierarchyOptions options{.base = 16, .size = 128, .reach = 1.0, .miss = miss};
+            const gp::CylinderHierarchy cpu = gp::cylinder_hierarchy_cpu(mesh, options);
+            const gp::CylinderHierarchy gpu = gp::cylinder_hierarchy_gpu(ctx(), mesh, options);
+            ASSERT_EQ(gpu.valid, cpu.valid);
+            ASSERT_EQ(gpu.t, cpu.t);
+            const auto kept = std::count(cpu.valid.begin(), cpu.valid.end(), gp::kHierarchyMiss);
+            EXPECT_EQ(kept > 0, miss == gp::HierarchyMiss::Surface);
         }
     }
 }

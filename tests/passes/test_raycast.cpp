@@ -120,6 +120,35 @@ TEST_F(Raycast, RaysThroughCornersOfAClosedMeshCrossItTwice) {
     for (std::uint32_t c : gpu.crossings(rays)) EXPECT_EQ(c, 2u);
 }
 
+// More crossings than the walk keeps (kMaxHits, 64) are counted in order: 100 parallel sheets, two
+// of them coincident and two 1e-13 apart (each pair one crossing), and rays that cross some.
+TEST_F(Raycast, CrossingsBeyondWhatTheWalkKeepsAreCountedAlike) {
+    geo::Mesh sheets;
+    for (int k = 0; k < 100; ++k) {
+        const double x = k == 51 ? 0.50 : k == 71 ? 0.70 + 1e-13 : 0.01 * k;
+        const auto first = std::uint32_t(sheets.positions.size());
+        for (const glm::dvec2& c : {glm::dvec2(-1, -1), glm::dvec2(1, -1), glm::dvec2(1, 1), glm::dvec2(-1, 1)})
+            sheets.positions.push_back({x, c.x, c.y});
+        sheets.triangles.push_back({first, first + 1, first + 2});
+        sheets.triangles.push_back({first, first + 2, first + 3});
+    }
+    const geo::TriangleBvh bvh(sheets);
+    passes::GpuRayCaster gpu(ctx(), sheets);
+    std::vector<geo::Ray> rays;
+    std::mt19937_64 rng(11);
+    std::uniform_real_distribution<double> u(-0.9, 0.9);
+    for (int i = 0; i < 200; ++i) {
+        geo::Ray ray;
+        ray.origin = {-0.5, u(rng), u(rng)};
+        ray.direction = {2.0, 0.1 * u(rng), 0.1 * u(rng)};
+        ray.t_min = i % 4 == 0 ? 0.3 : 0.0;
+        rays.push_back(ray);
+    }
+    const std::vector<std::uint32_t> counts = gpu.crossings(rays);
+    for (std::size_t i = 0; i < rays.size(); ++i) ASSERT_EQ(counts[i], bvh.crossings(rays[i])) << "ray " << i;
+    EXPECT_EQ(counts[1], 98u);  // 100 sheets, two pairs counted once
+}
+
 TEST_F(Raycast, GpuEqualsTheBvhOnSharedMeshes) {
     for (const char* name : {"bunny.off", "armadillo.off"}) {
         const auto path = gimg::test::shared_mesh(name);

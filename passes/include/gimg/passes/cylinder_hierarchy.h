@@ -84,9 +84,12 @@ void check_hierarchy_sizes(std::uint32_t base, std::uint32_t size);
 // The mesh is in the cylinder frame (make_cylinder_mesh). Throws geo::InputError for sizes that
 // are not B 2^k with B >= 2.
 CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const CylinderHierarchyOptions& options = {});
-// The encoder with its rays on the GPU (per level one pass: each launch's parity segment, then its
-// ray, through GpuRayCaster's tree; the launch points on the host): the CPU encoder's hierarchy bit
-// for bit. Needs shaderFloat64. `walk` picks the walk's variant (gimg/passes/raycast.h).
+// The encoder on the GPU: level 1 by GpuRayCaster, then every later level in one submission (per
+// level the launch points, each launch's parity segment and ray through the caster's tree, and the
+// next grid, all on the GPU): the CPU encoder's hierarchy bit for bit. level_ms: level 1's wall
+// time, then each later level's passes by timestamps, the submission's other costs (uploads,
+// recording, waiting, downloads) counted in the last level (all of it there on a device without
+// timestamps). Needs shaderFloat64. `walk` picks the walk's variant (gimg/passes/raycast.h).
 CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
                                          const CylinderHierarchyOptions& options = {},
                                          const GpuRayCasterOptions& walk = {});

@@ -79,8 +79,8 @@ RaycastTree import_raycast_tree(Graph& graph, GpuRayCaster& caster);
 
 // The cast recorded into a caller's graph: `rays` holds 8 doubles a ray (origin, direction,
 // t_min, t_max); `t` (a double a ray) and `face` (a uint a ray: the face, or the crossings) are
-// written (t: +inf where nothing is hit). mode 0 nearest, 1 crossings (0xffffffff: more hits than
-// the pass keeps; GpuRayCaster::crossings counts those on the host). The caster must outlive the plan.
+// written (t: +inf where nothing is hit). mode 0 nearest, 1 crossings (TriangleBvh::crossings' count,
+// however many). The caster must outlive the plan.
 RaycastHandles add_raycast(Graph& graph, GpuRayCaster& caster, BufferHandle rays, BufferHandle t, BufferHandle face,
                            std::uint32_t count, std::uint32_t mode, bool front_faces_only,
                            const std::string& name = "raycast");

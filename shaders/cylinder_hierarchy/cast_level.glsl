@@ -1,0 +1,91 @@
+// A hierarchy level's rays in one pass, one invocation a sample of its three bands (cast_level.comp
+// with subgroup votes, cast_level_plain.comp without), each value written into the multiresolution
+// image: the CPU encoder's launches (launch_rays.cpp), rules (ray_rules.h) and arithmetic, so the
+// two give the same hierarchy bit for bit. Invocation (u, v) casts the three launches of grid point
+// (u, v), H, V and D, one after another:
+//  - its launch from the grid and the cells (decode_level.comp's steps 0-2 made them), or where
+//    that is not valid the radial launch at its sample of the 2S grid;
+//  - a launch at radius r: its parity segment from the wall, (x / r, y, z / r) (or (1, y, 0)), to
+//    the launch point, then the nearest hit in [-behind, t_max] along the outward normal if the
+//    crossings are odd (inside), against it if even; the value is t along the outward normal;
+//  - a radial launch: the ordinary image's ray from the axis, front faces only, t in [-1, 1]; the
+//    value 1 + t, the distance from the wall;
+//  - a miss: by `miss`, 0 a sample on the surface (kind 2), 1 nothing, 2 the radial launch.
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(binding = 0, rgba32ui) uniform readonly uimage2D node_texels;
+layout(binding = 1, rgba32ui) uniform readonly uimage2D corner_texels;
+layout(std430, binding = 2) readonly buffer Faces { uint face_of[]; };  // slot -> face
+layout(std430, binding = 3) readonly buffer Directions { double dirs[]; };  // as decode_level.comp's
+layout(binding = 4, rgba32ui) uniform readonly uimage2D grid_texels;        // level_grid.glsl's layouts
+layout(binding = 5, rgba32ui) uniform readonly uimage2D cell_texels;
+layout(binding = 6, rg32ui) uniform writeonly uimage2D bands;  // N x N: (t as a float, kind)
+layout(push_constant) uniform Push {
+    uint side;  // S
+    uint n;     // N
+    uint base;  // B
+    uint miss;  // 0 surface, 1 empty, 2 radial (HierarchyMiss)
+    float scene;   // the largest |coordinate| of the tree's boxes
+    double behind;  // ray_rules.h's kBehind
+    double reach;   // t_max = reach x span; 0: without limit
+};
+
+#include "raycast/walk.glsl"
+#include "cylinder_hierarchy/level_grid.glsl"
+
+const uint kEmpty = 0u, kHit = 1u, kMiss = 2u, kRadial = 3u;
+
+// A radial launch's ray: the distance from the wall, or a negative value for a miss.
+double cast_radial(GridLaunch l) {
+    uint face;
+    const double t = nearest_hit(dvec3(0.0LF, l.origin.y, 0.0LF), l.normal, -1.0LF, 1.0LF, true, scene, face);
+    precise double from_wall = 1.0LF + t;
+    return face == kNone ? -1.0LF : from_wall;
+}
+
+// Casts one launch (band 0 H, 1 V, 2 D of grid point (u, v)) and stores its sample.
+void cast_launch(uint band, uint u, uint v, GridLaunch l) {
+    const uint col = 2u * u + (band != 1u ? 1u : 0u), row = 2u * v + (band != 0u ? 1u : 0u);
+    double value = 0.0LF;
+    uint kind = kEmpty;
+    bool radial = !l.valid;
+    if (!radial) {
+        const double r = radius(l.origin);
+        precise dvec3 wall = r > 0.0LF ? dvec3(l.origin.x / r, l.origin.y, l.origin.z / r)
+                                       : dvec3(1.0LF, l.origin.y, 0.0LF);
+        precise dvec3 segment = l.origin - wall;
+        uint crossings = crossings_of(wall, segment, 0.0LF, 1.0LF, scene);
+        if (crossings == kNone) crossings = crossings_in_order(wall, segment, 0.0LF, 1.0LF, scene);
+        const bool inside = crossings % 2u == 1u;
+        precise double limit = reach * l.span;
+        const double t_max = reach > 0.0LF ? limit : packDouble2x32(uvec2(0u, 0x7ff00000u));  // +inf
+        uint face;
+        const double t = nearest_hit(l.origin, inside ? l.normal : -l.normal, -behind, t_max, false, scene, face);
+        if (face != kNone) {
+            value = inside ? t : -t;
+            kind = kHit;
+        } else if (miss == 0u) {
+            kind = kMiss;
+        } else {
+            radial = miss == 2u;
+        }
+    }
+    if (radial) {
+        const GridLaunch rl = radial_launch(col, row);
+        const double from_wall = rl.valid ? cast_radial(rl) : -1.0LF;
+        if (from_wall >= 0.0LF) {
+            value = from_wall;
+            kind = kRadial;
+        }
+    }
+    const ivec2 at_band = band == 0u ? band_h(u, v) : band == 1u ? band_v(u, v) : band_d(u, v);
+    imageStore(bands, at_band, uvec4(floatBitsToUint(float(value)), kind, 0u, 0u));
+}
+
+void main() {
+    const uint u = gl_GlobalInvocationID.x, v = gl_GlobalInvocationID.y;
+    if (u >= side || v >= side) return;
+    GridLaunch l[3];
+    grid_launches(u, v, true, l[0], l[1], l[2]);
+    for (uint band = 0u; band < 3u; ++band) cast_launch(band, u, v, l[band]);
+}
