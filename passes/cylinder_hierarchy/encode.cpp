@@ -41,16 +41,21 @@ std::uint32_t CylinderHierarchy::levels() const {
 
 namespace detail {
 
-CylinderHierarchy start_hierarchy(const CylinderImage& first, const CylinderHierarchyOptions& options) {
+CylinderHierarchy empty_hierarchy(const CylinderHierarchyOptions& options) {
     if (!(options.reach >= 0.0) || !std::isfinite(options.reach))
         throw geo::InputError("hierarchy reach must be a finite number >= 0 (0: without limit)");
-    const std::uint32_t b = options.base, n = options.size;
     CylinderHierarchy out;
-    out.base = b;
-    out.size = n;
+    out.base = options.base;
+    out.size = options.size;
     out.reach = options.reach;
-    out.t.assign(std::size_t(n) * n, 0.0f);
+    out.t.assign(std::size_t(options.size) * options.size, 0.0f);
     out.valid.assign(out.t.size(), kHierarchyEmpty);
+    return out;
+}
+
+CylinderHierarchy start_hierarchy(const CylinderImage& first, const CylinderHierarchyOptions& options) {
+    const std::uint32_t b = options.base, n = options.size;
+    CylinderHierarchy out = empty_hierarchy(options);
     // Level 1: the ordinary image at B x B, stored as the distance from the wall.
     for (std::uint32_t v = 0; v < b; ++v)
         for (std::uint32_t u = 0; u < b; ++u) {

@@ -1,5 +1,5 @@
 #pragma once
-// The CPU encoder's levels, and level 1 for both encoders.
+// The encoders' hierarchy before its levels, and the CPU encoder's levels.
 #include "launch_rays.h"
 
 #include <functional>
@@ -8,8 +8,10 @@
 
 namespace gimg::passes::detail {
 
-// The N x N hierarchy with level 1 in place: t = 1 - d of the ordinary B x B image, top-left.
-// Throws geo::InputError for a reach that is negative or not finite.
+// The N x N hierarchy, every sample empty, with the options' base, size and reach. Throws
+// geo::InputError for a reach that is negative or not finite.
+CylinderHierarchy empty_hierarchy(const CylinderHierarchyOptions& options);
+// The same with level 1 in place: t = 1 - d of the ordinary B x B image, top-left.
 CylinderHierarchy start_hierarchy(const CylinderImage& first, const CylinderHierarchyOptions& options);
 
 // Casts the valid launches of one level (launch_ray, parity included; radial_ray for radial

@@ -1,11 +1,12 @@
-// The hierarchy's GPU encoder: level 1 by the GPU ray caster, then every later level in one
-// submission, three passes a level: the grid's cells (decode_level.comp), the level's rays with
-// their launches, parity segments, misses and stored values (cast_level.glsl), and the next grid
-// from the stored values (decode_level.comp, as the decoder builds it). The CPU encoder's
-// hierarchy bit for bit, with one round trip after level 1.
+// The hierarchy's GPU encoder: the GpuRayCaster's tree, then every level in one submission: level 1's
+// rays, and per later level three passes: the grid's cells (decode_level.comp), the level's rays
+// with their launches, parity segments, misses and stored samples (cast_level.glsl), and the next
+// grid from the stored samples (decode_level.comp, as the decoder builds it). The CPU encoder's
+// hierarchy bit for bit.
 #include "gimg/passes/cylinder_hierarchy.h"
 
 #include "gimg/engine/error.h"
+#include "gimg/engine/texel_array.h"
 #include "gimg/engine/upload.h"
 #include "gimg/passes/raycast.h"
 
@@ -18,7 +19,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstddef>
-#include <map>
 #include <string>
 #include <string_view>
 
@@ -30,7 +30,7 @@ const Spirv kCastLevel = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_cast_level_comp)
 const Spirv kCastLevelPlain = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_cast_level_plain_comp);
 
 struct CastPush {
-    std::uint32_t side, n, base, miss;
+    std::uint32_t side, n, base, miss, level_one;
     float scene;
     double behind, reach;
 };
@@ -50,65 +50,90 @@ std::string level_name(std::uint32_t level) { return std::string(kLevelPrefix) +
 
 }  // namespace
 
+std::vector<double> hierarchy_directions(std::uint32_t base, std::uint32_t size) {
+    check_hierarchy_sizes(base, size);
+    return detail::level_directions(base, size);
+}
+
+ImageHandle add_cylinder_hierarchy(Graph& g, GpuRayCaster& caster, ImageHandle bands, BufferHandle directions,
+                                   const CylinderHierarchyOptions& options) {
+    check_hierarchy_sizes(options.base, options.size);
+    detail::empty_hierarchy(options);  // checks the reach
+    const std::uint32_t b = options.base, n = options.size;
+    const RaycastTree tree = import_raycast_tree(g, caster);
+    detail::LevelBuffers lb{.bands = bands, .directions = directions};
+    const Spirv& kernel = tree.votes ? kCastLevel : kCastLevelPlain;
+    auto add_cast = [&](std::uint32_t level, std::uint32_t side) {
+        const CastPush push{side,        n,          b, miss_code(options.miss), level == 1 ? 1u : 0u,
+                            tree.scene, detail::kBehind, options.reach};
+        // Level 1 reads no grid: one-row stand-ins take the grid's and the cells' bindings.
+        ImageHandle grid = lb.grid, cells = lb.cells;
+        if (level == 1)
+            for (ImageHandle* stand_in : {&grid, &cells})
+                *stand_in = g.create_image(texel_array_desc(0, Format::RGBA32U, "unused"));
+        g.add_compute_pass(
+            level_name(level) + "rays",
+            [&](PassBuilder& pb) {
+                for (auto hnd : {tree.nodes, tree.corners}) pb.read(hnd, Access::ComputeRead);
+                for (ImageHandle* hnd : {&grid, &cells})
+                    if (level == 1)  // the shader may read them, as far as validation can tell
+                        *hnd = pb.write(*hnd, Access::ComputeReadWrite);
+                    else
+                        pb.read(*hnd, Access::ComputeRead);
+                pb.read(tree.faces, Access::ComputeRead);
+                pb.read(lb.directions, Access::ComputeRead);
+                lb.bands = pb.write(lb.bands, level == 1 ? Access::ComputeWrite : Access::ComputeReadWrite);
+            },
+            [=, out = lb.bands, dirs = lb.directions](Cmd& c) {
+                c.dispatch_threads(kernel, {side, side}, {tree.nodes, tree.corners, tree.faces, dirs, grid, cells, out},
+                                   push);
+            });
+    };
+    add_cast(1, b);
+    std::uint32_t level = 2;
+    for (std::uint32_t s = b; s < n; s *= 2, ++level) {
+        if (s == b) detail::add_level_step(g, 0, b, n, b, lb, level_name(2) + "level 1's grid");
+        detail::add_level_step(g, 1, s, n, b, lb, level_name(level) + "cells");
+        add_cast(level, s);
+        if (2 * s < n) detail::add_level_step(g, 2, s, n, b, lb, level_name(level) + "next grid");
+    }
+    return lb.bands;
+}
+
 CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
                                          const CylinderHierarchyOptions& options, const GpuRayCasterOptions& walk) {
     check_hierarchy_sizes(options.base, options.size);
     const std::uint32_t b = options.base, n = options.size;
-    // Level 1 and the BVH every level casts through count as level 1's time.
+    CylinderHierarchy h = detail::empty_hierarchy(options);
+    // The BVH every level casts through counts as level 1's time.
     const auto start = std::chrono::steady_clock::now();
     GpuRayCaster caster(ctx, to_cylinder_frame(mesh), walk);
-    const CylinderImage first = cylinder_raycast_gpu(caster, b, b);
-    CylinderHierarchy h = detail::start_hierarchy(first, options);
-    h.gpu_ms = caster.last_gpu_ms();
-    h.level_ms.push_back(ms_since(start));
-    if (n == b) return h;
-    const auto later = std::chrono::steady_clock::now();
-    Image bands = detail::upload_bands(ctx, h);
+    const double tree_ms = ms_since(start);
+    const auto cast_start = std::chrono::steady_clock::now();
+    Image bands = ctx.create_image({n, n, Format::RG32U, "hierarchy bands"});  // every sample is written
     Buffer directions = upload_buffer(ctx, detail::level_directions(b, n), "hierarchy directions");
     Graph g(ctx);
-    const RaycastTree tree = import_raycast_tree(g, caster);
-    detail::LevelBuffers lb{.bands = g.import_image(bands), .directions = g.import_buffer(directions)};
-    const Spirv& kernel = tree.votes ? kCastLevel : kCastLevelPlain;
-    detail::add_level_step(g, 0, b, n, b, lb, level_name(2) + "level 1's grid");
-    std::uint32_t level = 2;
-    for (std::uint32_t s = b; s < n; s *= 2, ++level) {
-        detail::add_level_step(g, 1, s, n, b, lb, level_name(level) + "cells");
-        const CastPush push{s, n, b, miss_code(options.miss), tree.scene, detail::kBehind, options.reach};
-        g.add_compute_pass(
-            level_name(level) + "rays",
-            [&](PassBuilder& pb) {
-                for (auto hnd : {tree.nodes, tree.corners, lb.grid, lb.cells}) pb.read(hnd, Access::ComputeRead);
-                pb.read(tree.faces, Access::ComputeRead);
-                pb.read(lb.directions, Access::ComputeRead);
-                lb.bands = pb.write(lb.bands, Access::ComputeReadWrite);
-            },
-            [=, lv = lb](Cmd& c) {
-                c.dispatch_threads(kernel, {s, s},
-                                   {tree.nodes, tree.corners, tree.faces, lv.directions, lv.grid, lv.cells, lv.bands},
-                                   push);
-            });
-        if (2 * s < n) detail::add_level_step(g, 2, s, n, b, lb, level_name(level) + "next grid");
-    }
-    g.export_image(lb.bands, Access::TransferSrc);
+    const ImageHandle out =
+        add_cylinder_hierarchy(g, caster, g.import_image(bands), g.import_buffer(directions), options);
+    g.export_image(out, Access::TransferSrc);
     Plan plan = g.compile();
     const bool timed = ctx.device_info().timestamp_period_ns > 0.0;
     plan.execute({.wait = true, .timestamps = timed});
     detail::download_bands(ctx, bands, h);
 
-    // One submission: each later level's passes by their timestamps, and what else the submission
-    // took (uploads, recording, waiting, downloads) counted in the last level.
-    const double later_ms = ms_since(later);
-    std::map<std::uint32_t, double> per_level;
+    // One submission: each level's passes by their timestamps (level 1's after the tree's upload),
+    // and what else the submission took (recording, waiting, the download) counted in the last level.
+    const double cast_ms = ms_since(cast_start);
+    std::vector<double> per_level(h.levels() + 1, 0.0);
     if (timed)
         for (const PassTiming& t : plan.timings())
-            per_level[std::uint32_t(std::stoul(t.name.substr(kLevelPrefix.size())))] += t.gpu_ms;
+            per_level[std::stoul(t.name.substr(kLevelPrefix.size()))] += t.gpu_ms;
+    h.level_ms.assign(per_level.begin() + 1, per_level.end());
+    h.level_ms.front() += tree_ms;
     double passes_ms = 0.0;
-    for (std::uint32_t l = 2; l < level; ++l) {
-        h.level_ms.push_back(per_level[l]);
-        passes_ms += per_level[l];
-    }
-    h.level_ms.back() += std::max(0.0, later_ms - passes_ms);
-    if (timed) h.gpu_ms += plan.total_gpu_ms();
+    for (double ms : h.level_ms) passes_ms += ms;
+    h.level_ms.back() += std::max(0.0, tree_ms + cast_ms - passes_ms);
+    h.gpu_ms = timed ? plan.total_gpu_ms() : 0.0;
     return h;
 }
 

@@ -11,6 +11,7 @@
 //  - a radial launch: the ordinary image's ray from the axis, front faces only, t in [-1, 1]; the
 //    value 1 + t, the distance from the wall;
 //  - a miss: by `miss`, 0 a sample on the surface (kind 2), 1 nothing, 2 the radial launch.
+// With level_one, invocation (u, v) is level 1's pixel instead: the ordinary image's ray.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0, rgba32ui) uniform readonly uimage2D node_texels;
@@ -25,7 +26,8 @@ layout(push_constant) uniform Push {
     uint n;     // N
     uint base;  // B
     uint miss;  // 0 surface, 1 empty, 2 radial (HierarchyMiss)
-    float scene;   // the largest |coordinate| of the tree's boxes
+    uint level_one;  // 1: level 1, the ordinary B x B image, instead
+    float scene;     // the largest |coordinate| of the tree's boxes
     double behind;  // ray_rules.h's kBehind
     double reach;   // t_max = reach x span; 0: without limit
 };
@@ -82,8 +84,25 @@ void cast_launch(uint band, uint u, uint v, GridLaunch l) {
     imageStore(bands, at_band, uvec4(floatBitsToUint(float(value)), kind, 0u, 0u));
 }
 
+// Level 1's pixel (u, v), as CylinderRaycaster::project: from the axis point at the row's height
+// along -theta_u, the nearest front face in t in [-1, 1]; stored as t = 1 - d with d = -t rounded to
+// float, as the encoders' level 1.
+void cast_level_one(uint u, uint v) {
+    const dvec3 o = dvec3(0.0LF, row_height(v, base), 0.0LF);
+    uint face;
+    const double t = nearest_hit(o, dvec3(-dirs[2 * u], 0.0LF, -dirs[2 * u + 1]), -1.0LF, 1.0LF, true, scene, face);
+    const float d = float(-t);
+    precise double from_wall = 1.0LF - double(d);
+    imageStore(bands, ivec2(u, v),
+               face == kNone ? uvec4(0u) : uvec4(floatBitsToUint(float(from_wall)), kHit, 0u, 0u));
+}
+
 void main() {
     const uint u = gl_GlobalInvocationID.x, v = gl_GlobalInvocationID.y;
+    if (level_one != 0u) {
+        if (u < base && v < base) cast_level_one(u, v);
+        return;
+    }
     if (u >= side || v >= side) return;
     GridLaunch l[3];
     grid_launches(u, v, true, l[0], l[1], l[2]);

@@ -10,6 +10,7 @@
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/shapes.h"
 #include "gimg/geometry/surface_distance.h"
+#include "gimg/engine/upload.h"
 #include "gimg/passes/cylinder_hierarchy.h"
 #include "gimg/passes/reconstruct.h"
 
@@ -21,6 +22,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 
@@ -343,6 +345,38 @@ TEST_F(CylinderHierarchyGpu, TheGpuEncoderGivesTheCpuHierarchy) {
             EXPECT_EQ(kept > 0, miss == gp::HierarchyMiss::Surface);
         }
     }
+}
+
+// add_cylinder_hierarchy in a caller's graph: the caller's image holds the CPU encoder's hierarchy.
+TEST_F(CylinderHierarchyGpu, RecordedIntoACallersGraph) {
+    const geo::Mesh m = geo::make_torus(0.3, 0.12, 48, 24);
+    const gp::CylinderMesh mesh = gp::make_cylinder_mesh(m, gp::fit_cylinder_frame(m));
+    const gp::CylinderHierarchyOptions options{.base = 8, .size = 64};
+    const gp::CylinderHierarchy cpu = gp::cylinder_hierarchy_cpu(mesh, options);
+    gp::GpuRayCaster caster(ctx(), gp::to_cylinder_frame(mesh));
+    Image bands = ctx().create_image({64, 64, Format::RG32U, "bands"});
+    Buffer directions = upload_buffer(ctx(), gp::hierarchy_directions(8, 64), "directions");
+    Graph g(ctx());
+    const ImageHandle out =
+        gp::add_cylinder_hierarchy(g, caster, g.import_image(bands), g.import_buffer(directions), options);
+    g.export_image(out, Access::TransferSrc);
+    Plan plan = g.compile();
+    EXPECT_EQ(plan.passes().size(), 1u + 3u * 3u);  // level 1, then per level cells, rays, next grid
+    plan.execute();
+    const std::vector<std::byte> bytes = ctx().download(bands);
+    std::size_t hits = 0;
+    for (std::size_t i = 0; i < cpu.t.size(); ++i) {
+        float t;
+        std::uint32_t kind;
+        std::memcpy(&t, &bytes[8 * i], 4);
+        std::memcpy(&kind, &bytes[8 * i + 4], 4);
+        ASSERT_EQ(kind, cpu.valid[i]) << "sample " << i;
+        ASSERT_EQ(t, cpu.t[i]) << "sample " << i;
+        hits += kind == gp::kHierarchyHit;
+    }
+    EXPECT_GT(hits, 1000u);
+    EXPECT_THROW(gp::add_cylinder_hierarchy(g, caster, out, g.import_buffer(directions), {.base = 8, .size = 60}),
+                 geo::InputError);
 }
 
 TEST_F(CylinderHierarchyGpu, DecodingOnTheGpuGivesTheCpuGrid) {

@@ -17,6 +17,7 @@
 // nothing, it is the ordinary image's ray at its own angle and height instead (ours).
 
 #include "gimg/engine/context.h"
+#include "gimg/engine/graph.h"
 #include "gimg/geometry/mesh.h"
 #include "gimg/passes/cylinder.h"
 #include "gimg/passes/raycast.h"
@@ -84,15 +85,26 @@ void check_hierarchy_sizes(std::uint32_t base, std::uint32_t size);
 // The mesh is in the cylinder frame (make_cylinder_mesh). Throws geo::InputError for sizes that
 // are not B 2^k with B >= 2.
 CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const CylinderHierarchyOptions& options = {});
-// The encoder on the GPU: level 1 by GpuRayCaster, then every later level in one submission (per
-// level the launch points, each launch's parity segment and ray through the caster's tree, and the
-// next grid, all on the GPU): the CPU encoder's hierarchy bit for bit. level_ms: level 1's wall
-// time, then each later level's passes by timestamps, the submission's other costs (uploads,
-// recording, waiting, downloads) counted in the last level (all of it there on a device without
-// timestamps). Needs shaderFloat64. `walk` picks the walk's variant (gimg/passes/raycast.h).
+// The encoder on the GPU: GpuRayCaster's tree, then every level in one submission
+// (add_cylinder_hierarchy: per level the launch points, each launch's parity segment and ray, and
+// the next grid, all on the GPU): the CPU encoder's hierarchy bit for bit. level_ms: each level's
+// passes by timestamps, level 1's with the tree's build and upload, and the submission's other
+// costs (recording, waiting, the download) counted in the last level (all of it there on a device
+// without timestamps). Needs shaderFloat64. `walk` picks the walk's variant (gimg/passes/raycast.h).
 CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
                                          const CylinderHierarchyOptions& options = {},
                                          const GpuRayCasterOptions& walk = {});
+
+// The GPU encoder recorded into a caller's graph: every level, level 1 included, from the caster's
+// tree (its mesh in the cylinder frame, to_cylinder_frame) into `bands`, an N x N RG32U image
+// holding per sample the bits of t as a float and the kind (CylinderHierarchy's t and valid, the
+// same layout), every sample written. `directions` holds hierarchy_directions(B, N) (doubles).
+// Returns the bands' new version. The caster and both resources must outlive the plan; the passes
+// are named "hierarchy level L: ...". Throws geo::InputError for sizes or a reach out of range.
+ImageHandle add_cylinder_hierarchy(Graph& graph, GpuRayCaster& caster, ImageHandle bands, BufferHandle directions,
+                                   const CylinderHierarchyOptions& options = {});
+// The passes' column directions: (cos, sin) of level 1's columns, then of every later grid's.
+std::vector<double> hierarchy_directions(std::uint32_t base, std::uint32_t size);
 
 // The grid of points a hierarchy decodes to at `level` (1 .. levels()): side B 2^(level - 1),
 // points in the cylinder frame, row-major from the top row.
