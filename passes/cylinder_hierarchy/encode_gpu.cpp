@@ -85,7 +85,7 @@ ImageHandle add_cylinder_hierarchy(Graph& g, GpuRayCaster& caster, ImageHandle b
                 lb.bands = pb.write(lb.bands, level == 1 ? Access::ComputeWrite : Access::ComputeReadWrite);
             },
             [=, out = lb.bands, dirs = lb.directions](Cmd& c) {
-                c.dispatch_threads(kernel, {side, side}, {tree.nodes, tree.corners, tree.faces, dirs, grid, cells, out},
+                c.dispatch_threads(kernel, {side, side, level == 1 ? 1u : 3u}, {tree.nodes, tree.corners, tree.faces, dirs, grid, cells, out},
                                    push);
             });
     };

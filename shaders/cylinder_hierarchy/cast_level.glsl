@@ -1,8 +1,7 @@
-// A hierarchy level's rays in one pass, one invocation a sample of its three bands (cast_level.comp
-// with subgroup votes, cast_level_plain.comp without), each value written into the multiresolution
-// image: the CPU encoder's launches (launch_rays.cpp), rules (ray_rules.h) and arithmetic, so the
-// two give the same hierarchy bit for bit. Invocation (u, v) casts the three launches of grid point
-// (u, v), H, V and D, one after another:
+// A hierarchy level's rays in one pass (cast_level.comp with subgroup votes, cast_level_plain.comp
+// without), each sample written into the multiresolution image: the CPU encoder's launches
+// (launch_rays.cpp), rules (ray_rules.h) and arithmetic, so the two give the same hierarchy bit for
+// bit. Invocation (u, v, band) casts launch H, V or D (band 0, 1, 2) of grid point (u, v):
 //  - its launch from the grid and the cells (decode_level.comp's steps 0-2 made them), or where
 //    that is not valid the radial launch at its sample of the 2S grid;
 //  - a launch at radius r: its parity segment from the wall, (x / r, y, z / r) (or (1, y, 0)), to
@@ -104,7 +103,6 @@ void main() {
         return;
     }
     if (u >= side || v >= side) return;
-    GridLaunch l[3];
-    grid_launches(u, v, true, l[0], l[1], l[2]);
-    for (uint band = 0u; band < 3u; ++band) cast_launch(band, u, v, l[band]);
+    const uint band = gl_GlobalInvocationID.z;
+    cast_launch(band, u, v, grid_launch(band, u, v, true));
 }

@@ -95,9 +95,7 @@ void main() {
     const uint o = (2u * v) * (2u * side) + 2u * u;
     imageStore(next_texels, texel(2u * o), imageLoad(grid_texels, texel(2u * i)));
     imageStore(next_texels, texel(2u * o + 1u), imageLoad(grid_texels, texel(2u * i + 1u)));
-    GridLaunch h, vl, d;
-    grid_launches(u, v, false, h, vl, d);
-    put(2u * u + 1u, 2u * v, h, band_h(u, v));
-    put(2u * u, 2u * v + 1u, vl, band_v(u, v));
-    put(2u * u + 1u, 2u * v + 1u, d, band_d(u, v));
+    put(2u * u + 1u, 2u * v, h_launch(u, v), band_h(u, v));
+    put(2u * u, 2u * v + 1u, v_launch(u, v), band_v(u, v));
+    put(2u * u + 1u, 2u * v + 1u, d_launch(u, v, false), band_d(u, v));
 }

@@ -102,55 +102,53 @@ struct GridLaunch {
     double span;
 };
 
-// The launches of grid point (u, v): H between (u, v) and (u + 1, v), with the cells below (row v)
-// and above (row v - 1); V between (u, v) and (u, v + 1), with the cells to the right (column u)
-// and left (column u - 1); D the cell's (step 1 computed it), with `spans` its longer diagonal as
-// its span. Each grid point and cell is loaded once for the three.
-void grid_launches(uint u, uint v, bool spans, out GridLaunch h, out GridLaunch vl, out GridLaunch d) {
+GridLaunch no_launch(dvec3 origin, double outward) {
+    return GridLaunch(false, origin, dvec3(0.0LF), outward, 0.0LF);
+}
+
+// H: between (u, v) and (u + 1, v); the cells below (row v) and above (row v - 1).
+GridLaunch h_launch(uint u, uint v) {
     const GridPoint a = grid_point(at(u, v)), b = grid_point(at(u + 1u, v));
+    precise dvec3 origin = 0.5LF * (a.p + b.p);
+    if (a.kind == 0u || b.kind == 0u) return no_launch(origin, a.outward);
+    dvec3 sum = dvec3(0.0LF);
+    const CellOrigin below = cell_origin(at(u, v)), above = cell_origin(at(u, v + side - 1u));
+    if (below.valid) add_unit_normal(sum, a.p, b.p, below.origin);
+    if (above.valid) add_unit_normal(sum, b.p, a.p, above.origin);
+    return GridLaunch(true, origin, oriented(sum, origin, a.outward), a.outward, span_between(a.p, b.p));
+}
+
+// V: between (u, v) and (u, v + 1); the cells to the right (column u) and left (column u - 1).
+GridLaunch v_launch(uint u, uint v) {
+    const GridPoint a = grid_point(at(u, v));
     const bool has_lower = rows_adjacent(v);
     const GridPoint c = has_lower ? grid_point(at(u, v + 1u)) : a;
-    const CellOrigin cell = cell_origin(at(u, v));
+    precise dvec3 origin = 0.5LF * (a.p + c.p);
+    if (!has_lower || a.kind == 0u || c.kind == 0u) return no_launch(origin, a.outward);
+    dvec3 sum = dvec3(0.0LF);
+    const CellOrigin right = cell_origin(at(u, v)), left = cell_origin(at(u + side - 1u, v));
+    if (right.valid) add_unit_normal(sum, c.p, a.p, right.origin);
+    if (left.valid) add_unit_normal(sum, a.p, c.p, left.origin);
+    return GridLaunch(true, origin, oriented(sum, origin, a.outward), a.outward, span_between(a.p, c.p));
+}
 
-    h.valid = a.kind != 0u && b.kind != 0u;
-    precise dvec3 h_origin = 0.5LF * (a.p + b.p);
-    h.origin = h_origin;
-    h.outward = a.outward;
-    h.normal = dvec3(0.0LF);
-    h.span = 0.0LF;
-    if (h.valid) {
-        dvec3 sum = dvec3(0.0LF);
-        const CellOrigin above = cell_origin(at(u, v + side - 1u));
-        if (cell.valid) add_unit_normal(sum, a.p, b.p, cell.origin);
-        if (above.valid) add_unit_normal(sum, b.p, a.p, above.origin);
-        h.normal = oriented(sum, h.origin, h.outward);
-        h.span = span_between(a.p, b.p);
+// D: the cell's launch (decode_level.comp's step 1 computed it); with `spans`, its span the longer
+// diagonal.
+GridLaunch d_launch(uint u, uint v, bool spans) {
+    const CellOrigin c = cell_origin(at(u, v));
+    if (!c.valid) return no_launch(c.origin, c.outward);
+    double span = 0.0LF;
+    if (spans) {
+        const dvec3 a = grid_point(at(u, v)).p, b = grid_point(at(u + 1u, v)).p;
+        const dvec3 cc = grid_point(at(u, v + 1u)).p, d = grid_point(at(u + 1u, v + 1u)).p;
+        span = max(span_between(a, d), span_between(b, cc));
     }
+    return GridLaunch(true, c.origin, cell_normal(at(u, v)), c.outward, span);
+}
 
-    vl.valid = has_lower && a.kind != 0u && c.kind != 0u;
-    precise dvec3 v_origin = 0.5LF * (a.p + c.p);
-    vl.origin = v_origin;
-    vl.outward = a.outward;
-    vl.normal = dvec3(0.0LF);
-    vl.span = 0.0LF;
-    if (vl.valid) {
-        dvec3 sum = dvec3(0.0LF);
-        const CellOrigin left = cell_origin(at(u + side - 1u, v));
-        if (cell.valid) add_unit_normal(sum, c.p, a.p, cell.origin);
-        if (left.valid) add_unit_normal(sum, a.p, c.p, left.origin);
-        vl.normal = oriented(sum, vl.origin, vl.outward);
-        vl.span = span_between(a.p, c.p);
-    }
-
-    d.valid = cell.valid;
-    d.origin = cell.origin;
-    d.outward = cell.outward;
-    d.normal = dvec3(0.0LF);
-    d.span = 0.0LF;
-    if (d.valid) {
-        d.normal = cell_normal(at(u, v));
-        if (spans) d.span = max(span_between(a.p, grid_point(at(u + 1u, v + 1u)).p), span_between(b.p, c.p));
-    }
+// Band 0 H, 1 V or 2 D of grid point (u, v).
+GridLaunch grid_launch(uint band, uint u, uint v, bool spans) {
+    return band == 0u ? h_launch(u, v) : band == 1u ? v_launch(u, v) : d_launch(u, v, spans);
 }
 
 // The radial launch of the next grid's sample (col, row): valid where the row's height lies
