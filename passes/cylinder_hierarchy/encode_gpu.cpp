@@ -1,8 +1,7 @@
 // The hierarchy's GPU encoder: the GpuRayCaster's tree, then every level in one submission: level 1's
-// rays, and per later level three passes: the grid's cells (decode_level.comp), the level's rays
-// with their launches, parity segments, misses and stored samples (cast_level.glsl), and the next
-// grid from the stored samples (decode_level.comp, as the decoder builds it). The CPU encoder's
-// hierarchy bit for bit.
+// rays, and per later level two passes: the grid's cells (decode_level.comp) and the level's rays
+// with their launches, parity segments, misses, stored samples and the next grid built from them
+// as the decoder builds it (cast_level.glsl). The CPU encoder's hierarchy bit for bit.
 #include "gimg/passes/cylinder_hierarchy.h"
 
 #include "gimg/engine/error.h"
@@ -30,11 +29,11 @@ const Spirv kCastLevel = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_cast_level_comp)
 const Spirv kCastLevelPlain = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_cast_level_plain_comp);
 
 struct CastPush {
-    std::uint32_t side, n, base, miss, level_one;
+    std::uint32_t side, n, base, miss, level_one, write_next;
     float scene;
     double behind, reach;
 };
-static_assert(offsetof(CastPush, behind) == 24 && sizeof(CastPush) == 40, "cast_level.glsl's push constants");
+static_assert(offsetof(CastPush, behind) == 32 && sizeof(CastPush) == 48, "cast_level.glsl's push constants");
 
 double ms_since(std::chrono::steady_clock::time_point t) {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
@@ -63,39 +62,43 @@ ImageHandle add_cylinder_hierarchy(Graph& g, GpuRayCaster& caster, ImageHandle b
     const RaycastTree tree = import_raycast_tree(g, caster);
     detail::LevelBuffers lb{.bands = bands, .directions = directions};
     const Spirv& kernel = tree.votes ? kCastLevel : kCastLevelPlain;
+    auto unused = [&] { return g.create_image(texel_array_desc(0, Format::RGBA32U, "unused")); };
+    // Level `level`'s rays from the grid of side `side` (level 1: the B x B image's), writing the
+    // bands and, unless it is the last level, the next grid.
     auto add_cast = [&](std::uint32_t level, std::uint32_t side) {
-        const CastPush push{side,        n,          b, miss_code(options.miss), level == 1 ? 1u : 0u,
+        const bool first = level == 1, write_next = (first ? side : 2 * side) < n;
+        const std::size_t next_points = std::size_t(first ? side : 2 * side) * (first ? side : 2 * side);
+        const CastPush push{side,       n,     b, miss_code(options.miss), first ? 1u : 0u, write_next ? 1u : 0u,
                             tree.scene, detail::kBehind, options.reach};
         // Level 1 reads no grid: one-row stand-ins take the grid's and the cells' bindings.
-        ImageHandle grid = lb.grid, cells = lb.cells;
-        if (level == 1)
-            for (ImageHandle* stand_in : {&grid, &cells})
-                *stand_in = g.create_image(texel_array_desc(0, Format::RGBA32U, "unused"));
+        ImageHandle grid = first ? unused() : lb.grid, cells = first ? unused() : lb.cells;
+        ImageHandle next =
+            write_next ? g.create_image(texel_array_desc(2 * next_points, Format::RGBA32U, "hierarchy grid")) : unused();
         g.add_compute_pass(
             level_name(level) + "rays",
             [&](PassBuilder& pb) {
                 for (auto hnd : {tree.nodes, tree.corners}) pb.read(hnd, Access::ComputeRead);
                 for (ImageHandle* hnd : {&grid, &cells})
-                    if (level == 1)  // the shader may read them, as far as validation can tell
+                    if (first)  // the shader may read them, as far as validation can tell
                         *hnd = pb.write(*hnd, Access::ComputeReadWrite);
                     else
                         pb.read(*hnd, Access::ComputeRead);
                 pb.read(tree.faces, Access::ComputeRead);
                 pb.read(lb.directions, Access::ComputeRead);
-                lb.bands = pb.write(lb.bands, level == 1 ? Access::ComputeWrite : Access::ComputeReadWrite);
+                lb.bands = pb.write(lb.bands, first ? Access::ComputeWrite : Access::ComputeReadWrite);
+                next = pb.write(next, Access::ComputeWrite);
             },
             [=, out = lb.bands, dirs = lb.directions](Cmd& c) {
-                c.dispatch_threads(kernel, {side, side, level == 1 ? 1u : 3u}, {tree.nodes, tree.corners, tree.faces, dirs, grid, cells, out},
-                                   push);
+                c.dispatch_threads(kernel, {side, side, first ? 1u : 3u},
+                                   {tree.nodes, tree.corners, tree.faces, dirs, grid, cells, out, next}, push);
             });
+        lb.grid = next;
     };
     add_cast(1, b);
     std::uint32_t level = 2;
     for (std::uint32_t s = b; s < n; s *= 2, ++level) {
-        if (s == b) detail::add_level_step(g, 0, b, n, b, lb, level_name(2) + "level 1's grid");
         detail::add_level_step(g, 1, s, n, b, lb, level_name(level) + "cells");
         add_cast(level, s);
-        if (2 * s < n) detail::add_level_step(g, 2, s, n, b, lb, level_name(level) + "next grid");
     }
     return lb.bands;
 }

@@ -10,7 +10,9 @@
 //  - a radial launch: the ordinary image's ray from the axis, front faces only, t in [-1, 1]; the
 //    value 1 + t, the distance from the wall;
 //  - a miss: by `miss`, 0 a sample on the surface (kind 2), 1 nothing, 2 the radial launch.
-// With level_one, invocation (u, v) is level 1's pixel instead: the ordinary image's ray.
+// With level_one, invocation (u, v) is level 1's pixel instead: the ordinary image's ray. Every
+// walk has one call site (crossings, nearest hit): lavapipe inlines each call, and more copies of
+// the walk made the pass slower.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0, rgba32ui) uniform readonly uimage2D node_texels;
@@ -20,13 +22,17 @@ layout(std430, binding = 3) readonly buffer Directions { double dirs[]; };  // a
 layout(binding = 4, rgba32ui) uniform readonly uimage2D grid_texels;        // level_grid.glsl's layouts
 layout(binding = 5, rgba32ui) uniform readonly uimage2D cell_texels;
 layout(binding = 6, rg32ui) uniform writeonly uimage2D bands;  // N x N: (t as a float, kind)
+// The next level's grid (level 1's with level_one), as decode_level.comp builds it from the stored
+// samples; written where write_next is 1.
+layout(binding = 7, rgba32ui) uniform writeonly uimage2D next_texels;
 layout(push_constant) uniform Push {
     uint side;  // S
     uint n;     // N
     uint base;  // B
     uint miss;  // 0 surface, 1 empty, 2 radial (HierarchyMiss)
-    uint level_one;  // 1: level 1, the ordinary B x B image, instead
-    float scene;     // the largest |coordinate| of the tree's boxes
+    uint level_one;   // 1: level 1, the ordinary B x B image, instead
+    uint write_next;  // 1: write next_texels
+    float scene;      // the largest |coordinate| of the tree's boxes
     double behind;  // ray_rules.h's kBehind
     double reach;   // t_max = reach x span; 0: without limit
 };
@@ -36,73 +42,119 @@ layout(push_constant) uniform Push {
 
 const uint kEmpty = 0u, kHit = 1u, kMiss = 2u, kRadial = 3u;
 
-// A radial launch's ray: the distance from the wall, or a negative value for a miss.
-double cast_radial(GridLaunch l) {
-    uint face;
-    const double t = nearest_hit(dvec3(0.0LF, l.origin.y, 0.0LF), l.normal, -1.0LF, 1.0LF, true, scene, face);
-    precise double from_wall = 1.0LF + t;
-    return face == kNone ? -1.0LF : from_wall;
-}
+// What a ray's hit stands for: a launch along its normal, the ordinary image's ray at a sample
+// (its value the distance from the wall), or level 1's pixel.
+const uint kAlongNormal = 0u, kRadialRay = 1u, kLevelOne = 2u;
 
-// Casts one launch (band 0 H, 1 V, 2 D of grid point (u, v)) and stores its sample.
-void cast_launch(uint band, uint u, uint v, GridLaunch l) {
-    const uint col = 2u * u + (band != 1u ? 1u : 0u), row = 2u * v + (band != 0u ? 1u : 0u);
-    double value = 0.0LF;
-    uint kind = kEmpty;
-    bool radial = !l.valid;
-    if (!radial) {
-        const double r = radius(l.origin);
-        precise dvec3 wall = r > 0.0LF ? dvec3(l.origin.x / r, l.origin.y, l.origin.z / r)
-                                       : dvec3(1.0LF, l.origin.y, 0.0LF);
-        precise dvec3 segment = l.origin - wall;
-        uint crossings = crossings_of(wall, segment, 0.0LF, 1.0LF, scene);
-        if (crossings == kNone) crossings = crossings_in_order(wall, segment, 0.0LF, 1.0LF, scene);
-        const bool inside = crossings % 2u == 1u;
-        precise double limit = reach * l.span;
-        const double t_max = reach > 0.0LF ? limit : packDouble2x32(uvec2(0u, 0x7ff00000u));  // +inf
-        uint face;
-        const double t = nearest_hit(l.origin, inside ? l.normal : -l.normal, -behind, t_max, false, scene, face);
-        if (face != kNone) {
-            value = inside ? t : -t;
-            kind = kHit;
-        } else if (miss == 0u) {
-            kind = kMiss;
-        } else {
-            radial = miss == 2u;
-        }
-    }
-    if (radial) {
-        const GridLaunch rl = radial_launch(col, row);
-        const double from_wall = rl.valid ? cast_radial(rl) : -1.0LF;
-        if (from_wall >= 0.0LF) {
-            value = from_wall;
-            kind = kRadial;
-        }
-    }
-    const ivec2 at_band = band == 0u ? band_h(u, v) : band == 1u ? band_v(u, v) : band_d(u, v);
-    imageStore(bands, at_band, uvec4(floatBitsToUint(float(value)), kind, 0u, 0u));
-}
+struct Ray {
+    dvec3 o, d;
+    double t_min, t_max;
+    bool front;
+    uint meaning;
+};
 
-// Level 1's pixel (u, v), as CylinderRaycaster::project: from the axis point at the row's height
-// along -theta_u, the nearest front face in t in [-1, 1]; stored as t = 1 - d with d = -t rounded to
-// float, as the encoders' level 1.
-void cast_level_one(uint u, uint v) {
-    const dvec3 o = dvec3(0.0LF, row_height(v, base), 0.0LF);
-    uint face;
-    const double t = nearest_hit(o, dvec3(-dirs[2 * u], 0.0LF, -dirs[2 * u + 1]), -1.0LF, 1.0LF, true, scene, face);
-    const float d = float(-t);
-    precise double from_wall = 1.0LF - double(d);
-    imageStore(bands, ivec2(u, v),
-               face == kNone ? uvec4(0u) : uvec4(floatBitsToUint(float(from_wall)), kHit, 0u, 0u));
+// The ordinary image's ray from the axis at the height of `l` (a radial launch), front faces only.
+Ray radial_ray(GridLaunch l) {
+    return Ray(dvec3(0.0LF, l.origin.y, 0.0LF), l.normal, -1.0LF, 1.0LF, true, kRadialRay);
 }
 
 void main() {
-    const uint u = gl_GlobalInvocationID.x, v = gl_GlobalInvocationID.y;
+    const uint u = gl_GlobalInvocationID.x, v = gl_GlobalInvocationID.y, band = gl_GlobalInvocationID.z;
+    if (u >= side || v >= side) return;
+    // The next grid's sample of this launch, where a radial ray replaces it.
+    const uint col = 2u * u + (band != 1u ? 1u : 0u), row = 2u * v + (band != 0u ? 1u : 0u);
+    Ray ray;
+    GridLaunch l;
+    bool casting = true, inside = false;
     if (level_one != 0u) {
-        if (u < base && v < base) cast_level_one(u, v);
+        // Level 1's pixel (u, v), as CylinderRaycaster::project: from the axis point at the row's
+        // height along -theta_u.
+        ray = Ray(dvec3(0.0LF, row_height(v, base), 0.0LF), dvec3(-dirs[2 * u], 0.0LF, -dirs[2 * u + 1]), -1.0LF,
+                  1.0LF, true, kLevelOne);
+    } else {
+        l = grid_launch(band, u, v, true);
+        if (l.valid) {
+            const double r = radius(l.origin);
+            precise dvec3 wall = r > 0.0LF ? dvec3(l.origin.x / r, l.origin.y, l.origin.z / r)
+                                           : dvec3(1.0LF, l.origin.y, 0.0LF);
+            precise dvec3 segment = l.origin - wall;
+            uint crossings = crossings_of(wall, segment, 0.0LF, 1.0LF, scene);
+            if (crossings == kNone) crossings = crossings_in_order(wall, segment, 0.0LF, 1.0LF, scene);
+            inside = crossings % 2u == 1u;
+            precise double limit = reach * l.span;
+            const double t_max = reach > 0.0LF ? limit : packDouble2x32(uvec2(0u, 0x7ff00000u));  // +inf
+            ray = Ray(l.origin, inside ? l.normal : -l.normal, -behind, t_max, false, kAlongNormal);
+        } else {
+            const GridLaunch rl = radial_launch(col, row);
+            casting = rl.valid;
+            ray = radial_ray(rl);
+        }
+    }
+    double value = 0.0LF;
+    uint kind = kEmpty;
+    // At most two walks: the ray, then for a launch that missed with `miss` radial, the radial ray.
+    for (uint attempt = 0u; casting && attempt < 2u; ++attempt) {
+        uint face;
+        const double t = nearest_hit(ray.o, ray.d, ray.t_min, ray.t_max, ray.front, scene, face);
+        if (face != kNone) {
+            if (ray.meaning == kAlongNormal) {
+                value = inside ? t : -t;
+                kind = kHit;
+            } else if (ray.meaning == kRadialRay) {
+                precise double from_wall = 1.0LF + t;
+                value = from_wall;
+                kind = kRadial;
+            } else {  // t = 1 - d with d = -t rounded to float, as the encoders' level 1
+                const float d = float(-t);
+                precise double from_wall = 1.0LF - double(d);
+                value = from_wall;
+                kind = kHit;
+            }
+            break;
+        }
+        if (ray.meaning != kAlongNormal) break;
+        if (miss == 0u) kind = kMiss;
+        if (miss != 2u) break;
+        const GridLaunch rl = radial_launch(col, row);
+        casting = rl.valid;
+        ray = radial_ray(rl);
+    }
+    const ivec2 at_band = level_one != 0u ? ivec2(u, v)
+                          : band == 0u    ? band_h(u, v)
+                          : band == 1u    ? band_v(u, v)
+                                          : band_d(u, v);
+    const float stored = float(value);
+    imageStore(bands, at_band, uvec4(floatBitsToUint(stored), kind, 0u, 0u));
+    if (write_next == 0u) return;
+
+    // The new grid point from the stored sample, as decode_level.comp's steps 0 and 2 place it.
+    uvec4 t[2] = grid_texel_pair(dvec3(0.0LF), 1.0LF, 0u);
+    if (level_one != 0u) {
+        if (kind != kEmpty) {
+            precise double d = 1.0LF - double(stored);
+            precise double x = d * dirs[2 * u];
+            precise double z = d * dirs[2 * u + 1];
+            t = grid_texel_pair(dvec3(x, row_height(v, side), z), d >= 0.0LF ? 1.0LF : -1.0LF, kind);
+        }
+        imageStore(next_texels, texel(2u * (v * side + u)), t[0]);
+        imageStore(next_texels, texel(2u * (v * side + u) + 1u), t[1]);
         return;
     }
-    if (u >= side || v >= side) return;
-    const uint band = gl_GlobalInvocationID.z;
-    cast_launch(band, u, v, grid_launch(band, u, v, true));
+    GridLaunch used = l;
+    if (kind == kRadial) {
+        used = radial_launch(col, row);
+        used.outward = stored <= 1.0 ? 1.0LF : -1.0LF;
+    }
+    if (kind != kEmpty && used.valid) {
+        precise dvec3 p = used.origin + double(stored) * used.normal;
+        t = grid_texel_pair(p, used.outward, kind);
+    }
+    const uint i = row * (2u * side) + col;
+    imageStore(next_texels, texel(2u * i), t[0]);
+    imageStore(next_texels, texel(2u * i + 1u), t[1]);
+    if (band == 0u) {  // and the grid's own point, (2u, 2v)
+        const uint o = (2u * v) * (2u * side) + 2u * u, g = v * side + u;
+        imageStore(next_texels, texel(2u * o), imageLoad(grid_texels, texel(2u * g)));
+        imageStore(next_texels, texel(2u * o + 1u), imageLoad(grid_texels, texel(2u * g + 1u)));
+    }
 }

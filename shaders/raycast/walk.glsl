@@ -213,12 +213,11 @@ uint crossings_in_order(dvec3 o, dvec3 d, double t_min, double t_max, float scen
     const Slabs sl = slabs(o, d, scene);
     uint crossings = 0u;
     double last = t_min;
-    bool found;
-    double t = next_hit_distance(o, d, sl, t_min, false, t_max, found);
-    while (found) {
+    for (;;) {  // one call site: shader compilers inline every call
+        bool found;
+        const double t = next_hit_distance(o, d, sl, last, crossings > 0u, t_max, found);
+        if (!found) return crossings;
         if (crossings == 0u || t - last > 1e-12LF) ++crossings;
         last = t;
-        t = next_hit_distance(o, d, sl, last, true, t_max, found);
     }
-    return crossings;
 }
