@@ -41,9 +41,13 @@ std::uint32_t CylinderHierarchy::levels() const {
 
 namespace detail {
 
-CylinderHierarchy empty_hierarchy(const CylinderHierarchyOptions& options) {
-    if (!(options.reach >= 0.0) || !std::isfinite(options.reach))
+void check_reach(double reach) {
+    if (!(reach >= 0.0) || !std::isfinite(reach))
         throw geo::InputError("hierarchy reach must be a finite number >= 0 (0: without limit)");
+}
+
+CylinderHierarchy empty_hierarchy(const CylinderHierarchyOptions& options) {
+    check_reach(options.reach);
     CylinderHierarchy out;
     out.base = options.base;
     out.size = options.size;

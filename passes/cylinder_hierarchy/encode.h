@@ -8,6 +8,8 @@
 
 namespace gimg::passes::detail {
 
+// Throws geo::InputError for a reach that is negative or not finite.
+void check_reach(double reach);
 // The N x N hierarchy, every sample empty, with the options' base, size and reach. Throws
 // geo::InputError for a reach that is negative or not finite.
 CylinderHierarchy empty_hierarchy(const CylinderHierarchyOptions& options);

@@ -57,7 +57,7 @@ std::vector<double> hierarchy_directions(std::uint32_t base, std::uint32_t size)
 ImageHandle add_cylinder_hierarchy(Graph& g, GpuRayCaster& caster, ImageHandle bands, BufferHandle directions,
                                    const CylinderHierarchyOptions& options) {
     check_hierarchy_sizes(options.base, options.size);
-    detail::empty_hierarchy(options);  // checks the reach
+    detail::check_reach(options.reach);
     const std::uint32_t b = options.base, n = options.size;
     const RaycastTree tree = import_raycast_tree(g, caster);
     detail::LevelBuffers lb{.bands = bands, .directions = directions};
@@ -85,6 +85,7 @@ ImageHandle add_cylinder_hierarchy(Graph& g, GpuRayCaster& caster, ImageHandle b
                         pb.read(*hnd, Access::ComputeRead);
                 pb.read(tree.faces, Access::ComputeRead);
                 pb.read(lb.directions, Access::ComputeRead);
+                // Read-write after level 1: the earlier levels' samples stay.
                 lb.bands = pb.write(lb.bands, first ? Access::ComputeWrite : Access::ComputeReadWrite);
                 next = pb.write(next, Access::ComputeWrite);
             },

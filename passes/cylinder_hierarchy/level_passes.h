@@ -23,7 +23,7 @@ Image upload_bands(Context& ctx, const CylinderHierarchy& h);
 void download_bands(Context& ctx, Image& bands, CylinderHierarchy& h);
 
 struct LevelBuffers {
-    ImageHandle bands;        // upload_bands's image
+    ImageHandle bands;        // the N x N image of upload_bands
     BufferHandle directions;  // level_directions
     ImageHandle grid;         // the level's grid: a texel array, 2 texels a point (level_grid.glsl)
     ImageHandle cells;        // its cells' D launches: 4 texels a cell
