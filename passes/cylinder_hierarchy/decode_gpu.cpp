@@ -14,16 +14,19 @@ HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarch
     if (!ctx.device_info().shader_float64)
         throw Error(ErrorKind::Unsupported, "decoding a hierarchy on the GPU needs shaderFloat64 (use the CPU)");
     detail::check_decodable(h, level);
-    const std::uint32_t n = h.size, b = h.base;
+    const std::uint32_t n = h.size, b = h.base, side = b << (level - 1);
+    // The largest texel array: the decoded grid, 2 texels a point.
+    detail::check_level_images(ctx, 2 * std::size_t(side) * side, n,
+                               "decoding level " + std::to_string(level) + " (" + std::to_string(side) + " x " +
+                                   std::to_string(side) + ") on the GPU");
     Image bands = detail::upload_bands(ctx, h);
     Buffer directions = upload_buffer(ctx, detail::level_directions(b, n), "hierarchy directions");
     Graph g(ctx);
     detail::LevelBuffers lb{.bands = g.import_image(bands), .directions = g.import_buffer(directions)};
-    std::uint32_t side = b;
-    detail::add_level_step(g, 0, side, n, b, lb, "decode hierarchy: level 1");
-    for (std::uint32_t l = 2; l <= level; ++l, side *= 2) {
-        detail::add_level_step(g, 1, side, n, b, lb, "decode hierarchy: cells at " + std::to_string(side));
-        detail::add_level_step(g, 2, side, n, b, lb, "decode hierarchy: level " + std::to_string(l));
+    detail::add_level_step(g, 0, b, n, b, lb, "decode hierarchy: level 1");
+    for (std::uint32_t l = 2, s = b; l <= level; ++l, s *= 2) {
+        detail::add_level_step(g, 1, s, n, b, lb, "decode hierarchy: cells at " + std::to_string(s));
+        detail::add_level_step(g, 2, s, n, b, lb, "decode hierarchy: level " + std::to_string(l));
     }
     const ImageHandle grid = lb.grid;
     g.export_image(grid, Access::TransferSrc);

@@ -108,6 +108,8 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
                                          const CylinderHierarchyOptions& options, const GpuRayCasterOptions& walk) {
     check_hierarchy_sizes(options.base, options.size);
     const std::uint32_t b = options.base, n = options.size;
+    // The largest texel array: the cells of the grid of side N / 2, 4 texels each.
+    detail::check_level_images(ctx, std::size_t(n) * n, n, "the GPU encoder at " + std::to_string(n) + " x " + std::to_string(n));
     CylinderHierarchy h = detail::empty_hierarchy(options);
     // The BVH every level casts through counts as level 1's time.
     const auto start = std::chrono::steady_clock::now();

@@ -1,12 +1,14 @@
 // A hierarchy level's grid passes on the render graph (level_passes.h).
 #include "level_passes.h"
 
+#include "gimg/engine/error.h"
 #include "gimg/engine/texel_array.h"
 #include "gimg/passes/cylinder.h"
 
 #include "cylinder_hierarchy/decode_level_comp.h"
 #include "launch_rays.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace gimg::passes::detail {
@@ -78,6 +80,15 @@ void add_level_step(Graph& g, std::uint32_t step, std::uint32_t side, std::uint3
         });
     b.cells = cells;
     b.grid = step == 2 ? next : grid;
+}
+
+void check_level_images(const Context& ctx, std::size_t texels, std::uint32_t size, const std::string& what) {
+    const std::uint32_t most = ctx.device_info().max_image_dimension_2d;
+    const std::size_t rows = (texels + kTexelArrayRowWidth - 1) / kTexelArrayRowWidth;
+    if (rows > most || size > most)
+        throw Error(ErrorKind::Unsupported, what + " needs images of " + std::to_string(std::max<std::size_t>(rows, size)) +
+                                                " rows; the device allows " + std::to_string(most) +
+                                                " (use the CPU: --cpu)");
 }
 
 HierarchyGrid grid_from_texels(const std::vector<std::byte>& texels, std::uint32_t side, std::uint32_t base) {

@@ -35,6 +35,10 @@ struct LevelBuffers {
 void add_level_step(Graph& g, std::uint32_t step, std::uint32_t side, std::uint32_t size, std::uint32_t base,
                     LevelBuffers& b, const std::string& name);
 
+// Throws gimg::Error (Unsupported, naming the CPU as the way out) where the device's images cannot
+// hold `texels` texel-array elements or an N x N image: `what` says for what.
+void check_level_images(const Context& ctx, std::size_t texels, std::uint32_t size, const std::string& what);
+
 // A grid of side `side` as texels (download of LevelBuffers::grid) into points, kinds and outward signs.
 HierarchyGrid grid_from_texels(const std::vector<std::byte>& texels, std::uint32_t side, std::uint32_t base);
 

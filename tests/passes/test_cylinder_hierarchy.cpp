@@ -10,6 +10,8 @@
 #include "gimg/geometry/io.h"
 #include "gimg/geometry/shapes.h"
 #include "gimg/geometry/surface_distance.h"
+#include "gimg/engine/error.h"
+#include "gimg/engine/texel_array.h"
 #include "gimg/engine/upload.h"
 #include "gimg/passes/cylinder_hierarchy.h"
 #include "gimg/passes/reconstruct.h"
@@ -381,6 +383,23 @@ TEST_F(CylinderHierarchyGpu, RecordedIntoACallersGraph) {
     EXPECT_GT(hits, 1000u);
     EXPECT_THROW(gp::add_cylinder_hierarchy(g, caster, out, g.import_buffer(directions), {.base = 8, .size = 60}),
                  geo::InputError);
+}
+
+// A size whose grids the device's images cannot hold is refused before any work, naming the CPU.
+TEST_F(CylinderHierarchyGpu, SizesBeyondTheDevicesImagesAreRefusedUpFront) {
+    const geo::Mesh m = geo::make_torus(0.3, 0.12, 12, 6);
+    const gp::CylinderMesh mesh = gp::make_cylinder_mesh(m, gp::fit_cylinder_frame(m));
+    const std::uint32_t most = ctx().device_info().max_image_dimension_2d;
+    std::uint32_t n = 32;
+    while (std::size_t(n) * n <= std::size_t(most) * kTexelArrayRowWidth && n < 16384) n *= 2;
+    if (std::size_t(n) * n <= std::size_t(most) * kTexelArrayRowWidth) GTEST_SKIP() << "the device holds every size";
+    try {
+        gp::cylinder_hierarchy_gpu(ctx(), mesh, {.base = 32, .size = n});
+        FAIL() << "size " << n << " was not refused";
+    } catch (const Error& e) {
+        EXPECT_EQ(e.kind(), ErrorKind::Unsupported);
+        EXPECT_NE(std::string(e.what()).find("--cpu"), std::string::npos) << e.what();
+    }
 }
 
 TEST_F(CylinderHierarchyGpu, DecodingOnTheGpuGivesTheCpuGrid) {
