@@ -2,8 +2,8 @@
 // without), each sample written into the multiresolution image: the CPU encoder's launches
 // (launch_rays.cpp), rules (ray_rules.h) and arithmetic, so the two give the same hierarchy bit for
 // bit. Invocation (u, v, band) casts launch H, V or D (band 0, 1, 2) of grid point (u, v):
-//  - its launch from the grid and the cells (decode_level.comp's steps 0-2 made them), or where
-//    that is not valid the radial launch at its sample of the 2S grid;
+//  - its launch from the grid (the previous ray pass placed it) and the cells (decode_level.comp's
+//    step 1), or where that is not valid the radial launch at its sample of the 2S grid;
 //  - a launch at radius r: its parity segment from the wall, (x / r, y, z / r) (or (1, y, 0)), to
 //    the launch point, then the nearest hit in [-behind, t_max] along the outward normal if the
 //    crossings are odd (inside), against it if even; the value is t along the outward normal;
@@ -128,30 +128,11 @@ void main() {
     if (write_next == 0u) return;
 
     // The new grid point from the stored sample, as decode_level.comp's steps 0 and 2 place it.
-    uvec4 t[2] = grid_texel_pair(dvec3(0.0LF), 1.0LF, 0u);
-    if (level_one != 0u) {
-        if (kind != kEmpty) {
-            precise double d = 1.0LF - double(stored);
-            precise double x = d * dirs[2 * u];
-            precise double z = d * dirs[2 * u + 1];
-            t = grid_texel_pair(dvec3(x, row_height(v, side), z), d >= 0.0LF ? 1.0LF : -1.0LF, kind);
-        }
-        imageStore(next_texels, texel(2u * (v * side + u)), t[0]);
-        imageStore(next_texels, texel(2u * (v * side + u) + 1u), t[1]);
-        return;
-    }
-    GridLaunch used = l;
-    if (kind == kRadial) {
-        used = radial_launch(col, row);
-        used.outward = stored <= 1.0 ? 1.0LF : -1.0LF;
-    }
-    if (kind != kEmpty && used.valid) {
-        precise dvec3 p = used.origin + double(stored) * used.normal;
-        t = grid_texel_pair(p, used.outward, kind);
-    }
-    const uint i = row * (2u * side) + col;
+    const uint i = level_one != 0u ? v * side + u : row * (2u * side) + col;
+    const uvec4 t[2] = level_one != 0u ? level_one_point(u, v, stored, kind) : sample_point(col, row, l, stored, kind);
     imageStore(next_texels, texel(2u * i), t[0]);
     imageStore(next_texels, texel(2u * i + 1u), t[1]);
+    if (level_one != 0u) return;
     if (band == 0u) {  // and the grid's own point, (2u, 2v)
         const uint o = (2u * v) * (2u * side) + 2u * u, g = v * side + u;
         imageStore(next_texels, texel(2u * o), imageLoad(grid_texels, texel(2u * g)));

@@ -28,29 +28,15 @@ layout(push_constant) uniform Push {
 
 #include "cylinder_hierarchy/level_grid.glsl"
 
-void store_point(uint i, dvec3 p, double outward, uint kind) {
-    const uvec4 t[2] = grid_texel_pair(p, outward, kind);
+void store_point(uint i, uvec4 t[2]) {
     imageStore(next_texels, texel(2u * i), t[0]);
     imageStore(next_texels, texel(2u * i + 1u), t[1]);
 }
 
-// The new point (u, v) of the 2S grid from its launch and stored sample; a radial sample is the
-// radial ray at its own angle and height.
+// The new point (u, v) of the 2S grid from its launch and stored sample.
 void put(uint u, uint v, GridLaunch l, ivec2 at_band) {
-    const uint i = v * (2u * side) + u;
     const uvec2 sample_ = imageLoad(bands, at_band).xy;
-    const float t = uintBitsToFloat(sample_.x);
-    const uint kind = sample_.y;
-    if (kind == 3u) {
-        l = radial_launch(u, v);
-        l.outward = t <= 1.0 ? 1.0LF : -1.0LF;
-    }
-    if (!l.valid || kind == 0u) {
-        store_point(i, dvec3(0.0LF), 1.0LF, 0u);
-        return;
-    }
-    precise dvec3 p = l.origin + double(t) * l.normal;
-    store_point(i, p, l.outward, kind);
+    store_point(v * (2u * side) + u, sample_point(u, v, l, uintBitsToFloat(sample_.x), sample_.y));
 }
 
 void main() {
@@ -59,14 +45,7 @@ void main() {
     const uint i = v * side + u;
     if (step == 0u) {
         const uvec2 sample_ = imageLoad(bands, ivec2(u, v)).xy;
-        precise double d = 1.0LF - double(uintBitsToFloat(sample_.x));
-        const double y = row_height(v, side);
-        uvec4 t[2] = grid_texel_pair(dvec3(0.0LF), 1.0LF, 0u);
-        if (sample_.y != 0u) {
-            precise double x = d * dirs[2 * u];
-            precise double z = d * dirs[2 * u + 1];
-            t = grid_texel_pair(dvec3(x, y, z), d >= 0.0LF ? 1.0LF : -1.0LF, sample_.y);
-        }
+        const uvec4 t[2] = level_one_point(u, v, uintBitsToFloat(sample_.x), sample_.y);
         imageStore(grid_texels, texel(2u * i), t[0]);
         imageStore(grid_texels, texel(2u * i + 1u), t[1]);
         return;

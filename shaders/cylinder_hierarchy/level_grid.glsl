@@ -164,3 +164,25 @@ GridLaunch radial_launch(uint col, uint row) {
     l.span = 0.0LF;
     return l;
 }
+
+// Grid points from stored samples (t as stored, kind), as the CPU decoder places them. Level 1's
+// pixel (u, v): d = 1 - t along the inward radial direction at the row's height.
+uvec4[2] level_one_point(uint u, uint v, float t, uint kind) {
+    if (kind == 0u) return grid_texel_pair(dvec3(0.0LF), 1.0LF, 0u);
+    precise double d = 1.0LF - double(t);
+    precise double x = d * dirs[2 * u];
+    precise double z = d * dirs[2 * u + 1];
+    return grid_texel_pair(dvec3(x, row_height(v, side), z), d >= 0.0LF ? 1.0LF : -1.0LF, kind);
+}
+
+// The 2S grid's point (col, row) from its launch `l`: origin + t normal; a radial sample from the
+// radial launch at its own column and row.
+uvec4[2] sample_point(uint col, uint row, GridLaunch l, float t, uint kind) {
+    if (kind == 3u) {
+        l = radial_launch(col, row);
+        l.outward = t <= 1.0 ? 1.0LF : -1.0LF;
+    }
+    if (!l.valid || kind == 0u) return grid_texel_pair(dvec3(0.0LF), 1.0LF, 0u);
+    precise dvec3 p = l.origin + double(t) * l.normal;
+    return grid_texel_pair(p, l.outward, kind);
+}
