@@ -338,8 +338,9 @@ TEST_F(CylinderHierarchyGpu, TheGpuEncoderGivesTheCpuHierarchy) {
         }
         // Level 1 alone, and a miss kept on the surface or left empty, alike.
         const gp::CylinderHierarchy one = gp::cylinder_hierarchy_gpu(ctx(), mesh, {.base = 16, .size = 16});
-        ASSERT_EQ(one.valid, gp::cylinder_hierarchy_cpu(mesh, {.base = 16, .size = 16}).valid);
-        ASSERT_EQ(one.t, gp::cylinder_hierarchy_cpu(mesh, {.base = 16, .size = 16}).t);
+        const gp::CylinderHierarchy one_cpu = gp::cylinder_hierarchy_cpu(mesh, {.base = 16, .size = 16});
+        ASSERT_EQ(one.valid, one_cpu.valid);
+        ASSERT_EQ(one.t, one_cpu.t);
         ASSERT_EQ(one.level_ms.size(), 1u);
         for (gp::HierarchyMiss miss : {gp::HierarchyMiss::Surface, gp::HierarchyMiss::Invalid}) {
             const gp::CylinderHierarchyOptions options{.base = 16, .size = 128, .reach = 1.0, .miss = miss};
