@@ -15,7 +15,10 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
+#include <string>
+#include <vector>
 
 namespace gimg::cli {
 
@@ -146,13 +149,33 @@ void run_reconstruct(const ReconstructCliOptions& o, const GlobalOptions& global
     write_json(o.json, j);
 }
 
+// The geometry image a folder written by gimg holds (cylinder, cylinder --method hierarchical, gim),
+// so that `reconstruct DIR` works after `cylinder ... --out DIR`; other paths stay as given.
+std::filesystem::path geometry_image_in(const std::filesystem::path& path) {
+    std::error_code ec;
+    if (!std::filesystem::is_directory(path, ec)) return path;
+    std::vector<std::filesystem::path> found;
+    for (const char* name : {"distance.exr", "hierarchy.exr", "gim.exr"})
+        if (std::filesystem::is_regular_file(path / name, ec)) found.push_back(path / name);
+    if (found.size() == 1) return found.front();
+    if (found.empty())
+        throw geo::InputError(path.string() +
+                              " is a folder without a geometry image (distance.exr, hierarchy.exr or gim.exr): "
+                              "give the image file");
+    std::string names;
+    for (const auto& f : found) names += (names.empty() ? "" : " and ") + f.filename().string();
+    throw geo::InputError(path.string() + " holds " + names + ": give the one to reconstruct");
+}
+
 }  // namespace
 
 void add_reconstruct_command(CLI::App& app, const GlobalOptions& global) {
     auto opts = std::make_shared<ReconstructCliOptions>();
     auto* cmd =
         app.add_subcommand("reconstruct", "Turn a geometry image (cylindrical or position EXR) back into a mesh");
-    cmd->add_option("image", opts->image, "GI.exr: channel d with frame.json beside it, or channels R, G, B (and A)")
+    cmd->add_option("image", opts->image,
+                    "GI.exr: channel d with frame.json beside it, or channels R, G, B (and A); or the folder "
+                    "cylinder or gim wrote")
         ->required();
     cmd->add_option("--out", opts->out, "Output mesh (.ply or .obj), with normals")->required();
     cmd->add_option("--threshold", opts->threshold,
@@ -164,7 +187,8 @@ void add_reconstruct_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_flag("--cpu", opts->cpu, "Use the CPU reference instead of the GPU passes (same output)");
     cmd->add_option("--json", opts->json, "Write the figures as JSON");
     cmd->callback([opts, &global] {
-        const std::filesystem::path image = opts->image;
+        const std::filesystem::path image = geometry_image_in(opts->image);
+        opts->image = image.string();
         run_writing({image, image.parent_path() / "frame.json"},
                     {{"--out", opts->out, {".ply", ".obj"}}, json_output(opts->json)},
                     [&] { run_reconstruct(*opts, global); });

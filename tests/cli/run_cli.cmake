@@ -2,7 +2,7 @@
 #   -DGIMG=<binary> -DARGS=<arguments, ;-separated> -DEXPECT_CODE=<exit code>
 #   [-DEXPECT_STDERR=<regex>] [-DEXPECT_STDOUT=<regex>]
 #   [-DEXPECT_OUTPUT=<regex>] (stdout and stderr of a second run, merged in the order written)
-#   [-DINPUT=<file to write first> -DINPUT_TEXT=<its contents>]
+#   [-DINPUT=<file|... to write first> -DINPUT_TEXT=<their contents>]
 #   [-DABSENT=<file that must not exist afterwards>]
 #   [-DJSON=<file> -DJSON_CHECKS=<key=value|...>]  (top-level keys, or key.N for list entries)
 #   [-DEXPECT_FILES=<file|...> that must exist afterwards] [-DQUIET_STDERR=1] (stderr must be empty:
@@ -10,15 +10,15 @@
 cmake_minimum_required(VERSION 3.25)
 
 # Lists arrive '|'-separated: ctest would split ';' into separate command-line arguments.
-foreach(list_var IN ITEMS JSON_CHECKS EXPECT_FILES ABSENT)
+foreach(list_var IN ITEMS JSON_CHECKS EXPECT_FILES ABSENT INPUT)
   if(DEFINED ${list_var})
     string(REPLACE "|" ";" ${list_var} "${${list_var}}")
   endif()
 endforeach()
 
-if(DEFINED INPUT)
-  file(WRITE "${INPUT}" "${INPUT_TEXT}")
-endif()
+foreach(path IN ITEMS ${INPUT})
+  file(WRITE "${path}" "${INPUT_TEXT}")
+endforeach()
 foreach(path IN ITEMS ${ABSENT} ${JSON} ${EXPECT_FILES})
   file(REMOVE "${path}")
 endforeach()

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <string>
 
 using namespace gimg::geo;
 
@@ -65,4 +66,10 @@ TEST(Exr, FloatChannelsRoundTripBitExactly) {
     std::ofstream(bad) << "not an exr";
     EXPECT_THROW(read_exr(bad), InputError);
     EXPECT_THROW(read_exr(gimg::test::output_dir("image") / "missing.exr"), InputError);
+    try {  // a folder is named as one, not as missing
+        read_exr(gimg::test::output_dir("image"));
+        ADD_FAILURE() << "a folder was read as an image";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("is a folder, not an image"), std::string::npos) << e.what();
+    }
 }
