@@ -66,7 +66,8 @@ void write_exr(const FloatImage& image, const std::filesystem::path& path) {
 }
 
 FloatImage read_exr(const std::filesystem::path& path) {
-    if (std::filesystem::is_directory(path)) throw InputError("cannot read " + path.string() + ": is a folder, not an image");
+    if (std::filesystem::is_directory(path))
+        throw InputError("cannot read " + path.string() + ": is a folder, not an image");
     if (!std::filesystem::is_regular_file(path)) throw InputError("cannot read " + path.string() + ": no such file");
     try {
         Imf::InputFile file(path.c_str());

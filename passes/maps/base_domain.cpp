@@ -28,8 +28,9 @@ void check_input(const geo::Mesh& mesh, std::uint32_t& genus) {
     if (info.nonfinite_vertices)
         refuse(std::to_string(info.nonfinite_vertices) + " vertices have NaN or infinite coordinates");
     if (!info.closed)
-        refuse(info.boundary_loops == 1 ? std::string("the mesh has a boundary loop (a hole)")
-                                        : "the mesh has " + std::to_string(info.boundary_loops) + " boundary loops (holes)");
+        refuse(info.boundary_loops == 1
+                   ? std::string("the mesh has a boundary loop (a hole)")
+                   : "the mesh has " + std::to_string(info.boundary_loops) + " boundary loops (holes)");
     if (!info.manifold) refuse("the mesh has non-manifold edges or vertices");
     if (!info.oriented) refuse("the faces are not consistently oriented");
     if (info.collapsed_faces || info.duplicate_faces)
