@@ -1,4 +1,4 @@
-// Decoding a hierarchy on the GPU (shaders/cylinder_hierarchy/decode_level.comp): level one, then
+// Decoding a hierarchy on the GPU (shaders/cylinder_hierarchy/level_step.glsl): level one, then
 // per level the cells and the edges with the interleave, one graph; the CPU decoder's grid.
 #include "gimg/passes/cylinder_hierarchy.h"
 

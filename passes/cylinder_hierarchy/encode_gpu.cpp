@@ -1,5 +1,5 @@
 // The hierarchy's GPU encoder: the GpuRayCaster's tree, then every level in one submission: level 1's
-// rays, and per later level two passes: the grid's cells (decode_level.comp) and the level's rays
+// rays, and per later level two passes: the grid's cells (grid_cells.comp) and the level's rays
 // with their launches, parity segments, misses, stored samples and the next grid built from them
 // as the decoder builds it (cast_level.glsl). The CPU encoder's hierarchy bit for bit.
 #include "gimg/passes/cylinder_hierarchy.h"

@@ -5,7 +5,9 @@
 #include "gimg/engine/texel_array.h"
 #include "gimg/passes/cylinder.h"
 
-#include "cylinder_hierarchy/decode_level_comp.h"
+#include "cylinder_hierarchy/grid_cells_comp.h"
+#include "cylinder_hierarchy/level_one_grid_comp.h"
+#include "cylinder_hierarchy/next_grid_comp.h"
 #include "launch_rays.h"
 
 #include <algorithm>
@@ -15,10 +17,13 @@ namespace gimg::passes::detail {
 
 namespace {
 
-const Spirv kDecodeLevel = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_decode_level_comp);
+// Step 0, 1, 2 (add_level_step).
+const Spirv kSteps[3] = {GIMG_SPIRV(gimg_spv_cylinder_hierarchy_level_one_grid_comp),
+                         GIMG_SPIRV(gimg_spv_cylinder_hierarchy_grid_cells_comp),
+                         GIMG_SPIRV(gimg_spv_cylinder_hierarchy_next_grid_comp)};
 
 struct LevelPush {
-    std::uint32_t step, side, n, base;
+    std::uint32_t side, n, base;
 };
 
 }  // namespace
@@ -63,20 +68,21 @@ void add_level_step(Graph& g, std::uint32_t step, std::uint32_t side, std::uint3
     ImageHandle cells = step == 1 ? texels(4 * points, "hierarchy cells") : step == 2 ? b.cells : texels(0, "unused");
     ImageHandle next = step == 2 ? texels(8 * points, "hierarchy grid") : texels(0, "unused");
     ImageHandle grid = b.grid;
-    const LevelPush push{step, side, size, base};
+    const LevelPush push{side, size, base};
     g.add_compute_pass(
         name,
         [&](PassBuilder& pb) {
             pb.read(b.bands, Access::ComputeRead);
             pb.read(b.directions, Access::ComputeRead);
-            // One shader for the three steps: each may write the grid and the cells as far as
-            // validation can tell, so they are declared written where a step reads them.
+            // The three steps' shaders share their bindings (level_step.glsl): each may write the
+            // grid and the cells as far as validation can tell, so they are declared written where
+            // a step reads them.
             grid = pb.write(grid, step == 0 ? Access::ComputeWrite : Access::ComputeReadWrite);
             cells = pb.write(cells, step == 2 ? Access::ComputeReadWrite : Access::ComputeWrite);
             next = pb.write(next, Access::ComputeWrite);
         },
         [=, bands = b.bands, dirs = b.directions](Cmd& c) {
-            c.dispatch_threads(kDecodeLevel, {side, side}, {bands, dirs, grid, cells, next}, push);
+            c.dispatch_threads(kSteps[step], {side, side}, {bands, dirs, grid, cells, next}, push);
         });
     b.cells = cells;
     b.grid = step == 2 ? next : grid;

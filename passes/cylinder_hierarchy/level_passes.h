@@ -1,5 +1,5 @@
 #pragma once
-// The passes of a hierarchy level's grid (shaders/cylinder_hierarchy/decode_level.comp), shared by
+// The passes of a hierarchy level's grid (shaders/cylinder_hierarchy/level_step.glsl), shared by
 // the GPU decoder and the GPU encoder, and the image they read the stored samples from.
 #include "gimg/engine/context.h"
 #include "gimg/engine/graph.h"
@@ -13,7 +13,7 @@
 
 namespace gimg::passes::detail {
 
-// decode_level.comp's directions: (cos, sin) of level 1's columns (cylinder_directions), then of
+// level_step.glsl's directions: (cos, sin) of level 1's columns (cylinder_directions), then of
 // every next grid's columns (radial_directions) for sides M = 2B, 4B, .. N, from entry M - B.
 std::vector<double> level_directions(std::uint32_t base, std::uint32_t size);
 

@@ -2,8 +2,8 @@
 // without), each sample written into the multiresolution image: the CPU encoder's launches
 // (launch_rays.cpp), rules (ray_rules.h) and arithmetic, so the two give the same hierarchy bit for
 // bit. Invocation (u, v, band) casts launch H, V or D (band 0, 1, 2) of grid point (u, v):
-//  - its launch from the grid (the previous ray pass placed it) and the cells (decode_level.comp's
-//    step 1), or where that is not valid the radial launch at its sample of the 2S grid;
+//  - its launch from the grid (the previous ray pass placed it) and the cells (grid_cells.comp),
+//    or where that is not valid the radial launch at its sample of the 2S grid;
 //  - a launch at radius r: its parity segment from the wall, (x / r, y, z / r) (or (1, y, 0)), to
 //    the launch point, then the nearest hit in [-behind, t_max] along the outward normal if the
 //    crossings are odd (inside), against it if even; the value is t along the outward normal;
@@ -18,11 +18,11 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(binding = 0, rgba32ui) uniform readonly uimage2D node_texels;
 layout(binding = 1, rgba32ui) uniform readonly uimage2D corner_texels;
 layout(std430, binding = 2) readonly buffer Faces { uint face_of[]; };  // slot -> face
-layout(std430, binding = 3) readonly buffer Directions { double dirs[]; };  // as decode_level.comp's
+layout(std430, binding = 3) readonly buffer Directions { double dirs[]; };  // as level_step.glsl's
 layout(binding = 4, rgba32ui) uniform readonly uimage2D grid_texels;        // level_grid.glsl's layouts
 layout(binding = 5, rgba32ui) uniform readonly uimage2D cell_texels;
 layout(binding = 6, rg32ui) uniform writeonly uimage2D bands;  // N x N: (t as a float, kind)
-// The next level's grid (level 1's with level_one), as decode_level.comp builds it from the stored
+// The next level's grid (level 1's with level_one), as next_grid.comp builds it from the stored
 // samples; written where write_next is 1.
 layout(binding = 7, rgba32ui) uniform writeonly uimage2D next_texels;
 layout(push_constant) uniform Push {
@@ -127,7 +127,7 @@ void main() {
     imageStore(bands, at_band, uvec4(floatBitsToUint(stored), kind, 0u, 0u));
     if (write_next == 0u) return;
 
-    // The new grid point from the stored sample, as decode_level.comp's steps 0 and 2 place it.
+    // The new grid point from the stored sample, as level_one_grid.comp and next_grid.comp place it.
     const uint i = level_one != 0u ? v * side + u : row * (2u * side) + col;
     const uvec4 t[2] = level_one != 0u ? level_one_point(u, v, stored, kind) : sample_point(col, row, l, stored, kind);
     imageStore(next_texels, texel(2u * i), t[0]);

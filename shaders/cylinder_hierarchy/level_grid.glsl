@@ -1,8 +1,8 @@
 // A hierarchy level's grid and launches, passes/cylinder_hierarchy/launch_rays.cpp term for term
-// in double precision, shared by the decoder (decode_level.comp) and the encoder (cast_level.glsl).
+// in double precision, shared by the decoder (level_step.glsl) and the encoder (cast_level.glsl).
 // Declare before including: the texel arrays grid_texels (RGBA32UI, 2 texels a point: x, y | z,
 // outward as a float, kind) and cell_texels (4 a cell: origin x, y | origin z, outward, valid |
-// normal x, y | normal z), the buffer dirs (decode_level.comp says how it is laid out), and side
+// normal x, y | normal z), the buffer dirs (level_step.glsl says how it is laid out), and side
 // (S), n (the image's side N) and base (B). Texel arrays, not buffers: lavapipe gathers from images
 // but loads from storage buffers lane by lane (common/texel_array.glsl).
 #include "common/double_cpu.glsl"
@@ -132,7 +132,7 @@ GridLaunch v_launch(uint u, uint v) {
     return GridLaunch(true, origin, oriented(sum, origin, a.outward), a.outward, span_between(a.p, c.p));
 }
 
-// D: the cell's launch (decode_level.comp's step 1 computed it); with `spans`, its span the longer
+// D: the cell's launch (grid_cells.comp computed it); with `spans`, its span the longer
 // diagonal.
 GridLaunch d_launch(uint u, uint v, bool spans) {
     const CellOrigin c = cell_origin(at(u, v));
