@@ -196,13 +196,13 @@ void bind_surface_maps(py::module_& m) {
     m.def(
         "polycube",
         [](Device* device, const Positions& positions, const Faces& faces, double dz, double da, std::uint32_t k,
-           const std::string& axis, bool map) {
+           const std::string& axis, bool map, double retry_seconds) {
             const geo::Mesh mesh = to_mesh(positions, faces);
             if (axis != "x" && axis != "y" && axis != "z" && axis != "auto")
                 throw geo::InputError("axis must be x, y, z or auto");
             if (k < 1) throw geo::InputError("k must be at least 1");
             passes::PolycubeOptions o;
-            o.dz = dz, o.da = da, o.k = k, o.map = map;
+            o.dz = dz, o.da = da, o.k = k, o.map = map, o.retry_seconds = retry_seconds;
             o.axis = axis == "auto" ? 3 : std::uint8_t(axis[0] - 'x');
             passes::Polycube p;
             {
@@ -210,8 +210,9 @@ void bind_surface_maps(py::module_& m) {
                 p = passes::build_polycube(device ? &device->context() : nullptr, mesh, o);
             }
             const auto& s = p.stats;
-            if (!s.polycube_valid) throw geo::InputError("the polycube is not valid (" + s.invalid_reason + ")");
-            if (map && !s.mapped) throw geo::InputError("the map could not be built: " + s.map_note);
+            const std::string cut = s.retries_cut_short ? "; no retry started after retry_seconds" : "";
+            if (!s.polycube_valid) throw geo::InputError("the polycube is not valid (" + s.invalid_reason + ")" + cut);
+            if (map && !s.mapped) throw geo::InputError("the map could not be built: " + s.map_note + cut);
             py::dict d;
             d["polycube"] = py::make_tuple(positions_array(p.surface.positions), faces_array(p.surface.triangles));
             py::array_t<std::uint8_t> hole(py::ssize_t(p.hole.size()));
@@ -229,7 +230,7 @@ void bind_surface_maps(py::module_& m) {
             return d;
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("dz") = 0.0, py::arg("da") = 0.05,
-        py::arg("k") = 2, py::arg("axis") = "auto", py::arg("map") = true,
+        py::arg("k") = 2, py::arg("axis") = "auto", py::arg("map") = true, py::arg("retry_seconds") = 60.0,
         "Polycube of a closed or open mesh and the map onto it (gimg polycube): solves on the device (None: the CPU "
         "twins). Returns a dict: polycube (positions, faces), hole (per polycube face: 1 where the mesh's holes map), "
         "mapped (per mesh vertex, its point on the polycube; with map), and the statistics of docs/polycube.md");

@@ -294,8 +294,10 @@ Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOpti
                         const std::function<void(const PolycubeStatistics& failed)>& retrying) {
     if (o.axis > 3) throw geo::InputError("the slicing axis must be x, y, z or auto");
     if (o.slice_smoothing > 1000) throw geo::InputError("the slice smoothing must be at most 1000 sweeps");
-    // Per axis (auto: z, the paper's, then y and x), the options given, then the retries. A
-    // refusal of the mesh itself is not retried; all failing, the first attempt's result says why.
+    if (!(o.retry_seconds >= 0.0)) throw geo::InputError("the retry time must be a number of seconds, 0 or more");
+    // Per axis (auto: z, the paper's, then y and x), the options given, then the retries, none
+    // started once the attempts took retry_seconds. A refusal of the mesh itself is not retried;
+    // all failing, the first attempt's result says why.
     std::vector<PolycubeOptions> tries{o};
     if (o.retry) {
         PolycubeOptions smoothed = o, deeper = o, both = o;
@@ -313,19 +315,20 @@ Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOpti
     std::size_t attempts = 0, axes_tried = 0;
     double seconds = 0.0, solve_seconds = 0.0;
     const std::size_t total = axes.size() * tries.size();
-    for (const int a : axes) {
-        ++axes_tried;
-        for (const PolycubeOptions& t : tries) {
-            Polycube p = build_along(ctx, input, t, a);
-            seconds += p.stats.seconds, solve_seconds += p.stats.solve_seconds;
-            p.stats.seconds = seconds, p.stats.solve_seconds = solve_seconds;
-            p.stats.attempts = ++attempts, p.stats.axes_tried = axes_tried;
-            if (failure_of(p.stats, o.map).empty()) return p;
-            if (retrying && attempts < total) retrying(p.stats);
-            if (attempts == 1) first = std::move(p);
-        }
+    bool cut_short = false;
+    for (std::size_t k = 0; k < total && !cut_short; ++k) {
+        const int a = axes[k / tries.size()];
+        if (k % tries.size() == 0) ++axes_tried;
+        Polycube p = build_along(ctx, input, tries[k % tries.size()], a);
+        seconds += p.stats.seconds, solve_seconds += p.stats.solve_seconds;
+        p.stats.seconds = seconds, p.stats.solve_seconds = solve_seconds;
+        p.stats.attempts = ++attempts, p.stats.axes_tried = axes_tried;
+        if (failure_of(p.stats, o.map).empty()) return p;
+        cut_short = attempts < total && seconds > o.retry_seconds;
+        if (retrying && attempts < total && !cut_short) retrying(p.stats);
+        if (attempts == 1) first = std::move(p);
     }
-    first.stats.attempts = attempts, first.stats.axes_tried = axes_tried;
+    first.stats.attempts = attempts, first.stats.axes_tried = axes_tried, first.stats.retries_cut_short = cut_short;
     first.stats.seconds = seconds, first.stats.solve_seconds = solve_seconds;
     return first;
 }

@@ -20,7 +20,7 @@ namespace {
 
 struct PolycubeCommandOptions {
     std::string mesh, out, json, axis = "auto";
-    double dz = 0.0, da = 0.05;
+    double dz = 0.0, da = 0.05, retry_seconds = 60.0;
     std::uint32_t k = 2, max_level = 8, smooth = 10, slice_smoothing = 0;
     bool cpu = false, no_map = false, no_retry = false;
 };
@@ -166,6 +166,7 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     po.max_level = o.max_level;
     po.slice_smoothing = o.slice_smoothing;
     po.retry = !o.no_retry;
+    po.retry_seconds = o.retry_seconds;
     po.map = !o.no_map;
     po.smoothing = o.smooth;
     po.axis = o.axis == "auto" ? 3 : std::uint8_t(o.axis[0] - 'x');
@@ -182,8 +183,13 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     const passes::Polycube p = passes::build_polycube(o.cpu ? nullptr : ctx.get(), mesh, po, retrying);
     const auto& s = p.stats;
     if (global.verbose) std::fprintf(stderr, "%s\n", statistics_json(s).dump(2).c_str());
-    const std::string along = s.axes_tried > 1 ? " along z (y and x fail too)" : "";
-    const std::string retried = s.attempts > s.axes_tried ? ", nor with the retries" : "";
+    const std::string along = s.axes_tried == 3   ? " along z (y and x fail too)"
+                              : s.axes_tried == 2 ? " along z (y fails too)"
+                                                  : "";
+    char spent[160];
+    std::snprintf(spent, sizeof spent, "; stopped retrying after %.0f s and %zu attempt%s, past --retry-seconds %g",
+                  s.seconds, s.attempts, s.attempts == 1 ? "" : "s", o.retry_seconds);
+    const std::string retried = s.retries_cut_short ? spent : s.attempts > s.axes_tried ? ", nor with the retries" : "";
     if (!s.polycube_valid)
         throw geo::InputError("the polycube is not valid" + along + " (" + s.invalid_reason + ")" + retried);
     if (!o.no_map && !s.mapped)
@@ -211,6 +217,7 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
     j["axis"] = std::string(1, char('x' + s.axis));
     j["axes_tried"] = s.axes_tried;
     j["attempts"] = s.attempts;
+    j["retries_cut_short"] = s.retries_cut_short;
     j["max_level"] = s.max_level;
     j["slice_smoothing"] = s.slice_smoothing;
     add_machine_figures(j, ctx.get());
@@ -279,6 +286,8 @@ void add_polycube_command(CLI::App& app, const GlobalOptions& global) {
     add_count_option(cmd, "--slice-smoothing", o->slice_smoothing, 0, 1000,
                      "Sweeps of umbrella smoothing of the copy of the mesh the planes cut (default 0: the mesh "
                      "itself; the map is still the mesh's)");
+    add_number_option(cmd, "--retry-seconds", o->retry_seconds, 0.0, 1e6,
+                      "Start no further attempt (retry or axis) once the attempts took this long (default 60)");
     cmd->add_flag("--no-retry", o->no_retry,
                   "Fail at once instead of retrying a failed construction on a copy smoothed by 3 sweeps, then with "
                   "the quadtree down to level 10, then with both");

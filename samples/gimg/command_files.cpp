@@ -56,6 +56,14 @@ CLI::Option* add_ranged(CLI::App* cmd, const std::string& name, T& value, T lo, 
         ->type_name("N");
 }
 
+// A bound as a user would write it: 1000000, 0.999, 1e-15 (std::to_string gives 1000000.000000).
+std::string bound_text(double x) {
+    std::ostringstream s;
+    s.precision(15);
+    s << x;
+    return s.str();
+}
+
 }  // namespace
 
 std::vector<OutputFile> folder_outputs(const std::string& option, const fs::path& dir,
@@ -121,8 +129,8 @@ CLI::Option* add_number_option(CLI::App* cmd, const std::string& name, double& v
                 errno = 0;
                 const double v = decimal ? std::strtod(text.c_str(), &end) : 0.0;
                 if (!decimal || errno != 0 || end != text.c_str() + text.size() || !(v >= lo && v <= hi))
-                    throw geo::InputError(name + " takes a number from " + std::to_string(lo) + " to " +
-                                          std::to_string(hi) + ", got '" + text + "'");
+                    throw geo::InputError(name + " takes a number from " + bound_text(lo) + " to " + bound_text(hi) +
+                                          ", got '" + text + "'");
                 value = v;
             },
             help)

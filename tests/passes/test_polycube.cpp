@@ -604,6 +604,9 @@ TEST(PolycubeBuild, RefusesWhatItCannotTake) {
     bad = {};
     bad.axis = 4;
     EXPECT_THROW(gp::build_polycube(nullptr, geo::make_icosphere(1.0, 1), bad), geo::InputError);
+    bad = {};
+    bad.retry_seconds = -1.0;
+    EXPECT_THROW(gp::build_polycube(nullptr, geo::make_icosphere(1.0, 1), bad), geo::InputError);
 }
 
 // The cow's legs and horns stand closer than the coarse cells: the layers must keep them apart.
@@ -636,6 +639,23 @@ TEST(PolycubeSharedMeshes, PittedFemurIsBuiltOnARetry) {
     ASSERT_TRUE(p.stats.mapped) << p.stats.map_note;
     EXPECT_EQ(p.stats.flips, 0u);
     EXPECT_EQ(p.mapped.size(), 3897u);
+}
+
+// Past retry_seconds no further attempt starts: the femur's failed first attempt is returned as it
+// is, no retry announced, and says that the retries were cut short.
+TEST(PolycubeSharedMeshes, NoRetryStartsOnceTheRetryTimeIsSpent) {
+    GIMG_REQUIRE_SHARED_MESH(femur, "femur.off");
+    gp::PolycubeOptions o;
+    o.retry_seconds = 0.0;
+    std::size_t announced = 0;
+    const gp::Polycube p = gp::build_polycube(nullptr, geo::load_mesh(femur), o,
+                                              [&](const gp::PolycubeStatistics&) { ++announced; });
+    EXPECT_EQ(announced, 0u);
+    EXPECT_EQ(p.stats.attempts, 1u);
+    EXPECT_EQ(p.stats.axes_tried, 1u);
+    EXPECT_TRUE(p.stats.retries_cut_short);
+    EXPECT_FALSE(gp::failure_of(p.stats, true).empty());
+    EXPECT_EQ(p.stats.slice_smoothing, 0u);
 }
 
 TEST(PolycubeSharedMeshes, DoubleTorusAndAnOpenScan) {
