@@ -46,8 +46,8 @@ struct PolycubeOptions {
     // contours closer than a cell), then with both, before the next axis.
     bool retry = true;
     // No further attempt (retry or axis) starts once the attempts so far took longer than this, so
-    // that a mesh every attempt fails on (a genus-133 sponge: about 2 minutes each) fails in
-    // minutes, not in the half hour of all twelve.
+    // that a mesh every attempt fails on fails in minutes (cheese, genus 133: about 100 s an
+    // attempt, twelve of them).
     double retry_seconds = 60.0;
     bool map = true;               // also build the map (step 3)
     std::uint32_t smoothing = 10;  // sweeps of chart smoothing over the map (step 5); 0: none
