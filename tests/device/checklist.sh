@@ -89,7 +89,7 @@ check() {
   # The open issues' real-GPU goals first: dragon at 1024 x 1024 hierarchical (2 ms), quad-region
   # corner edits (4 ms).
   [ -s "$work/large/dragon.ply" ] && step hierarchical-dragon 90 "$gimg" bench hierarchical --mesh "$work/large/dragon.ply" \
-    --size 1024 --samples 100000 --json "$out/bench-hierarchical-dragon.json"
+    --size 1024 --samples 100000 --runs 2 --json "$out/bench-hierarchical-dragon.json"
   step quadmap 90 "$gimg" bench quadmap --runs 3 --json "$out/bench-quadmap.json"
   step cylinder 90 "$gimg" bench cylinder --runs 5 --json "$out/bench-cylinder.json"
   step reconstruct 30 "$gimg" bench reconstruct --json "$out/bench-reconstruct.json"
