@@ -152,17 +152,21 @@ CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const Cylinde
     // Level 1 and the BVH the later levels cast through count as level 1's time.
     const auto start = std::chrono::steady_clock::now();
     const CylinderRaycaster caster(mesh);  // one BVH for level 1 and the rest
+    const double tree_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
     const CylinderImage first = caster.project(options.base, options.base);
     const geo::TriangleBvh& bvh = caster.bvh();
     const double first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    return detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
-        std::vector<std::optional<double>> t(launches.size());
-        geo::parallel_for_chunks(launches.size(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
-            for (std::size_t i = begin; i < end; ++i)
-                if (launches[i].valid) t[i] = detail::cast_launch(bvh, launches[i], options.reach);
+    CylinderHierarchy h =
+        detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
+            std::vector<std::optional<double>> t(launches.size());
+            geo::parallel_for_chunks(launches.size(), 256, [&](std::size_t, std::size_t begin, std::size_t end) {
+                for (std::size_t i = begin; i < end; ++i)
+                    if (launches[i].valid) t[i] = detail::cast_launch(bvh, launches[i], options.reach);
+            });
+            return t;
         });
-        return t;
-    });
+    h.tree_ms = tree_ms;
+    return h;
 }
 
 }  // namespace gimg::passes

@@ -136,6 +136,7 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
             per_level[std::stoul(t.name.substr(kLevelPrefix.size()))] += t.gpu_ms;
     h.level_ms.assign(per_level.begin() + 1, per_level.end());
     h.level_ms.front() += tree_ms;
+    h.tree_ms = tree_ms;
     double passes_ms = 0.0;
     for (double ms : h.level_ms) passes_ms += ms;
     h.level_ms.back() += std::max(0.0, tree_ms + cast_ms - passes_ms);

@@ -72,7 +72,8 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
             "runs)\n",
             o.base, o.base, o.reach, o.misses.c_str(), o.runs);
         std::printf("%-14s %5s | %10s %10s %8s | %10s %10s %8s %8s | %s\n", "mesh", "N", "ord A->B", "ord B->A",
-                    "ord ms", "hier A->B", "hier B->A", "cpu ms", "gpu ms", "per level cpu/gpu ms");
+                    "ord ms", "hier A->B", "hier B->A", "cpu ms", "gpu ms",
+                    "cpu/gpu ms: BVH (GPU: and upload), per level (level 1 with the BVH)");
     }
     auto context = open_context(global);
     Context& ctx = *context;
@@ -94,7 +95,7 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
             const passes::CylinderHierarchyOptions options{
                 .base = o.base, .size = n, .reach = o.reach, .miss = passes::hierarchy_miss(o.misses)};
             passes::CylinderHierarchy on_gpu;
-            std::vector<double> cpu_runs, gpu_runs, pass_runs;
+            std::vector<double> cpu_runs, gpu_runs, pass_runs, cpu_tree_runs, gpu_tree_runs;
             std::vector<std::vector<double>> cpu_levels, gpu_levels;
             // Each timed run follows an untimed one of the same encoder: on lavapipe the GPU encoder
             // run right after the CPU's took up to 1.6 times as long as after itself, the CPU's up
@@ -107,10 +108,13 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
                 if (on_gpu.t != h.t || on_gpu.valid != h.valid)
                     throw std::runtime_error("bench hierarchical: the GPU encoder differs from the CPU encoder");
                 pass_runs.push_back(on_gpu.gpu_ms);
+                cpu_tree_runs.push_back(h.tree_ms);
+                gpu_tree_runs.push_back(on_gpu.tree_ms);
                 cpu_levels.push_back(h.level_ms);
                 gpu_levels.push_back(on_gpu.level_ms);
             }
             const double hier_ms = median(cpu_runs), gpu_ms = median(gpu_runs);
+            const double cpu_tree_ms = median(cpu_tree_runs), gpu_tree_ms = median(gpu_tree_runs);
             const std::vector<double> cpu_level_ms = level_medians(cpu_levels),
                                       gpu_level_ms = level_medians(gpu_levels);
             const passes::HierarchyGrid grid = passes::decode_cylinder_hierarchy(h, h.levels());
@@ -121,7 +125,8 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
             const auto [oca, ocb, ocs] =
                 error_of(mesh, passes::reconstruct_cpu(image, frame, {}), frame.scale, o.samples);
             const auto [hca, hcb, hcs] = error_of(mesh, passes::hierarchy_mesh(grid, frame), frame.scale, o.samples);
-            std::string levels;
+            std::string levels = "tree " + std::to_string(int(cpu_tree_ms + 0.5)) + "/" +
+                                 std::to_string(int(gpu_tree_ms + 0.5)) + ", levels ";
             for (std::size_t k = 0; k < cpu_level_ms.size(); ++k)
                 levels += (k ? " " : "") + std::to_string(int(cpu_level_ms[k] + 0.5)) + "/" +
                           std::to_string(int(gpu_level_ms[k] + 0.5));
@@ -146,6 +151,8 @@ void run_hierarchy_bench(const HierarchyBenchOptions& o, const GlobalOptions& gl
                               {"b_to_a_rms", hb},
                               {"ms", hier_ms},
                               {"level_ms", cpu_level_ms},
+                              {"tree_ms", cpu_tree_ms},
+                              {"gpu_tree_ms", gpu_tree_ms},
                               {"gpu_ms", gpu_ms},
                               {"gpu_over_cpu", gpu_ms / hier_ms},
                               {"gpu_pass_ms", median(pass_runs)},

@@ -61,6 +61,7 @@ void run_hierarchy(const CylinderOptions& o, const GlobalOptions& global) {
                      {"valid_samples", valid}, {"seconds", seconds},         {"scale", frame.scale}};
     j["encoder"] = ctx ? "gpu" : "cpu";
     j["level_ms"] = h.level_ms;
+    j["tree_ms"] = h.tree_ms;
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }

@@ -335,6 +335,11 @@ TEST_F(CylinderHierarchyGpu, TheGpuEncoderGivesTheCpuHierarchy) {
                 EXPECT_GT(gpu.gpu_ms, 0.0);
             }
             ASSERT_EQ(gpu.level_ms.size(), gpu.levels());
+            // The tree's build (and upload) is part of level 1's time on both encoders.
+            for (const gp::CylinderHierarchy* h : {&gpu, &cpu}) {
+                EXPECT_GT(h->tree_ms, 0.0);
+                EXPECT_LE(h->tree_ms, h->level_ms.front());
+            }
         }
         // Level 1 alone, and a miss kept on the surface or left empty, alike.
         const gp::CylinderHierarchy one = gp::cylinder_hierarchy_gpu(ctx(), mesh, {.base = 16, .size = 16});

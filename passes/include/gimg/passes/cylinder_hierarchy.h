@@ -74,6 +74,7 @@ struct CylinderHierarchy {
     std::vector<std::uint8_t> valid;
     double reach = 8.0;            // the options it was cast with (recorded in frame.json)
     std::vector<double> level_ms;  // the encoder's wall time per level (not stored in files)
+    double tree_ms = 0.0;          // of level_ms[0]: the BVH's build (on the GPU, and its upload)
     double gpu_ms = 0.0;           // the GPU encoder's passes by timestamps (0 on the CPU or without them)
     std::uint32_t levels() const;  // 1 + log2(size / base)
 };
