@@ -13,6 +13,12 @@ void Allocator::init(const DeviceFns* fns, VkDevice device, const VkPhysicalDevi
     device_ = device;
     props_ = props;
     max_allocation_size_ = max_allocation_size;
+    // A sixteenth of the largest heap, at most 256 MiB: enough for a mesh's tree and images,
+    // little beside what a host engine sharing the device holds.
+    VkDeviceSize largest_heap = 0;
+    for (std::uint32_t i = 0; i < props.memoryHeapCount; ++i)
+        largest_heap = std::max(largest_heap, props.memoryHeaps[i].size);
+    keep_budget_ = std::min<VkDeviceSize>(VkDeviceSize(256) << 20, largest_heap / 16);
 }
 
 std::uint32_t Allocator::choose_type(std::uint32_t type_bits, MemoryUsage usage) const {
@@ -53,6 +59,19 @@ Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryU
                                                 mib(max_allocation_size_));
     Allocation a;
     a.memory_type = choose_type(requirements.memoryTypeBits, usage);
+    // The smallest kept allocation of the type that holds the request with at most an eighth to spare.
+    auto reuse = kept_.end();
+    for (auto it = kept_.begin(); it != kept_.end(); ++it)
+        if (it->memory_type == a.memory_type && it->size >= requirements.size &&
+            it->size - requirements.size <= requirements.size / 8 && (reuse == kept_.end() || it->size < reuse->size))
+            reuse = it;
+    if (reuse != kept_.end()) {
+        a = *reuse;
+        stats_.kept_bytes -= a.size;
+        kept_.erase(reuse);
+        count_in(a);
+        return a;
+    }
     const VkDeviceSize heap = props_.memoryHeaps[props_.memoryTypes[a.memory_type].heapIndex].size;
     if (requirements.size > heap)
         throw Error(ErrorKind::OutOfMemory,
@@ -61,6 +80,10 @@ Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryU
     info.allocationSize = requirements.size;
     info.memoryTypeIndex = a.memory_type;
     VkResult r = fns_->vkAllocateMemory(device_, &info, nullptr, &a.memory);
+    if ((r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY) && !kept_.empty()) {
+        release_kept();
+        r = fns_->vkAllocateMemory(device_, &info, nullptr, &a.memory);
+    }
     if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
         throw Error(ErrorKind::OutOfMemory,
                     std::string(r == VK_ERROR_OUT_OF_DEVICE_MEMORY ? "out of device memory" : "out of host memory") +
@@ -78,20 +101,39 @@ Allocation Allocator::allocate(const VkMemoryRequirements& requirements, MemoryU
             GIMG_VK_CHECK(r);
         }
     }
+    count_in(a);
+    return a;
+}
+
+void Allocator::count_in(const Allocation& a) {
     stats_.allocated_bytes += a.size;
     stats_.peak_allocated_bytes = std::max(stats_.peak_allocated_bytes, stats_.allocated_bytes);
     ++stats_.allocations;
-    return a;
 }
 
 void Allocator::free(Allocation& allocation) {
     if (allocation.memory != VK_NULL_HANDLE && allocation.owns_memory) {
-        // Freeing implicitly unmaps.
-        fns_->vkFreeMemory(device_, allocation.memory, nullptr);
         stats_.allocated_bytes -= allocation.size;
         --stats_.allocations;
+        if (allocation.size <= keep_budget_) {
+            kept_.push_back(allocation);
+            stats_.kept_bytes += allocation.size;
+            while (stats_.kept_bytes > keep_budget_) {
+                stats_.kept_bytes -= kept_.front().size;
+                fns_->vkFreeMemory(device_, kept_.front().memory, nullptr);
+                kept_.erase(kept_.begin());
+            }
+        } else {
+            fns_->vkFreeMemory(device_, allocation.memory, nullptr);  // freeing unmaps
+        }
     }
     allocation = {};
+}
+
+void Allocator::release_kept() {
+    for (const Allocation& a : kept_) fns_->vkFreeMemory(device_, a.memory, nullptr);
+    kept_.clear();
+    stats_.kept_bytes = 0;
 }
 
 namespace {

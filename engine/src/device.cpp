@@ -22,6 +22,7 @@ Device::~Device() {
         if (sampler) fn.vkDestroySampler(device, sampler, nullptr);
         if (command_pool) fn.vkDestroyCommandPool(device, command_pool, nullptr);
         if (timeline) fn.vkDestroySemaphore(device, timeline, nullptr);
+        allocator.release_kept();
         if (allocator.stats().allocations != 0)
             std::fprintf(stderr,
                          "gimg: %u device allocations outlived their Context (destroy "

@@ -27,9 +27,12 @@ struct Allocation {
 };
 
 struct MemoryStats {
-    std::uint64_t allocated_bytes = 0;       // device memory gimg holds now
-    std::uint64_t peak_allocated_bytes = 0;  // the most it ever held at once
+    // Freed allocations that gimg keeps for reuse (up to a sixteenth of the largest heap, at most
+    // 256 MiB, released when the Context goes or memory runs out) are not counted.
+    std::uint64_t allocated_bytes = 0;       // device memory gimg's live resources hold now
+    std::uint64_t peak_allocated_bytes = 0;  // the most they ever held at once
     std::uint32_t allocations = 0;           // live vkAllocateMemory objects
+    std::uint64_t kept_bytes = 0;            // freed allocations kept for reuse
 };
 
 }  // namespace gimg

@@ -1,0 +1,41 @@
+// Freed device memory is kept for the next request of about its size, and the stats tell live
+// memory from kept memory.
+#include "gimg/engine/context.h"
+
+#include "gpu_test.h"
+
+using namespace gimg;
+
+class MemoryReuse : public gimg::test::GpuTest {};
+
+namespace {
+// A size no other test frees, so the block kept here is the only one that fits it.
+constexpr VkDeviceSize kOddSize = 3'333'333;
+}  // namespace
+
+TEST_F(MemoryReuse, AFreedBlockServesTheNextRequestOfItsSize) {
+    const MemoryStats before = ctx().memory_stats();
+    void* first_memory = nullptr;
+    {
+        Buffer b = ctx().create_buffer({kOddSize, "first"}, MemoryUsage::Upload);
+        ASSERT_NE(b.mapped(), nullptr);
+        first_memory = b.mapped();
+        EXPECT_EQ(ctx().memory_stats().allocations, before.allocations + 1);
+        EXPECT_GE(ctx().memory_stats().allocated_bytes, before.allocated_bytes + kOddSize);
+    }
+    // Freed: no longer live, but kept.
+    const MemoryStats freed = ctx().memory_stats();
+    EXPECT_EQ(freed.allocations, before.allocations);
+    EXPECT_EQ(freed.allocated_bytes, before.allocated_bytes);
+    EXPECT_GE(freed.kept_bytes, before.kept_bytes + kOddSize);
+
+    // A request far smaller than the kept block gets memory of its own...
+    Buffer small = ctx().create_buffer({kOddSize / 4, "small"}, MemoryUsage::Upload);
+    EXPECT_NE(small.mapped(), first_memory);
+    // ...and the next request of the block's size gets the block, mapped where it was.
+    const std::uint64_t kept = ctx().memory_stats().kept_bytes;
+    Buffer second = ctx().create_buffer({kOddSize, "second"}, MemoryUsage::Upload);
+    EXPECT_EQ(second.mapped(), first_memory);
+    EXPECT_GE(kept - ctx().memory_stats().kept_bytes, kOddSize);
+    EXPECT_EQ(ctx().memory_stats().allocations, before.allocations + 2);
+}
