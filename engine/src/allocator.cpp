@@ -7,7 +7,8 @@
 namespace gimg::detail {
 
 void Allocator::init(const DeviceFns* fns, VkDevice device, const VkPhysicalDeviceMemoryProperties& props,
-                     VkDeviceSize max_allocation_size, VkDeviceSize non_coherent_atom) {
+                     VkDeviceSize max_allocation_size, VkDeviceSize non_coherent_atom,
+                     const std::optional<std::uint64_t>& keep_budget) {
     non_coherent_atom_ = non_coherent_atom ? non_coherent_atom : 1;
     fns_ = fns;
     device_ = device;
@@ -18,7 +19,7 @@ void Allocator::init(const DeviceFns* fns, VkDevice device, const VkPhysicalDevi
     VkDeviceSize largest_heap = 0;
     for (std::uint32_t i = 0; i < props.memoryHeapCount; ++i)
         largest_heap = std::max(largest_heap, props.memoryHeaps[i].size);
-    keep_budget_ = std::min<VkDeviceSize>(VkDeviceSize(256) << 20, largest_heap / 16);
+    keep_budget_ = keep_budget ? *keep_budget : std::min<VkDeviceSize>(VkDeviceSize(256) << 20, largest_heap / 16);
 }
 
 std::uint32_t Allocator::choose_type(std::uint32_t type_bits, MemoryUsage usage) const {

@@ -10,6 +10,7 @@
 
 #include "vk_dispatch.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,7 +19,8 @@ namespace gimg::detail {
 class Allocator {
 public:
     void init(const DeviceFns* fns, VkDevice device, const VkPhysicalDeviceMemoryProperties& props,
-              VkDeviceSize max_allocation_size, VkDeviceSize non_coherent_atom);
+              VkDeviceSize max_allocation_size, VkDeviceSize non_coherent_atom,
+              const std::optional<std::uint64_t>& keep_budget);
     // Picks a memory type from `type_bits` suited to `usage`; throws Unsupported if none fits.
     std::uint32_t choose_type(std::uint32_t type_bits, MemoryUsage usage) const;
     // One vkAllocateMemory, mapped when host-visible. `what` names the resource in errors:

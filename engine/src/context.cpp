@@ -65,7 +65,7 @@ std::unique_ptr<Context> Context::create(const ContextOptions& options) {
     detail::create_instance(*d, options);
     d->physical = detail::choose_physical_device(*d, options.device_filter);
     detail::create_device(*d);
-    d->init_engine_objects();
+    d->init_engine_objects(options.keep_freed_memory);
     if (options.verbose)
         std::fprintf(stderr, "gimg: device: %s%s\n", d->info.summary().c_str(),
                      d->validation ? " [validation on]" : "");
@@ -89,7 +89,7 @@ std::unique_ptr<Context> Context::borrow(const ExternalDevice& ext, const Contex
     detail::describe_device(*d, ext.enabled_features);
     if (d->info.api_version < VK_API_VERSION_1_3)
         throw Error(ErrorKind::Unsupported, "the borrowed device " + d->info.name + " is not Vulkan 1.3");
-    d->init_engine_objects();
+    d->init_engine_objects(options.keep_freed_memory);
     if (options.verbose) std::fprintf(stderr, "gimg: device (borrowed): %s\n", d->info.summary().c_str());
     return std::unique_ptr<Context>(new Context(std::move(d)));
 }
@@ -111,5 +111,7 @@ Image Context::create_image(const ImageDesc& desc) { return device_->create_imag
 void Context::wait_idle() { device_->wait_idle(); }
 
 MemoryStats Context::memory_stats() const { return device_->allocator.stats(); }
+
+void Context::release_kept_memory() { device_->allocator.release_kept(); }
 
 }  // namespace gimg

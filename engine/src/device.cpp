@@ -34,8 +34,8 @@ Device::~Device() {
     if (owns_instance && instance != VK_NULL_HANDLE) ifn.vkDestroyInstance(instance, nullptr);
 }
 
-void Device::init_engine_objects() {
-    allocator.init(&fn, device, memory_properties, max_allocation_size, limits.nonCoherentAtomSize);
+void Device::init_engine_objects(const std::optional<std::uint64_t>& keep_freed_memory) {
+    allocator.init(&fn, device, memory_properties, max_allocation_size, limits.nonCoherentAtomSize, keep_freed_memory);
     pipelines = std::make_unique<PipelineCache>(*this);
 
     VkCommandPoolCreateInfo pool{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};

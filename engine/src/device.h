@@ -55,7 +55,7 @@ struct Device {
     Device& operator=(const Device&) = delete;
 
     // Creates the engine's own objects once instance/device/queue are set.
-    void init_engine_objects();
+    void init_engine_objects(const std::optional<std::uint64_t>& keep_freed_memory);
 
     void set_name(VkObjectType type, std::uint64_t handle, const std::string& name) const;
 

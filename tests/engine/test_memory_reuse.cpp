@@ -39,3 +39,17 @@ TEST_F(MemoryReuse, AFreedBlockServesTheNextRequestOfItsSize) {
     EXPECT_GE(kept - ctx().memory_stats().kept_bytes, kOddSize);
     EXPECT_EQ(ctx().memory_stats().allocations, before.allocations + 2);
 }
+
+TEST_F(MemoryReuse, ReleasedOnRequestAndNoneKeptWithAZeroBudget) {
+    { Buffer b = ctx().create_buffer({kOddSize, "to keep"}, MemoryUsage::Upload); }
+    EXPECT_GE(ctx().memory_stats().kept_bytes, kOddSize);
+    ctx().release_kept_memory();
+    EXPECT_EQ(ctx().memory_stats().kept_bytes, 0u);
+
+    ContextOptions options = ContextOptions::from_environment();
+    options.keep_freed_memory = 0;
+    auto none = Context::create(options);
+    { Buffer b = none->create_buffer({kOddSize, "freed"}, MemoryUsage::Upload); }
+    EXPECT_EQ(none->memory_stats().kept_bytes, 0u);
+    EXPECT_EQ(none->memory_stats().allocations, 0u);
+}

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -26,6 +27,9 @@ struct ContextOptions {
     bool require_validation = false;  // fail instead of warning when the layer is missing
     std::string device_filter;        // case-insensitive part of the device name
     bool verbose = false;             // print the chosen device to stderr
+    // Freed device memory kept for reuse, at most (docs/engine.md, "Resources"); unset: a
+    // sixteenth of the largest memory heap, at most 256 MiB. 0 keeps none.
+    std::optional<std::uint64_t> keep_freed_memory;
 
     // GIMG_VALIDATION=1 turns validation on; GIMG_DEVICE=<part of a name> picks the device.
     static ContextOptions from_environment();
@@ -139,6 +143,9 @@ public:
     // Waits for every submission gimg made on this context.
     void wait_idle();
     MemoryStats memory_stats() const;
+    // Frees the device memory kept for reuse (memory_stats().kept_bytes), e.g. for a host that
+    // needs it back.
+    void release_kept_memory();
 
     detail::Device& device() { return *device_; }
 
