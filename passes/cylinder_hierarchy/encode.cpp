@@ -152,10 +152,10 @@ CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const Cylinde
     // Level 1 and the BVH the later levels cast through count as level 1's time.
     const auto start = std::chrono::steady_clock::now();
     const CylinderRaycaster caster(mesh);  // one BVH for level 1 and the rest
-    const double tree_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double tree_ms = detail::ms_since(start);
     const CylinderImage first = caster.project(options.base, options.base);
     const geo::TriangleBvh& bvh = caster.bvh();
-    const double first_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    const double first_ms = detail::ms_since(start);
     CylinderHierarchy h =
         detail::encode_hierarchy(first, first_ms, options, [&](const std::vector<detail::Launch>& launches) {
             std::vector<std::optional<double>> t(launches.size());

@@ -2,11 +2,17 @@
 // The encoders' hierarchy before its levels, and the CPU encoder's levels.
 #include "launch_rays.h"
 
+#include <chrono>
 #include <functional>
 #include <optional>
 #include <vector>
 
 namespace gimg::passes::detail {
+
+// Wall milliseconds since t: the encoders' level times.
+inline double ms_since(std::chrono::steady_clock::time_point t) {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
+}
 
 // Throws geo::InputError for a reach that is negative or not finite.
 void check_reach(double reach);

@@ -35,10 +35,6 @@ struct CastPush {
 };
 static_assert(offsetof(CastPush, behind) == 32 && sizeof(CastPush) == 48, "cast_level.glsl's push constants");
 
-double ms_since(std::chrono::steady_clock::time_point t) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t).count();
-}
-
 std::uint32_t miss_code(HierarchyMiss miss) {
     return miss == HierarchyMiss::Surface ? 0u : miss == HierarchyMiss::Invalid ? 1u : 2u;
 }
@@ -114,7 +110,7 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
     // The BVH every level casts through counts as level 1's time.
     const auto start = std::chrono::steady_clock::now();
     GpuRayCaster caster(ctx, to_cylinder_frame(mesh), walk);
-    const double tree_ms = ms_since(start);
+    const double tree_ms = detail::ms_since(start);
     const auto cast_start = std::chrono::steady_clock::now();
     Image bands = ctx.create_image({n, n, Format::RG32U, "hierarchy bands"});  // every sample is written
     Buffer directions = upload_buffer(ctx, detail::level_directions(b, n), "hierarchy directions");
@@ -129,7 +125,7 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
 
     // One submission: each level's passes by their timestamps (level 1's after the tree's upload),
     // and what else the submission took (recording, waiting, the download) counted in the last level.
-    const double cast_ms = ms_since(cast_start);
+    const double cast_ms = detail::ms_since(cast_start);
     std::vector<double> per_level(h.levels() + 1, 0.0);
     if (timed)
         for (const PassTiming& t : plan.timings())
