@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <cstring>
 #include <exception>
 #include <limits>
 #include <stdexcept>
@@ -64,11 +66,26 @@ struct Box {
     }
 };
 
+// Four float lanes (x, y, z and an ignored fourth) for binning, where each triangle updates three
+// bins: one vector min and max instead of six scalar ones. The comparisons are glm::min's and
+// glm::max's, so bins hold exactly the floats a Box would.
+using Lanes = float __attribute__((vector_size(16)));
+
 struct PrimRef {
     Box box;
+    float after_hi = 0.0f;  // hi_lanes()'s fourth lane: a float, never a denormal from the face bits
     std::uint32_t face;
     glm::vec3 centroid() const { return 0.5f * (box.lo + box.hi); }
+    // The box's corners as lanes, with the next float (hi.x, after_hi) in the fourth.
+    Lanes lo_lanes() const { return lanes_at(offsetof(PrimRef, box) + offsetof(Box, lo)); }
+    Lanes hi_lanes() const { return lanes_at(offsetof(PrimRef, box) + offsetof(Box, hi)); }
+    Lanes lanes_at(std::size_t offset) const {
+        Lanes out;
+        std::memcpy(&out, reinterpret_cast<const char*>(this) + offset, sizeof out);
+        return out;
+    }
 };
+static_assert(offsetof(PrimRef, box) + offsetof(Box, hi) + sizeof(Lanes) <= sizeof(PrimRef));
 
 struct Range {
     std::size_t begin, end;
@@ -85,8 +102,19 @@ struct Split {
 };
 
 struct Bin {
-    Box box;
-    std::size_t count = 0;
+    Lanes lo, hi;
+    std::uint32_t count;
+    void clear() {
+        lo = Lanes{} + std::numeric_limits<float>::infinity();
+        hi = -lo;
+        count = 0;
+    }
+    void grow(Lanes plo, Lanes phi) {
+        lo = plo < lo ? plo : lo;
+        hi = hi < phi ? phi : hi;
+        ++count;
+    }
+    Box box() const { return {{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}}; }
 };
 
 class BvhBuilder {
@@ -114,7 +142,7 @@ public:
         nodes[index].count = 0;
         if (right.size() >= kParallelSubtree && (1u << std::min(depth, 30)) < threads_) {
             BvhNodeArray right_nodes(1);  // its root; its pairs then start at odd indices
-            right_nodes.reserve(2 * right.size() / std::max<std::uint32_t>(1, options_.max_leaf_size) + 1);
+            right_nodes.reserve(2 * right.size() + 1);  // as nodes_ in the constructor
             std::exception_ptr worker_error;
             std::thread worker([&] {
                 try {
@@ -188,9 +216,9 @@ private:
     }
 
     // Bin of a centroid among `bins`; NaN (an infinite coordinate) goes to bin 0.
-    static int bin_of(float c, float lo, float scale, int bins) {
-        const float x = (c - lo) * scale;
-        return x > 0.0f ? (x < float(bins - 1) ? static_cast<int>(x) : bins - 1) : 0;
+    static int bin_of(float c, float lo, float scale, int bins) { return bin_index((c - lo) * scale, bins); }
+    static int bin_index(float x, int bins) {  // branch-free: a clamp, then the truncation
+        return static_cast<int>(std::min(x > 0.0f ? x : 0.0f, float(bins - 1)));
     }
 
     // Chooses and performs a split of `range`; false makes it a leaf.
@@ -211,14 +239,15 @@ private:
             scale[axis] = extent[axis] > 0.0f && std::isfinite(extent[axis]) ? float(nb) / extent[axis] : 0.0f;
         const glm::vec3 lo = range.centroid_bounds.lo;
         std::array<std::array<Bin, kBins>, 3> bins;  // the first nb of each axis are used
+        for (auto& axis_bins : bins)
+            for (int b = 0; b < nb; ++b) axis_bins[b].clear();
+        const Lanes lo4 = {lo.x, lo.y, lo.z, 0.0f}, scale4 = {scale[0], scale[1], scale[2], 0.0f};
         for (std::size_t i = range.begin; i < range.end; ++i) {
             const PrimRef& p = prims_[i];
-            const glm::vec3 c = p.centroid();
-            for (int axis = 0; axis < 3; ++axis) {
-                Bin& b = bins[axis][bin_of(c[axis], lo[axis], scale[axis], nb)];
-                b.box.grow(p.box);
-                ++b.count;
-            }
+            const Lanes plo = p.lo_lanes(), phi = p.hi_lanes();
+            const Lanes x = (0.5f * (plo + phi) - lo4) * scale4;  // bin_of's, per axis
+            for (int axis = 0; axis < 3; ++axis)
+                bins[axis][bin_index(x[axis], nb)].grow(plo, phi);
         }
         Split best;
         for (int axis = 0; axis < 3; ++axis) {
@@ -229,14 +258,14 @@ private:
             Box acc;
             std::size_t count = 0;
             for (int b = nb - 1; b > 0; --b) {
-                acc.grow(axis_bins[b].box);
+                acc.grow(axis_bins[b].box());
                 count += axis_bins[b].count;
                 right_cost[b] = acc.half_area() * double(count);
             }
             acc = Box{};
             count = 0;
             for (int b = 0; b < nb - 1; ++b) {
-                acc.grow(axis_bins[b].box);
+                acc.grow(axis_bins[b].box());
                 count += axis_bins[b].count;
                 if (count == 0 || count == n) continue;
                 const double cost = acc.half_area() * double(count) + right_cost[b + 1];
@@ -251,17 +280,30 @@ private:
         // SAH in units of one triangle test, a traversal step costing about as much.
         const double split_cost = 1.0 + best.cost / range.bounds.half_area();
         if (n <= options_.max_leaf_size && split_cost >= double(n)) return false;
-        for (int b = 0; b < nb; ++b) (b <= best.bin ? best.left : best.right).grow(bins[best.axis][b].box);
+        for (int b = 0; b < nb; ++b) (b <= best.bin ? best.left : best.right).grow(bins[best.axis][b].box());
 
         const int axis = best.axis;
-        const auto mid = std::partition(
-            prims_.begin() + std::ptrdiff_t(range.begin), prims_.begin() + std::ptrdiff_t(range.end),
-            [&](const PrimRef& p) { return bin_of(p.centroid()[axis], lo[axis], scale[axis], nb) <= best.bin; });
-        const auto m = static_cast<std::size_t>(mid - prims_.begin());
-        left = {range.begin, m, best.left, {}};
-        right = {m, range.end, best.right, {}};
-        for (Range* r : {&left, &right})
-            for (std::size_t i = r->begin; i < r->end; ++i) r->centroid_bounds.grow(prims_[i].centroid());
+        left = {range.begin, range.end, best.left, {}};
+        right = {range.end, range.end, best.right, {}};
+        // Hoare's partition (std::partition's, so the order is the same), each triangle's centroid
+        // joining its side's bounds as it is classified: one sweep instead of two.
+        auto goes_left = [&](std::size_t i) {
+            const glm::vec3 c = prims_[i].centroid();
+            const bool is_left = bin_of(c[axis], lo[axis], scale[axis], nb) <= best.bin;
+            (is_left ? left : right).centroid_bounds.grow(c);
+            return is_left;
+        };
+        std::size_t first = range.begin, last = range.end;
+        for (;;) {
+            while (first != last && goes_left(first)) ++first;
+            if (first == last) break;
+            --last;
+            while (first != last && !goes_left(last)) --last;
+            if (first == last) break;
+            std::swap(prims_[first], prims_[last]);
+            ++first;
+        }
+        left.end = right.begin = first;
         return true;
     }
 
@@ -327,13 +369,15 @@ TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
         root.centroid_bounds.grow(p.centroid());
     }
 
-    nodes_.reserve(2 * fcount / options.max_leaf_size + 1);
+    // Room for the largest tree (a leaf per triangle), so the array never moves while it grows. It
+    // is not shrunk afterwards: pages of the reservation the tree never reaches are never touched,
+    // while a shrinking copy faults in every page again (0.1-0.2 s at 1M faces on these VMs).
+    nodes_.reserve(2 * fcount + 2);
     nodes_.resize(2);  // root and padding
     // copy_of[f]: the face f's triangle is answered by (itself unless it is a dropped copy).
     std::vector<std::uint32_t> copy_of(fcount, std::numeric_limits<std::uint32_t>::max());
     BvhBuilder builder(prims, mesh, copy_of, options, threads);
     builder.build_node(0, root, nodes_, 0);
-    nodes_.shrink_to_fit();
 
     face_order_.resize(fcount);
     slot_of_face_.resize(fcount);
