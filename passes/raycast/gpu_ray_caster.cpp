@@ -1,4 +1,4 @@
-// GpuRayCaster: the BVH's nodes (depth first, with skip links) and corners (double) in texel arrays,
+// GpuRayCaster: the BVH's nodes (the builder's array, with skip links) and corners (double) in texel arrays,
 // its face order in a storage buffer, and one compute pass (shaders/raycast/raycast.glsl) per call.
 #include "gimg/passes/raycast.h"
 
@@ -31,45 +31,33 @@ struct RaycastPush {
     float scene;
 };
 
-// The nodes reachable from the root (the builder leaves a padding node out).
-std::size_t reachable_nodes(const geo::BvhNodeArray& nodes) {
-    std::size_t count = 0;
-    std::vector<std::uint32_t> stack{0};
-    while (!stack.empty()) {
-        const geo::BvhNode& nd = nodes[stack.back()];
-        stack.pop_back();
-        ++count;
-        if (!nd.is_leaf()) stack.insert(stack.end(), {nd.first, nd.first + 1});
-    }
-    return count;
-}
-
-// The shader's node texels, written into `out` (2 per reachable node): depth first, so an inner
-// node's first child follows it; texel 2k is (lo, the node after k's subtree), 2k + 1 (hi, leaf:
-// (first << 3) | count, 0 for inner nodes).
-void depth_first_texels(const geo::BvhNodeArray& nodes, std::span<glm::uvec4> out) {
-    std::size_t size = 0;
-    auto place = [&](auto&& self, std::uint32_t n) -> void {
-        const geo::BvhNode& nd = nodes[n];
-        if (nd.is_leaf() && (nd.count > 7 || nd.first >= (1u << 29)))
-            throw geo::InputError(
-                "GPU ray casting: a BVH leaf the shader cannot address (more than 7 triangles, or "
-                "beyond 2^29)");
-        const std::size_t at = size;
-        glm::uvec4 lo(0u), hi(0u);
-        std::memcpy(&lo, &nd.bounds_min, sizeof nd.bounds_min);
-        std::memcpy(&hi, &nd.bounds_max, sizeof nd.bounds_max);
-        hi.w = nd.is_leaf() ? (nd.first << 3) | nd.count : 0u;
-        out[size++] = lo;
-        out[size++] = hi;
-        if (!nd.is_leaf()) {
-            self(self, nd.first);
-            self(self, nd.first + 1);
+// The shader's node texels, written into `out` (2 per node of the builder's array, in its order):
+// texel 2k is (lo, the node after k's subtree), 2k + 1 (hi, (first << 3) | count: an inner node's
+// first child with count 0, a leaf's first slot). One sweep sets the skip links, since the builder
+// places a node's children after it: the first child's skip is its sibling, the second's its parent's.
+void node_texels(const geo::BvhNodeArray& nodes, std::span<glm::uvec4> out) {
+    const auto end = static_cast<std::uint32_t>(nodes.size());
+    out[0].w = end;
+    for (std::uint32_t k = 0; k < end; ++k) {
+        if (k == 1) {  // the builder's padding node, which no walk reaches
+            out[2] = glm::uvec4(0u, 0u, 0u, end);
+            out[3] = glm::uvec4(0u);
+            continue;
         }
-        out[at].w = std::uint32_t(size / 2);
-    };
-    place(place, 0);
-    if (size != out.size()) throw std::logic_error("GPU ray casting: the tree's node count changed while laid out");
+        const geo::BvhNode& nd = nodes[k];
+        if (nd.is_leaf() ? nd.count > 7 : nd.first <= k || nd.first + 1 >= end)
+            throw std::logic_error(
+                "GPU ray casting: a BVH leaf of more than 7 triangles, or a child before its parent");
+        if (nd.first >= (1u << 29))
+            throw geo::InputError("GPU ray casting: a BVH node the shader cannot address (beyond 2^29)");
+        std::memcpy(&out[2 * k], &nd.bounds_min, sizeof nd.bounds_min);
+        std::memcpy(&out[2 * k + 1], &nd.bounds_max, sizeof nd.bounds_max);
+        out[2 * k + 1].w = (nd.first << 3) | (nd.is_leaf() ? nd.count : 0u);
+        if (!nd.is_leaf()) {
+            out[2 * nd.first].w = nd.first + 1;
+            out[2 * nd.first + 2].w = out[2 * k].w;
+        }
+    }
 }
 
 }  // namespace
@@ -94,9 +82,8 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCast
     s.bvh = geo::TriangleBvh(mesh);
     s.scene = s.bvh.extent();
     // Both arrays are written straight into the upload's staging memory (bunny's corners: 6 MB).
-    s.nodes =
-        upload_texel_array<glm::uvec4>(ctx, 2 * reachable_nodes(s.bvh.nodes()), Format::RGBA32U, "raycast nodes",
-                                       [&](std::span<glm::uvec4> out) { depth_first_texels(s.bvh.nodes(), out); });
+    s.nodes = upload_texel_array<glm::uvec4>(ctx, 2 * s.bvh.nodes().size(), Format::RGBA32U, "raycast nodes",
+                                             [&](std::span<glm::uvec4> out) { node_texels(s.bvh.nodes(), out); });
     const auto& triangles = s.bvh.triangles();
     s.corners = upload_texel_array<glm::uvec4>(
         ctx, 5 * triangles.size(), Format::RGBA32U, "raycast corners", [&](std::span<glm::uvec4> out) {

@@ -9,11 +9,11 @@
 // CPU's. It does: geo::intersect_ray_triangle's arithmetic in double, written out term for term
 // and `precise`, so that no multiply-add is fused.
 //
-// The tree is laid out depth first (an inner node's first child follows it) with skip links (the
-// node after its subtree), walked without a stack: entered, an inner node goes on to the next node,
-// a missed node or a tested leaf to its skip. Node n is texels 2n (lo, skip) and 2n + 1 (hi, leaf:
-// (first slot << 3) | count, 0 for inner nodes); slot s's corners are texels 5s .. 5s + 4, nine
-// doubles as pairs of uints. Texel arrays: common/texel_array.glsl (lavapipe gathers from images
+// The tree is the builder's node array with skip links (the node after a node's subtree), walked
+// without a stack: entered, an inner node goes on to its first child, a missed node or a tested leaf
+// to its skip. Node n is texels 2n (lo, skip) and 2n + 1 (hi, (first << 3) | count: count 0 for an
+// inner node, whose children are nodes first and first + 1, and a leaf's slots first .. first +
+// count - 1); slot s's corners are texels 5s .. 5s + 4, nine doubles as pairs of uints. Texel arrays: common/texel_array.glsl (lavapipe gathers from images
 // but loads from storage buffers lane by lane).
 #include "common/double_cpu.glsl"
 #include "common/texel_array.glsl"
@@ -25,7 +25,7 @@ struct Node {
     vec3 lo;
     uint skip;
     vec3 hi;
-    uint leaf;
+    uint first;  // (first << 3) | count
 };
 
 Node node(uint n) {
@@ -84,12 +84,12 @@ uint next_leaf(inout uint n, uint end, Slabs sl, vec2 range) {
     while (n != end) {
         const Node nd = node(n);
         const bool entered = enters(sl, nd.lo, nd.hi, range);
-        if (entered && nd.leaf != 0u) {
+        if (entered && (nd.first & 7u) != 0u) {
             if (leaf != 0u) break;
-            leaf = nd.leaf;
+            leaf = nd.first;
             n = nd.skip;
         } else {
-            n = entered ? n + 1u : nd.skip;
+            n = entered ? nd.first >> 3 : nd.skip;
         }
 #if RAYCAST_VOTE
         if (subgroupAll(leaf != 0u)) break;

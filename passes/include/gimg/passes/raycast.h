@@ -1,6 +1,6 @@
 #pragma once
-// Rays through a mesh on the GPU (docs/raycast.md): the mesh core's BVH (geo::TriangleBvh) laid
-// out depth first with skip links and walked per ray in a compute pass, the boxes tested
+// Rays through a mesh on the GPU (docs/raycast.md): the mesh core's BVH (geo::TriangleBvh) with
+// skip links, walked per ray in a compute pass, the boxes tested
 // conservatively in float and the triangles in double precision with the CPU's arithmetic term for
 // term, so every answer equals geo::TriangleBvh's: the same face and the same t for the nearest
 // hit, the same count of crossings. Any origin and direction.
