@@ -126,7 +126,7 @@ VkImageUsageFlags default_image_usage(Format format, VkFormatFeatureFlags featur
 }
 }  // namespace
 
-Image Device::create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usage) {
+Image Device::create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usage, VkImageTiling tiling) {
     if (desc.width == 0 || desc.height == 0)
         throw Error(ErrorKind::InvalidArgument, "image '" + desc.name + "' has a zero size");
     if (desc.width > limits.maxImageDimension2D || desc.height > limits.maxImageDimension2D)
@@ -143,10 +143,11 @@ Image Device::create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usag
     create.mipLevels = 1;
     create.arrayLayers = 1;
     create.samples = VK_SAMPLE_COUNT_1_BIT;
-    create.tiling = VK_IMAGE_TILING_OPTIMAL;
+    create.tiling = tiling;
     create.usage = usage;
     create.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
-    create.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
+    create.initialLayout =
+        tiling == VK_IMAGE_TILING_LINEAR ? VK_IMAGE_LAYOUT_PREINITIALIZED : VK_IMAGE_LAYOUT_UNDEFINED;
     check(fn.vkCreateImage(device, &create, nullptr, &img.image_),
           "vkCreateImage for '" + desc.name + "' (" + std::to_string(desc.width) + "x" + std::to_string(desc.height) +
               " " + to_string(desc.format) + ")");
@@ -168,6 +169,53 @@ Image Device::create_image(const ImageDesc& desc) {
         allocator.free(a);
         throw;
     }
+    return img;
+}
+
+Image Device::create_image_in_place(const ImageDesc& desc, const std::function<void(std::span<std::byte>)>& fill) {
+    if ((info.type != VK_PHYSICAL_DEVICE_TYPE_CPU && info.type != VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU) ||
+        is_depth(desc.format) || desc.width == 0 || desc.height == 0)
+        return {};
+    const VkFormat format = to_vk(desc.format);
+    VkFormatProperties props;
+    ifn.vkGetPhysicalDeviceFormatProperties(physical, format, &props);
+    const VkImageUsageFlags usage = default_image_usage(desc.format, props.optimalTilingFeatures);
+    if (default_image_usage(desc.format, props.linearTilingFeatures) != usage) return {};
+    VkImageFormatProperties limits_linear;
+    if (ifn.vkGetPhysicalDeviceImageFormatProperties(physical, format, VK_IMAGE_TYPE_2D, VK_IMAGE_TILING_LINEAR, usage,
+                                                     0, &limits_linear) != VK_SUCCESS ||
+        desc.width > limits_linear.maxExtent.width || desc.height > limits_linear.maxExtent.height)
+        return {};
+    Image img = create_image_unbound(desc, usage, VK_IMAGE_TILING_LINEAR);
+    // Rows packed as the fill writes them, in memory both the device's own and mapped.
+    const VkImageSubresource whole{VK_IMAGE_ASPECT_COLOR_BIT, 0, 0};
+    VkSubresourceLayout layout;
+    fn.vkGetImageSubresourceLayout(device, img.image_, &whole, &layout);
+    if (layout.rowPitch != VkDeviceSize(desc.width) * bytes_per_pixel(desc.format) || layout.size < img.byte_size())
+        return {};
+    VkMemoryRequirements req;
+    fn.vkGetImageMemoryRequirements(device, img.image_, &req);
+    constexpr VkMemoryPropertyFlags kShared = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT |
+                                              VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT |
+                                              VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    std::uint32_t shared_types = 0;
+    for (std::uint32_t i = 0; i < memory_properties.memoryTypeCount; ++i)
+        if ((memory_properties.memoryTypes[i].propertyFlags & kShared) == kShared) shared_types |= 1u << i;
+    req.memoryTypeBits &= shared_types;
+    if (req.memoryTypeBits == 0) return {};
+    Allocation a = allocator.allocate(req, MemoryUsage::Upload, desc.name.empty() ? "image" : desc.name);
+    try {
+        bind(img, a);
+    } catch (...) {
+        allocator.free(a);
+        throw;
+    }
+    fill(std::span<std::byte>(static_cast<std::byte*>(a.mapped) + layout.offset, img.byte_size()));
+    // A host write the first use waits for, from the preinitialized layout that keeps it.
+    img.sync_.layout = VK_IMAGE_LAYOUT_PREINITIALIZED;
+    img.sync_.write_stages = VK_PIPELINE_STAGE_2_HOST_BIT;
+    img.sync_.write_access = VK_ACCESS_2_HOST_WRITE_BIT;
+    img.last_access_ = Access::HostWrite;
     return img;
 }
 

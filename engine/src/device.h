@@ -10,8 +10,10 @@
 #include "vk_dispatch.h"
 
 #include <atomic>
+#include <cstddef>
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 
 namespace gimg::detail {
@@ -64,7 +66,13 @@ struct Device {
     // left empty) so the caller can query its requirements first.
     Buffer create_buffer_unbound(const BufferDesc& desc);
     Image create_image(const ImageDesc& desc);
-    Image create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usage);
+    // Linear images start PREINITIALIZED, so that what the host writes survives the first transition.
+    Image create_image_unbound(const ImageDesc& desc, VkImageUsageFlags usage,
+                               VkImageTiling tiling = VK_IMAGE_TILING_OPTIMAL);
+    // An image holding what `fill` writes into its bytes, written in place: linear, in device-local
+    // memory the host maps, on a CPU or integrated device whose linear images serve every use its
+    // optimal ones do. An empty Image where that cannot be.
+    Image create_image_in_place(const ImageDesc& desc, const std::function<void(std::span<std::byte>)>& fill);
     void bind(Buffer& buffer, const Allocation& memory);
     void bind(Image& image, const Allocation& memory);
     void destroy(Buffer& buffer);

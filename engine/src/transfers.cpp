@@ -103,6 +103,13 @@ void Context::upload(Image& image, const std::function<void(std::span<std::byte>
     });
 }
 
+Image Context::create_image(const ImageDesc& desc, const std::function<void(std::span<std::byte>)>& fill) {
+    if (Image in_place = device_->create_image_in_place(desc, fill)) return in_place;
+    Image image = create_image(desc);
+    upload(image, fill);
+    return image;
+}
+
 std::vector<std::byte> Context::download(Image& image) {
     detail::Device& d = *device_;
     const VkDeviceSize bytes = image.byte_size();

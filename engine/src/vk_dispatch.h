@@ -21,6 +21,7 @@ namespace gimg::detail {
     X(vkGetPhysicalDeviceMemoryProperties)      \
     X(vkGetPhysicalDeviceQueueFamilyProperties) \
     X(vkGetPhysicalDeviceFormatProperties)      \
+    X(vkGetPhysicalDeviceImageFormatProperties) \
     X(vkEnumerateDeviceExtensionProperties)     \
     X(vkCreateDevice)                           \
     X(vkGetDeviceProcAddr)
@@ -48,6 +49,7 @@ namespace gimg::detail {
     X(vkCreateImage)                  \
     X(vkDestroyImage)                 \
     X(vkGetImageMemoryRequirements)   \
+    X(vkGetImageSubresourceLayout)    \
     X(vkBindImageMemory)              \
     X(vkCreateImageView)              \
     X(vkDestroyImageView)             \

@@ -81,7 +81,8 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCast
     s.votes = options.subgroup_votes && ctx.device_info().subgroup_vote;
     s.bvh = geo::TriangleBvh(mesh);
     s.scene = s.bvh.extent();
-    // Both arrays are written straight into the upload's staging memory (bunny's corners: 6 MB).
+    // Both arrays are written straight into the images where the device allows, else into the
+    // upload's staging memory (Context::create_image; bunny's corners: 6 MB).
     s.nodes = upload_texel_array<glm::uvec4>(ctx, 2 * s.bvh.nodes().size(), Format::RGBA32U, "raycast nodes",
                                              [&](std::span<glm::uvec4> out) { node_texels(s.bvh.nodes(), out); });
     const auto& triangles = s.bvh.triangles();

@@ -53,3 +53,28 @@ TEST_F(MemoryReuse, ReleasedOnRequestAndNoneKeptWithAZeroBudget) {
     EXPECT_EQ(none->memory_stats().kept_bytes, 0u);
     EXPECT_EQ(none->memory_stats().allocations, 0u);
 }
+
+// An image filled by the host holds exactly what was written, whether written in place or
+// through staging; on a CPU device (lavapipe) a texel array's rows (4,096 texels, packed) are
+// written in place: no staging buffer exists beside the image while the fill runs.
+TEST_F(MemoryReuse, ImagesFilledInPlaceOnACpuDeviceNeedNoStaging) {
+    for (const std::uint32_t width : {4096u, 300u}) {  // 300 x 16 bytes: rows the driver may pad
+        const std::uint32_t before = ctx().memory_stats().allocations;
+        std::uint32_t during = 0;
+        Image image = ctx().create_image({width, 7, Format::RGBA32U, "filled"}, [&](std::span<std::byte> bytes) {
+            during = ctx().memory_stats().allocations;
+            for (std::size_t i = 0; i < bytes.size(); ++i) bytes[i] = std::byte((i * 7 + 3) & 0xff);
+        });
+        const std::vector<std::byte> back = ctx().download(image);
+        ASSERT_EQ(back.size(), std::size_t(width) * 7 * 16);
+        for (std::size_t i = 0; i < back.size(); ++i)
+            ASSERT_EQ(back[i], std::byte((i * 7 + 3) & 0xff)) << "byte " << i << " of width " << width;
+        const VkPhysicalDeviceType type = ctx().device_info().type;
+        if (width == 4096 && type == VK_PHYSICAL_DEVICE_TYPE_CPU) {
+            EXPECT_EQ(during, before + 1) << "only the image's own memory";
+        }
+        if (type == VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU) {
+            EXPECT_EQ(during, before + 2) << "the image and its staging";
+        }
+    }
+}

@@ -116,6 +116,11 @@ public:
 
     Buffer create_buffer(const BufferDesc& desc, MemoryUsage usage = MemoryUsage::DeviceLocal);
     Image create_image(const ImageDesc& desc);
+    // An image holding what `fill` writes into its bytes (tightly packed rows of
+    // bytes_per_pixel(format), top to bottom): written in place where the device reads images the
+    // host wrote into its memory (lavapipe and integrated GPUs: linear images in memory both share),
+    // else uploaded through staging as upload(image, fill) does.
+    Image create_image(const ImageDesc& desc, const std::function<void(std::span<std::byte>)>& fill);
 
     // Copies host data into a buffer (mapped memcpy or staging copy) and waits. Synchronises with
     // earlier GPU use of the buffer through its last access.

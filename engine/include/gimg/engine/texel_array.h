@@ -48,9 +48,10 @@ Image upload_texel_array(Context& ctx, std::span<const T> texels, Format format,
         throw Error(ErrorKind::InvalidArgument,
                     name + ": " + std::to_string(sizeof(T)) + "-byte elements in " + to_string(format) + " texels");
     check_texel_array_size(ctx, texels.size(), name);
-    Image image = ctx.create_image(texel_array_desc(texels.size(), format, name));
-    ctx.upload(image, texels.data(), texels.size_bytes(), /*zero_rest=*/true);
-    return image;
+    return ctx.create_image(texel_array_desc(texels.size(), format, name), [&](std::span<std::byte> bytes) {
+        std::memcpy(bytes.data(), texels.data(), texels.size_bytes());
+        std::memset(bytes.data() + texels.size_bytes(), 0, bytes.size() - texels.size_bytes());
+    });
 }
 template <class T>
 Image upload_texel_array(Context& ctx, const std::vector<T>& texels, Format format, const std::string& name) {
@@ -58,19 +59,17 @@ Image upload_texel_array(Context& ctx, const std::vector<T>& texels, Format form
 }
 
 // The same for `count` texels that fill(std::span<T>) writes in place (the padding after them is
-// zeros): no host array of them is made.
+// zeros): no host array of them is made (Context::create_image says where they are written).
 template <class T, class Fill>
 Image upload_texel_array(Context& ctx, std::size_t count, Format format, const std::string& name, Fill&& fill) {
     if (sizeof(T) != bytes_per_pixel(format))
         throw Error(ErrorKind::InvalidArgument,
                     name + ": " + std::to_string(sizeof(T)) + "-byte elements in " + to_string(format) + " texels");
     check_texel_array_size(ctx, count, name);
-    Image image = ctx.create_image(texel_array_desc(count, format, name));
-    ctx.upload(image, [&](std::span<std::byte> bytes) {
+    return ctx.create_image(texel_array_desc(count, format, name), [&](std::span<std::byte> bytes) {
         std::memset(bytes.data() + count * sizeof(T), 0, bytes.size() - count * sizeof(T));
         fill(std::span<T>(reinterpret_cast<T*>(bytes.data()), count));
     });
-    return image;
 }
 
 }  // namespace gimg
