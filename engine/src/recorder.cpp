@@ -204,9 +204,14 @@ Schedule Recorder::record(bool timestamps) {
         const std::uint32_t q = 2 * std::uint32_t(plan_.query_pass.size());
         plan_.query_pass.push_back(i);
         // The begin at top of pipe: lavapipe drains its work for any other stage (about 0.15 ms).
+        // On lavapipe a compute pass's end is at top of pipe too: lavapipe runs the pass to
+        // completion before it reads the next command (its draws, though, wait for a flush).
+        const bool completed = d_.info.is_lavapipe && !plan_.graph.passes[plan_.passes[i].decl].raster;
         d_.fn.vkCmdWriteTimestamp2(cmd_, VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT, plan_.query_pool, q);
         record_pass(i, iteration);
-        d_.fn.vkCmdWriteTimestamp2(cmd_, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, plan_.query_pool, q + 1);
+        d_.fn.vkCmdWriteTimestamp2(
+            cmd_, completed ? VK_PIPELINE_STAGE_2_TOP_OF_PIPE_BIT : VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT,
+            plan_.query_pool, q + 1);
     };
 
     for (std::uint32_t i = 0; i < n;) {
