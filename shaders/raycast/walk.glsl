@@ -13,8 +13,9 @@
 // without a stack: entered, an inner node goes on to its first child, a missed node or a tested leaf
 // to its skip. Node n is texels 2n (lo, skip) and 2n + 1 (hi, (first << 3) | count: count 0 for an
 // inner node, whose children are nodes first and first + 1, and a leaf's slots first .. first +
-// count - 1); slot s's corners are texels 5s .. 5s + 4, nine doubles as pairs of uints. Texel arrays: common/texel_array.glsl (lavapipe gathers from images
-// but loads from storage buffers lane by lane).
+// count - 1); slot s's corners are texels 5s .. 5s + 4, nine doubles as pairs of uints. Texel
+// arrays: common/texel_array.glsl (lavapipe gathers from images but loads from storage buffers lane
+// by lane).
 #include "common/double_cpu.glsl"
 #include "common/texel_array.glsl"
 
