@@ -162,14 +162,18 @@ Image Device::create_image(const ImageDesc& desc) {
     Image img = create_image_unbound(desc, usage);
     VkMemoryRequirements req;
     fn.vkGetImageMemoryRequirements(device, img.image_, &req);
-    Allocation a = allocator.allocate(req, MemoryUsage::DeviceLocal, desc.name.empty() ? "image" : desc.name);
+    bind_new_memory(img, req, MemoryUsage::DeviceLocal);
+    return img;
+}
+
+void Device::bind_new_memory(Image& img, const VkMemoryRequirements& req, MemoryUsage usage) {
+    Allocation a = allocator.allocate(req, usage, img.name().empty() ? "image" : img.name());
     try {
         bind(img, a);
     } catch (...) {
         allocator.free(a);
         throw;
     }
-    return img;
 }
 
 Image Device::create_image_in_place(const ImageDesc& desc, const std::function<void(std::span<std::byte>)>& fill) {
@@ -203,14 +207,8 @@ Image Device::create_image_in_place(const ImageDesc& desc, const std::function<v
         if ((memory_properties.memoryTypes[i].propertyFlags & kShared) == kShared) shared_types |= 1u << i;
     req.memoryTypeBits &= shared_types;
     if (req.memoryTypeBits == 0) return {};
-    Allocation a = allocator.allocate(req, MemoryUsage::Upload, desc.name.empty() ? "image" : desc.name);
-    try {
-        bind(img, a);
-    } catch (...) {
-        allocator.free(a);
-        throw;
-    }
-    fill(std::span<std::byte>(static_cast<std::byte*>(a.mapped) + layout.offset, img.byte_size()));
+    bind_new_memory(img, req, MemoryUsage::Upload);
+    fill(std::span<std::byte>(static_cast<std::byte*>(img.allocation_.mapped) + layout.offset, img.byte_size()));
     // A host write the first use waits for, from the preinitialized layout that keeps it.
     img.sync_.layout = VK_IMAGE_LAYOUT_PREINITIALIZED;
     img.sync_.write_stages = VK_PIPELINE_STAGE_2_HOST_BIT;

@@ -75,6 +75,8 @@ struct Device {
     Image create_image_in_place(const ImageDesc& desc, const std::function<void(std::span<std::byte>)>& fill);
     void bind(Buffer& buffer, const Allocation& memory);
     void bind(Image& image, const Allocation& memory);
+    // A new allocation of `usage` memory for the image, bound (and freed again if binding fails).
+    void bind_new_memory(Image& image, const VkMemoryRequirements& requirements, MemoryUsage usage);
     void destroy(Buffer& buffer);
     // For non-coherent host-visible memory (no-ops otherwise).
     void flush_host_writes(const Buffer& buffer) const { allocator.flush(buffer.allocation_, 0); }
