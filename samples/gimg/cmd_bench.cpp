@@ -95,7 +95,7 @@ Row bench_one(Context& ctx, const std::string& path, const geo::Mesh& mesh, cons
                                          {.small_pixels = 0, .large_pieces = passes::CylinderLargePieces::Graphics});
     all_graphics.add_mesh(cyl);
     // GPU time from a timestamped twin: the wall-clock runs go without timestamps, which cost
-    // lavapipe 0.5 ms a projection.
+    // lavapipe 0.2-0.5 ms a projection.
     passes::CylinderZBuffer timed(ctx, w, h, o.zbuffer(true));
     timed.add_mesh(cyl);
     {
@@ -147,7 +147,7 @@ void run_bench(const BenchOptions& o, const GlobalOptions& global) {
     j["embree"] = embree_available();
     j["small_pixels"] = o.small_pixels;
     const bool graphics = passes::CylinderZBuffer(*ctx, 1, 1, o.zbuffer()).graphics_pipeline();
-    // lavapipe's timestamps see the graphics pipeline only, not compute work: no GPU time on CPU devices.
+    // No GPU time on CPU devices: lavapipe runs on the same cores, so the wall times are its measure.
     const bool gpu_times = ctx->device_info().type != VK_PHYSICAL_DEVICE_TYPE_CPU;
     j["large_pieces"] = graphics ? "graphics" : "compute";
     std::printf(

@@ -169,8 +169,8 @@ struct CylinderZBufferOptions {
     // arithmetic); false runs the float32 path that devices without it get.
     bool double_precision = true;
     // GPU time of every pass from timestamps (last_gpu_ms, last_pass_timings). Off by default: on
-    // lavapipe the timestamps cost 0.5 ms of an 8 ms projection (armadillo at 540x270) and do not
-    // cover compute work anyway; on GPUs they cost next to nothing.
+    // lavapipe the timestamps cost 0.2-0.5 ms of a 5 ms projection (armadillo at 540x270); on GPUs
+    // they cost next to nothing.
     bool timestamps = false;
 };
 
