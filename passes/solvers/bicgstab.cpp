@@ -4,14 +4,12 @@
 #include "solvers/matrix_texels.h"
 
 #include "gimg/engine/graph.h"
-#include "gimg/passes/primitives.h"
 
 #include "solvers/bicgstab_apply_comp.h"
 #include "solvers/bicgstab_direction_comp.h"
+#include "solvers/bicgstab_finish_comp.h"
 #include "solvers/bicgstab_half_comp.h"
-#include "solvers/bicgstab_scalars_comp.h"
 #include "solvers/bicgstab_update_comp.h"
-#include "solvers/bicgstab_widen_comp.h"
 
 #include <algorithm>
 #include <cmath>
@@ -21,12 +19,14 @@ namespace gimg::passes::detail {
 
 namespace {
 
-const Spirv kScalars = GIMG_SPIRV(gimg_spv_solvers_bicgstab_scalars_comp);
+const Spirv kFinish = GIMG_SPIRV(gimg_spv_solvers_bicgstab_finish_comp);
 const Spirv kDirection = GIMG_SPIRV(gimg_spv_solvers_bicgstab_direction_comp);
 const Spirv kApply = GIMG_SPIRV(gimg_spv_solvers_bicgstab_apply_comp);
 const Spirv kHalf = GIMG_SPIRV(gimg_spv_solvers_bicgstab_half_comp);
 const Spirv kUpdate = GIMG_SPIRV(gimg_spv_solvers_bicgstab_update_comp);
-const Spirv kWiden = GIMG_SPIRV(gimg_spv_solvers_bicgstab_widen_comp);
+
+// The local size of the passes that write workgroup sums (workgroup_sums.glsl's kSumThreads).
+constexpr std::uint32_t kSumThreads = 64;
 
 // The shaders' BicgScalars (bicgstab_scalars.glsl).
 struct Scalars {
@@ -35,6 +35,18 @@ struct Scalars {
 
 struct RowsAndMode {
     std::uint32_t rows, mode;
+};
+
+struct ApplyPush {
+    std::uint32_t rows, mode, float_input;
+};
+
+struct UpdatePush {
+    std::uint32_t rows, float_input;
+};
+
+struct FinishPush {
+    std::uint32_t groups, step;
 };
 
 glm::dvec2 times(const CsrMatrix& a, const std::vector<glm::dvec2>& v, std::size_t i) {
@@ -174,11 +186,14 @@ GpuBicgstab::GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& star
     s_ = ctx.create_image(texel_image_desc(rows_, "bicgstab s"));
     z_ = ctx.create_image(texel_image_desc(rows_, "bicgstab z"));
     t_ = ctx.create_image(texel_image_desc(rows_, "bicgstab t"));
+    // Each iteration's beta comes from the last one's finishing pass; the first one's from here.
+    Scalars scalars{start.r0r, start.alpha, start.omega, glm::dvec2(0.0)};
+    for (int c = 0; c < 2; ++c)
+        scalars.beta[c] = start.rho[c] != 0.0 && start.omega[c] != 0.0
+                              ? (start.r0r[c] / start.rho[c]) * (start.alpha[c] / start.omega[c])
+                              : 0.0;
     scalars_ = ctx.create_buffer({sizeof(Scalars), "bicgstab scalars"});
-    const Scalars scalars{start.rho, start.alpha, start.omega, glm::dvec2(0.0)};
     ctx.upload(scalars_, &scalars, sizeof scalars);
-    sums_rv_ = ctx.create_buffer({4 * sizeof(double), "bicgstab r0.v"});
-    sums_ts_ = ctx.create_buffer({4 * sizeof(double), "bicgstab t.s t.t"});
     sums_rr_ = ctx.create_buffer({4 * sizeof(double), "bicgstab r0.r r.r"}, MemoryUsage::Readback);
     const double rr[4] = {start.r0r.x, start.r0r.y, start.rr.x, start.rr.y};
     ctx.upload(sums_rr_, rr, sizeof rr);
@@ -194,44 +209,48 @@ Plan& GpuBicgstab::plan_for(std::uint32_t iterations) {
     auto v = g.import_image(v_), y = g.import_image(y_), s = g.import_image(s_), z = g.import_image(z_);
     auto t = g.import_image(t_);
     auto scalars = g.import_buffer(scalars_);
-    auto rv = g.import_buffer(sums_rv_), ts = g.import_buffer(sums_ts_), rr = g.import_buffer(sums_rr_);
-    auto terms =
-        g.create_buffer({VkDeviceSize(std::max<std::uint32_t>(rows_, 1)) * 4 * sizeof(double), "bicgstab terms"});
+    auto rr = g.import_buffer(sums_rr_);
     const std::uint32_t n = rows_;
-    // With the multigrid cycle: p and s rounded to float, the cycle's outputs, and the cycle itself.
+    const std::uint32_t groups = (n + kSumThreads - 1) / kSumThreads;
+    auto partials = g.create_buffer({VkDeviceSize(groups) * 4 * sizeof(double), "bicgstab workgroup sums"});
+    // With the multigrid cycle: p and s rounded to float, the cycle's float outputs y32 and z32,
+    // which the products and the update read as they are (widening is exact), and the cycle itself.
     const std::uint32_t multigrid = cycle_ ? 1u : 0u;
     const std::uint32_t float_rows = cycle_ ? n : 1u;
     auto p32 = g.create_image(float_vector_desc(float_rows, "bicgstab p (float)"));
     auto s32 = g.create_image(float_vector_desc(float_rows, "bicgstab s (float)"));
+    auto y32 = g.create_image(float_vector_desc(float_rows, "bicgstab y (float)"));
+    auto z32 = g.create_image(float_vector_desc(float_rows, "bicgstab z (float)"));
     std::optional<VcycleRecorder> cycle;
     if (cycle_) cycle.emplace(g, *cycle_);
-    // out = V-cycle(in32), widened to double.
-    auto add_preconditioner = [&](ImageHandle in32, ImageHandle& out, const std::string& name) {
-        auto out32 = g.create_image(float_vector_desc(n, "bicgstab " + name + " (float)"));
-        cycle->add(in32, out32, terms, false, " (" + name + ")");
-        g.add_compute_pass(
-            "bicgstab widen " + name,
-            [&](PassBuilder& b) {
-                b.read(out32, Access::ComputeRead);
-                out = b.write(out, Access::ComputeWrite);
-            },
-            [=, o = out](Cmd& c) {
-                c.dispatch_threads(kWiden, {n}, {out32, o}, n);
-            });
-    };
-    auto add_scalars = [&](BufferHandle sums, std::uint32_t step, const std::string& name) {
+    // The sums of the pass before, finished, and the scalars of `step` (bicgstab_finish.comp).
+    auto add_finish = [&](std::uint32_t step, const std::string& name) {
         g.add_compute_pass(
             name,
             [&](PassBuilder& b) {
-                b.read(sums, Access::ComputeRead);
+                b.read(partials, Access::ComputeRead);
                 scalars = b.write(scalars, Access::ComputeReadWrite);
+                rr = b.write(rr, Access::ComputeWrite);
             },
-            [=, sc = scalars](Cmd& c) {
-                c.dispatch(kScalars, {1}, {sc, sums}, step);
+            [=, sc = scalars, out = rr](Cmd& c) {
+                c.dispatch(kFinish, {1}, {sc, partials, out}, FinishPush{groups, step});
+            });
+    };
+    auto add_product = [&](ImageHandle in, ImageHandle in_32, ImageHandle w, ImageHandle& out, std::uint32_t mode,
+                           const std::string& name) {
+        g.add_compute_pass(
+            name,
+            [&](PassBuilder& b) {
+                for (ImageHandle h : {rows_img, entries, in, in_32, w}) b.read(h, Access::ComputeRead);
+                out = b.write(out, Access::ComputeWrite);
+                partials = b.write(partials, Access::ComputeWrite);
+            },
+            [=, o = out, sums = partials](Cmd& c) {
+                c.dispatch_threads(kApply, {n}, {rows_img, entries, in, in_32, w, o, sums},
+                                   ApplyPush{n, mode, multigrid});
             });
     };
     g.add_loop(iterations, [&] {
-        add_scalars(rr, 0, "bicgstab beta");
         g.add_compute_pass(
             "bicgstab direction",
             [&](PassBuilder& b) {
@@ -244,19 +263,9 @@ Plan& GpuBicgstab::plan_for(std::uint32_t iterations) {
             [=](Cmd& c) {
                 c.dispatch_threads(kDirection, {n}, {scalars, rows_img, r, v, p, y, p32}, RowsAndMode{n, multigrid});
             });
-        if (cycle) add_preconditioner(p32, y, "y");
-        g.add_compute_pass(
-            "bicgstab v = A y",
-            [&](PassBuilder& b) {
-                for (ImageHandle h : {rows_img, entries, y, r0}) b.read(h, Access::ComputeRead);
-                v = b.write(v, Access::ComputeWrite);
-                terms = b.write(terms, Access::ComputeWrite);
-            },
-            [=](Cmd& c) {
-                c.dispatch_threads(kApply, {n}, {rows_img, entries, y, r0, v, terms}, RowsAndMode{n, 0});
-            });
-        rv = add_reduce_sum_f64(g, terms, rv, n, 4, "bicgstab r0.v");
-        add_scalars(rv, 1, "bicgstab alpha");
+        if (cycle) cycle->add(p32, y32, partials, false, " (y)");
+        add_product(y, y32, r0, v, 0, "bicgstab v = A y");
+        add_finish(1, "bicgstab alpha");
         g.add_compute_pass(
             "bicgstab s",
             [&](PassBuilder& b) {
@@ -269,37 +278,26 @@ Plan& GpuBicgstab::plan_for(std::uint32_t iterations) {
             [=](Cmd& c) {
                 c.dispatch_threads(kHalf, {n}, {scalars, rows_img, r, v, s, z, s32}, RowsAndMode{n, multigrid});
             });
-        if (cycle) add_preconditioner(s32, z, "z");
-        g.add_compute_pass(
-            "bicgstab t = A z",
-            [&](PassBuilder& b) {
-                for (ImageHandle h : {rows_img, entries, z, s}) b.read(h, Access::ComputeRead);
-                t = b.write(t, Access::ComputeWrite);
-                terms = b.write(terms, Access::ComputeWrite);
-            },
-            [=](Cmd& c) {
-                c.dispatch_threads(kApply, {n}, {rows_img, entries, z, s, t, terms}, RowsAndMode{n, 1});
-            });
-        ts = add_reduce_sum_f64(g, terms, ts, n, 4, "bicgstab t.s t.t");
-        add_scalars(ts, 2, "bicgstab omega");
+        if (cycle) cycle->add(s32, z32, partials, false, " (z)");
+        add_product(z, z32, s, t, 1, "bicgstab t = A z");
+        add_finish(2, "bicgstab omega");
         g.add_compute_pass(
             "bicgstab update",
             [&](PassBuilder& b) {
-                for (ImageHandle h : {y, z, s, t, r0}) b.read(h, Access::ComputeRead);
+                for (ImageHandle h : {y, z, y32, z32, s, t, r0}) b.read(h, Access::ComputeRead);
                 b.read(scalars, Access::ComputeRead);
                 x = b.write(x, Access::ComputeReadWrite);
                 r = b.write(r, Access::ComputeWrite);
-                terms = b.write(terms, Access::ComputeWrite);
+                partials = b.write(partials, Access::ComputeWrite);
             },
-            [=](Cmd& c) {
-                c.dispatch_threads(kUpdate, {n}, {scalars, y, z, s, t, r0, x, r, terms}, n);
+            [=, sums = partials](Cmd& c) {
+                c.dispatch_threads(kUpdate, {n}, {scalars, y, z, y32, z32, s, t, r0, x, r, sums},
+                                   UpdatePush{n, multigrid});
             });
-        rr = add_reduce_sum_f64(g, terms, rr, n, 4, "bicgstab r0.r r.r");
+        add_finish(0, "bicgstab beta");
     });
     g.export_buffer(rr, Access::HostRead);
     g.export_buffer(scalars, Access::ComputeReadWrite);
-    g.export_buffer(rv, Access::ComputeReadWrite);
-    g.export_buffer(ts, Access::ComputeReadWrite);
     for (ImageHandle h : {x, r, p, v}) g.export_image(h, Access::ComputeReadWrite);
     slot = std::make_unique<Plan>(g.compile());
     return *slot;

@@ -1,7 +1,7 @@
 #version 460
 // BiCGSTAB, pass 1: p = r + beta (p - omega v), and the preconditioner's input: with Jacobi
 // y = D^-1 p itself (the rows image carries 1 / a_ii), with the multigrid cycle p rounded to float
-// (p32), which the cycle and bicgstab_widen turn into y.
+// (p32), which the cycle turns into y.
 #extension GL_GOOGLE_include_directive : require
 #include "solvers/texels.glsl"
 #include "solvers/bicgstab_scalars.glsl"
