@@ -110,6 +110,23 @@ Image Context::create_image(const ImageDesc& desc) { return device_->create_imag
 
 void Context::wait_idle() { device_->wait_idle(); }
 
+void Context::batch_uploads(const std::function<void()>& uploads) {
+    device_->begin_batch();
+    try {
+        uploads();
+    } catch (...) {
+        // The recorded copies are still valid: submit them, so that no resource's tracked state
+        // claims a copy that never ran, and report the first error.
+        try {
+            device_->end_batch();
+        } catch (const Error&) {}
+        throw;
+    }
+    device_->end_batch();
+}
+
+std::uint64_t Context::submission_count() const { return device_->timeline_value; }
+
 MemoryStats Context::memory_stats() const { return device_->allocator.stats(); }
 
 void Context::release_kept_memory() { device_->allocator.release_kept(); }

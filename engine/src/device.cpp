@@ -4,6 +4,7 @@
 #include "check.h"
 
 #include <cstdio>
+#include <utility>
 
 namespace gimg::detail {
 
@@ -255,6 +256,7 @@ VkCommandBuffer Device::allocate_command_buffer() {
 }
 
 std::uint64_t Device::submit(VkCommandBuffer cmd) {
+    flush_batch();
     const std::uint64_t value = timeline_value + 1;
     VkCommandBufferSubmitInfo cb{VK_STRUCTURE_TYPE_COMMAND_BUFFER_SUBMIT_INFO};
     cb.commandBuffer = cmd;
@@ -285,6 +287,40 @@ bool Device::finished(std::uint64_t value) {
     std::uint64_t done = 0;
     GIMG_VK_CHECK(fn.vkGetSemaphoreCounterValue(device, timeline, &done));
     return done >= value;
+}
+
+void Device::run_soon(const std::function<void(VkCommandBuffer)>& fill, Buffer&& staging) {
+    if (batch_depth == 0) {
+        run_now(fill);
+        return;
+    }
+    if (batch_cmd == VK_NULL_HANDLE) {
+        batch_cmd = allocate_command_buffer();
+        VkCommandBufferBeginInfo begin{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+        begin.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+        GIMG_VK_CHECK(fn.vkBeginCommandBuffer(batch_cmd, &begin));
+    }
+    fill(batch_cmd);
+    batch_staging.push_back(std::move(staging));
+}
+
+void Device::flush_batch() {
+    if (batch_cmd == VK_NULL_HANDLE) return;
+    VkCommandBuffer cmd = std::exchange(batch_cmd, VK_NULL_HANDLE);
+    struct Release {
+        Device* d;
+        VkCommandBuffer c;
+        ~Release() {
+            d->fn.vkFreeCommandBuffers(d->device, d->command_pool, 1, &c);
+            d->batch_staging.clear();
+        }
+    } release{this, cmd};
+    GIMG_VK_CHECK(fn.vkEndCommandBuffer(cmd));
+    wait(submit(cmd));
+}
+
+void Device::end_batch() {
+    if (batch_depth > 0 && --batch_depth == 0) flush_batch();
 }
 
 void Device::run_now(const std::function<void(VkCommandBuffer)>& fill) {

@@ -84,13 +84,29 @@ struct Device {
     void destroy(Image& image);
 
     VkCommandBuffer allocate_command_buffer();
-    // Submits and returns the timeline value that marks its completion.
+    // Submits and returns the timeline value that marks its completion. An open upload batch's
+    // commands are submitted first, so what they upload is there for `cmd`.
     std::uint64_t submit(VkCommandBuffer cmd);
     void wait(std::uint64_t value);
     bool finished(std::uint64_t value);
-    void wait_idle() { wait(timeline_value); }
+    // Waits for every submission, the pending upload batch submitted first.
+    void wait_idle() {
+        flush_batch();
+        wait(timeline_value);
+    }
     // Records `fill` into a one-time command buffer, submits it and waits.
     void run_now(const std::function<void(VkCommandBuffer)>& fill);
+
+    // Uploads batched into one submission (Context::batch_uploads). While a batch is open, run_soon
+    // records `fill` into the batch's command buffer and keeps `staging` alive until flush_batch
+    // submits the batch and waits; otherwise it runs now.
+    void begin_batch() { ++batch_depth; }
+    void end_batch();
+    void run_soon(const std::function<void(VkCommandBuffer)>& fill, Buffer&& staging);
+    void flush_batch();
+    int batch_depth = 0;
+    VkCommandBuffer batch_cmd = VK_NULL_HANDLE;
+    std::vector<Buffer> batch_staging;
 
     // Barrier from a resource's tracked state to `next`, recorded into cmd; updates the state.
     void transition(VkCommandBuffer cmd, Buffer& buffer, Access next);

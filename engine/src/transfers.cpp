@@ -7,6 +7,7 @@
 #include "device.h"
 
 #include <cstring>
+#include <utility>
 
 namespace gimg {
 
@@ -24,8 +25,9 @@ void Context::upload(Buffer& buffer, const void* data, VkDeviceSize bytes, VkDev
     if (bytes == 0) return;
     detail::Device& d = *device_;
     if (void* mapped = buffer.mapped()) {
-        // The GPU may still be using the buffer: wait for gimg's work, then write in place.
-        d.wait_idle();
+        // The GPU may still be using the buffer: wait for gimg's submitted work, then write in
+        // place (an open upload batch writes other buffers: a buffer is mapped or staged, always).
+        d.wait(d.timeline_value);
         std::memcpy(static_cast<char*>(mapped) + offset, data, bytes);
         d.flush_host_writes(buffer);
         buffer.set_last_access(Access::HostWrite);
@@ -35,12 +37,14 @@ void Context::upload(Buffer& buffer, const void* data, VkDeviceSize bytes, VkDev
     std::memcpy(staging.mapped(), data, bytes);
     d.flush_host_writes(staging);
     staging.set_last_access(Access::HostWrite);
-    d.run_now([&](VkCommandBuffer cmd) {
-        d.transition(cmd, staging, Access::TransferSrc);
-        d.transition(cmd, buffer, Access::TransferDst);
-        VkBufferCopy region{0, offset, bytes};
-        d.fn.vkCmdCopyBuffer(cmd, staging.vk(), buffer.vk(), 1, &region);
-    });
+    d.run_soon(
+        [&](VkCommandBuffer cmd) {
+            d.transition(cmd, staging, Access::TransferSrc);
+            d.transition(cmd, buffer, Access::TransferDst);
+            VkBufferCopy region{0, offset, bytes};
+            d.fn.vkCmdCopyBuffer(cmd, staging.vk(), buffer.vk(), 1, &region);
+        },
+        std::move(staging));
 }
 
 void Context::download(Buffer& buffer, void* out, VkDeviceSize bytes, VkDeviceSize offset) {
@@ -95,12 +99,15 @@ void Context::upload(Image& image, const std::function<void(std::span<std::byte>
     fill(std::span<std::byte>(static_cast<std::byte*>(staging.mapped()), image.byte_size()));
     d.flush_host_writes(staging);
     staging.set_last_access(Access::HostWrite);
-    d.run_now([&](VkCommandBuffer cmd) {
-        d.transition(cmd, staging, Access::TransferSrc);
-        d.transition(cmd, image, Access::TransferDst);
-        VkBufferImageCopy region = whole_image(image);
-        d.fn.vkCmdCopyBufferToImage(cmd, staging.vk(), image.vk(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1, &region);
-    });
+    d.run_soon(
+        [&](VkCommandBuffer cmd) {
+            d.transition(cmd, staging, Access::TransferSrc);
+            d.transition(cmd, image, Access::TransferDst);
+            VkBufferImageCopy region = whole_image(image);
+            d.fn.vkCmdCopyBufferToImage(cmd, staging.vk(), image.vk(), VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                                        &region);
+        },
+        std::move(staging));
 }
 
 Image Context::create_image(const ImageDesc& desc, const std::function<void(std::span<std::byte>)>& fill) {

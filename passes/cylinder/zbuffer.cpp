@@ -180,10 +180,12 @@ struct CylinderZBuffer::State {
     const Geometry& uploaded_geometry() {
         if (geometry) return *geometry;
         geometry = std::make_shared<Geometry>();
-        geometry->positions =
-            upload_texel_array(ctx, std::span<const glm::vec4>(point_texels), Format::RGBA32F, "cylinder positions");
-        geometry->triangles =
-            upload_texel_array(ctx, std::span<const glm::uvec4>(face_texels), Format::RGBA32U, "cylinder triangles");
+        ctx.batch_uploads([&] {  // one submission for the two
+            geometry->positions = upload_texel_array(ctx, std::span<const glm::vec4>(point_texels), Format::RGBA32F,
+                                                     "cylinder positions");
+            geometry->triangles = upload_texel_array(ctx, std::span<const glm::uvec4>(face_texels), Format::RGBA32U,
+                                                     "cylinder triangles");
+        });
         plan.reset();
         return *geometry;
     }

@@ -335,16 +335,20 @@ InverseMapBuffers upload_inverse_map(Context& ctx, const geo::Mesh& mesh, const 
     std::vector<glm::uvec4> faces;
     faces.reserve(mesh.face_count());
     for (const glm::uvec3& t : mesh.triangles) faces.emplace_back(t, 0u);
-    return {upload_as_texels(ctx, m.face_charts, "maps face charts"),
-            upload_as_texels(ctx, m.corner_coords, "maps corner coords"),
-            upload_as_texels(ctx, m.chart_box, "maps chart boxes"),
-            upload_as_texels(ctx, m.chart_grid, "maps chart grids"),
-            upload_texel_array(ctx, m.cell_offsets, Format::R32U, "maps cell offsets"),
-            upload_texel_array(ctx, m.cell_items, Format::R32U, "maps cell items"),
-            upload_as_texels(ctx, m.triangle_coords, "maps triangle coords"),
-            upload_texel_array(ctx, m.triangle_face, Format::R32U, "maps triangle faces"),
-            upload_as_texels(ctx, positions, "maps original positions"),
-            upload_texel_array(ctx, faces, Format::RGBA32U, "maps original faces")};
+    InverseMapBuffers buffers;
+    ctx.batch_uploads([&] {  // one submission for the ten
+        buffers = {upload_as_texels(ctx, m.face_charts, "maps face charts"),
+                   upload_as_texels(ctx, m.corner_coords, "maps corner coords"),
+                   upload_as_texels(ctx, m.chart_box, "maps chart boxes"),
+                   upload_as_texels(ctx, m.chart_grid, "maps chart grids"),
+                   upload_texel_array(ctx, m.cell_offsets, Format::R32U, "maps cell offsets"),
+                   upload_texel_array(ctx, m.cell_items, Format::R32U, "maps cell items"),
+                   upload_as_texels(ctx, m.triangle_coords, "maps triangle coords"),
+                   upload_texel_array(ctx, m.triangle_face, Format::R32U, "maps triangle faces"),
+                   upload_as_texels(ctx, positions, "maps original positions"),
+                   upload_texel_array(ctx, faces, Format::RGBA32U, "maps original faces")};
+    });
+    return buffers;
 }
 
 void add_inverse_map(Graph& graph, InverseMapBuffers& map, BufferHandle points, BufferHandle bary, BufferHandle out,

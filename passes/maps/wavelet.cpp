@@ -276,10 +276,12 @@ WaveletBuffers upload_wavelet_filters(Context& ctx, const SemiRegularMesh& mesh,
         const auto* w = reinterpret_cast<const std::uint32_t*>(v.data());
         return std::span<const std::uint32_t>(w, v.size() * sizeof(v[0]) / 4);
     };
-    out.parents = upload_texel_array(ctx, words(mesh.parents), Format::R32U, "wavelet parents");
-    out.offsets = upload_texel_array(ctx, std::span<const std::uint32_t>(offsets), Format::R32U, "wavelet offsets");
-    out.odd = upload_texel_array(ctx, std::span<const std::uint32_t>(odd), Format::R32U, "wavelet odd");
-    out.weight = upload_texel_array(ctx, words(weight), Format::R32U, "wavelet weights");
+    ctx.batch_uploads([&] {  // one submission for the four
+        out.parents = upload_texel_array(ctx, words(mesh.parents), Format::R32U, "wavelet parents");
+        out.offsets = upload_texel_array(ctx, std::span<const std::uint32_t>(offsets), Format::R32U, "wavelet offsets");
+        out.odd = upload_texel_array(ctx, std::span<const std::uint32_t>(odd), Format::R32U, "wavelet odd");
+        out.weight = upload_texel_array(ctx, words(weight), Format::R32U, "wavelet weights");
+    });
     return out;
 }
 

@@ -256,12 +256,15 @@ geo::Mesh deform_gpu(Context& ctx, const geo::Mesh& mesh, const QuadRegion& regi
         for (int k = 0; k < 3; ++k) positions[3 * v + std::size_t(k)] = mesh.positions[v][k];
     if (what.kind != QuadDeformation::Kind::Lattice)
         for (const glm::dvec3& n : paste_normals(mesh)) normals.insert(normals.end(), {n.x, n.y, n.z});
-    Buffer pos = upload_buffer(ctx, positions, "deform positions");
-    Buffer nrm = upload_buffer(ctx, normals, "deform normals");
-    Buffer org = upload_buffer(ctx, region.original, "deform original");
-    Buffer par = upload_buffer(ctx, uv, "deform uv");
-    Buffer off = upload_buffer(ctx, offsets, "deform offsets");
-    Buffer hgt = upload_buffer(ctx, heights, "deform heights");
+    Buffer pos, nrm, org, par, off, hgt;
+    ctx.batch_uploads([&] {  // one submission for the six
+        pos = upload_buffer(ctx, positions, "deform positions");
+        nrm = upload_buffer(ctx, normals, "deform normals");
+        org = upload_buffer(ctx, region.original, "deform original");
+        par = upload_buffer(ctx, uv, "deform uv");
+        off = upload_buffer(ctx, offsets, "deform offsets");
+        hgt = upload_buffer(ctx, heights, "deform heights");
+    });
     what.region_vertices = std::uint32_t(uv.size());
     Graph g(ctx);
     auto pos_h = g.import_buffer(pos);

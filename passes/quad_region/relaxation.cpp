@@ -119,12 +119,16 @@ std::array<std::size_t, 2> relax_gpu(Context& ctx, const ColouredRows& rows, dou
                                      std::size_t max_sweeps, std::vector<glm::dvec2>& uv) {
     if (rows.vertex.empty()) return {1, 1};
     if (max_sweeps > 0x7fffffffu) throw geo::InputError("the relaxation's sweep limit is too large");
-    Buffer vertex_buf = upload_buffer(ctx, rows.vertex, "relax rows");
-    Buffer offset_buf = upload_buffer(ctx, rows.offsets, "relax offsets");
-    Buffer column_buf = upload_buffer(ctx, rows.columns, "relax columns");
-    Buffer weight_buf = upload_buffer(ctx, rows.weights, "relax weights");
-    Buffer colour_buf = upload_buffer(ctx, rows.first, "relax colours");
-    Buffer uv_buf = upload_buffer(ctx, uv, "relax uv");
+    // One submission for the six uploads (a real GPU waits for each: Context::batch_uploads).
+    Buffer vertex_buf, offset_buf, column_buf, weight_buf, colour_buf, uv_buf;
+    ctx.batch_uploads([&] {
+        vertex_buf = upload_buffer(ctx, rows.vertex, "relax rows");
+        offset_buf = upload_buffer(ctx, rows.offsets, "relax offsets");
+        column_buf = upload_buffer(ctx, rows.columns, "relax columns");
+        weight_buf = upload_buffer(ctx, rows.weights, "relax weights");
+        colour_buf = upload_buffer(ctx, rows.first, "relax colours");
+        uv_buf = upload_buffer(ctx, uv, "relax uv");
+    });
     Buffer slot_buf = ctx.create_buffer({2 * kSweepsPerCheck * 4, "relax worst corrections"});
     // Read after every submission: host-visible, so reading it costs no copy.
     Buffer progress_buf = ctx.create_buffer({4 * 4, "relax progress"}, MemoryUsage::Readback);

@@ -82,21 +82,23 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCast
     s.bvh = geo::TriangleBvh(mesh);
     s.scene = s.bvh.extent();
     // Both arrays are written straight into the images where the device allows, else into the
-    // upload's staging memory (Context::create_image; bunny's corners: 6 MB).
-    s.nodes = upload_texel_array<glm::uvec4>(ctx, 2 * s.bvh.nodes().size(), Format::RGBA32U, "raycast nodes",
-                                             [&](std::span<glm::uvec4> out) { node_texels(s.bvh.nodes(), out); });
-    const auto& triangles = s.bvh.triangles();
-    s.corners = upload_texel_array<glm::uvec4>(
-        ctx, 5 * triangles.size(), Format::RGBA32U, "raycast corners", [&](std::span<glm::uvec4> out) {
-            geo::parallel_for_chunks(triangles.size(), 16384, [&](std::size_t, std::size_t begin, std::size_t end) {
-                for (std::size_t i = begin; i < end; ++i) {
-                    const auto& t = triangles[i];
-                    const double v[10] = {t.a.x, t.a.y, t.a.z, t.b.x, t.b.y, t.b.z, t.c.x, t.c.y, t.c.z, 0.0};
-                    std::memcpy(&out[5 * i], v, sizeof v);
-                }
+    // upload's staging memory (Context::create_image; bunny's corners: 6 MB), in one submission.
+    ctx.batch_uploads([&] {
+        s.nodes = upload_texel_array<glm::uvec4>(ctx, 2 * s.bvh.nodes().size(), Format::RGBA32U, "raycast nodes",
+                                                 [&](std::span<glm::uvec4> out) { node_texels(s.bvh.nodes(), out); });
+        const auto& triangles = s.bvh.triangles();
+        s.corners = upload_texel_array<glm::uvec4>(
+            ctx, 5 * triangles.size(), Format::RGBA32U, "raycast corners", [&](std::span<glm::uvec4> out) {
+                geo::parallel_for_chunks(triangles.size(), 16384, [&](std::size_t, std::size_t begin, std::size_t end) {
+                    for (std::size_t i = begin; i < end; ++i) {
+                        const auto& t = triangles[i];
+                        const double v[10] = {t.a.x, t.a.y, t.a.z, t.b.x, t.b.y, t.b.z, t.c.x, t.c.y, t.c.z, 0.0};
+                        std::memcpy(&out[5 * i], v, sizeof v);
+                    }
+                });
             });
-        });
-    s.faces = upload_buffer(ctx, s.bvh.face_order(), "raycast face order");
+        s.faces = upload_buffer(ctx, s.bvh.face_order(), "raycast face order");
+    });
 }
 
 GpuRayCaster::~GpuRayCaster() = default;

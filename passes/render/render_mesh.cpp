@@ -200,13 +200,15 @@ geo::RgbaImage render_mesh(Context& ctx, const geo::Mesh& mesh, const RenderOpti
     if (mesh.has_texcoords())
         for (const auto& t : mesh.texcoords) texcoords.push_back(float(t.x)), texcoords.push_back(float(t.y));
 
-    Buffer pos_buf = upload_buffer(ctx, positions.data(), positions.size() * 4, "positions");
     const std::vector<glm::uvec3> faces = without_copies(mesh.triangles);
-    Buffer tri_buf = upload_buffer(ctx, faces.data(), faces.size() * sizeof(glm::uvec3), "triangles");
-    Buffer nrm_buf = upload_buffer(ctx, normals.data(), normals.size() * 4, "normals");
-    Buffer sca_buf =
-        upload_buffer(ctx, options.scalars.data(), scalar_mode ? options.scalars.size() * 4 : 0, "scalars");
-    Buffer tex_buf = upload_buffer(ctx, texcoords.data(), texcoords.size() * 4, "texcoords");
+    Buffer pos_buf, tri_buf, nrm_buf, sca_buf, tex_buf;
+    ctx.batch_uploads([&] {  // one submission for the five
+        pos_buf = upload_buffer(ctx, positions.data(), positions.size() * 4, "positions");
+        tri_buf = upload_buffer(ctx, faces.data(), faces.size() * sizeof(glm::uvec3), "triangles");
+        nrm_buf = upload_buffer(ctx, normals.data(), normals.size() * 4, "normals");
+        sca_buf = upload_buffer(ctx, options.scalars.data(), scalar_mode ? options.scalars.size() * 4 : 0, "scalars");
+        tex_buf = upload_buffer(ctx, texcoords.data(), texcoords.size() * 4, "texcoords");
+    });
 
     RenderOptions o = options;
     if (scalar_mode && !o.scalar_range) o.scalar_range = default_range(o.scalars, o.color == MeshColor::Diverging);

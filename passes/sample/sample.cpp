@@ -56,9 +56,12 @@ PositionImage sample_gpu(Context& ctx, const geo::Mesh& mesh, std::uint32_t size
         params[2 * i] = float(mesh.texcoords[i].x);
         params[2 * i + 1] = float(mesh.texcoords[i].y);
     }
-    Buffer pos_buf = upload_buffer(ctx, positions, "positions");
-    Buffer par_buf = upload_buffer(ctx, params, "parameters");
-    Buffer tri_buf = upload_buffer(ctx, mesh.triangles, "triangles");
+    Buffer pos_buf, par_buf, tri_buf;
+    ctx.batch_uploads([&] {  // one submission for the three
+        pos_buf = upload_buffer(ctx, positions, "positions");
+        par_buf = upload_buffer(ctx, params, "parameters");
+        tri_buf = upload_buffer(ctx, mesh.triangles, "triangles");
+    });
     Graph g(ctx);
     const ImageHandle image = add_sample(g, g.import_buffer(pos_buf), g.import_buffer(par_buf),
                                          g.import_buffer(tri_buf), std::uint32_t(mesh.face_count()), size);

@@ -173,7 +173,22 @@ void bicgstab_cpu(const CsrMatrix& a, BicgState& s, std::uint32_t iterations, co
 
 GpuBicgstab::GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start, const Multigrid* mg)
     : ctx_(ctx), rows_(std::uint32_t(a.rows())) {
-    if (mg) cycle_ = std::make_unique<GpuVcycle>(ctx, *mg, "bicgstab mg");
+    ctx.batch_uploads([&] {
+        if (mg) {
+            own_cycle_ = std::make_unique<GpuVcycle>(ctx, *mg, "bicgstab mg");
+            cycle_ = own_cycle_.get();
+        }
+        upload(a, start);
+    });
+}
+
+GpuBicgstab::GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start, GpuVcycle& cycle)
+    : ctx_(ctx), rows_(std::uint32_t(a.rows())), cycle_(&cycle) {
+    ctx.batch_uploads([&] { upload(a, start); });
+}
+
+void GpuBicgstab::upload(const CsrMatrix& a, const BicgState& start) {
+    Context& ctx = ctx_;
     check_texel_array_size(ctx, a.values.size(), "BiCGSTAB matrix entries");
     a_rows_ = upload_rows(ctx, a, inverse_diagonal(a), "bicgstab A");
     a_entries_ = upload_texels(ctx, entry_texels(a), "bicgstab A entries");

@@ -48,7 +48,10 @@ void bicgstab_cpu(const CsrMatrix& a, BicgState& state, std::uint32_t iterations
 
 class GpuBicgstab {
 public:
+    // Uploads a, the start and, with mg, its V-cycle, in one submission (Context::batch_uploads).
     GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start, const Multigrid* mg = nullptr);
+    // With a V-cycle already uploaded, which must outlive the solver.
+    GpuBicgstab(Context& ctx, const CsrMatrix& a, const BicgState& start, GpuVcycle& cycle);
     // Runs `iterations` iterations; returns (r0 . r, r . r) per right-hand side after them.
     std::pair<glm::dvec2, glm::dvec2> run(std::uint32_t iterations);
     std::vector<glm::dvec2> solution();
@@ -60,7 +63,9 @@ private:
     Image a_rows_, a_entries_;
     Image x_, r_, r0_, p_, v_, y_, s_, z_, t_;
     Buffer scalars_, sums_rr_;
-    std::unique_ptr<GpuVcycle> cycle_;  // null: Jacobi
+    void upload(const CsrMatrix& a, const BicgState& start);
+    std::unique_ptr<GpuVcycle> own_cycle_;
+    GpuVcycle* cycle_ = nullptr;  // null: Jacobi
     std::map<std::uint32_t, std::unique_ptr<Plan>> plans_;
 };
 

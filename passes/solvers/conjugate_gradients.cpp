@@ -90,6 +90,12 @@ GpuConjugateGradients::GpuConjugateGradients(Context& ctx, const SpdSystem& prob
     // The CPU start on a second thread while this one uploads the hierarchy (each 8-15 ms on
     // armadillo_loop1).
     std::future<CgState> started = std::async(std::launch::async, [&] { return start_cg(problem, mg); });
+    // Every upload in one submission (a real GPU waits for each: Context::batch_uploads).
+    ctx.batch_uploads([&] { upload(mg, started); });
+}
+
+void GpuConjugateGradients::upload(const Multigrid& mg, std::future<CgState>& started) {
+    Context& ctx = ctx_;
     cycle_ = std::make_unique<GpuVcycle>(ctx, mg, "plane mg");
     // q = A p in double: A's entries again, in double; its rows are level 0's when there is one.
     apply_entries_ = upload_texels(ctx, entry_texels(mg.finest()), "plane cg A entries");

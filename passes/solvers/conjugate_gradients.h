@@ -31,6 +31,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <future>
 #include <map>
 #include <memory>
 #include <utility>
@@ -71,6 +72,7 @@ public:
     void set_timestamps(bool on) { timestamps_ = on; }
 
 private:
+    void upload(const Multigrid& mg, std::future<CgState>& started);
     Plan& plan_for(std::uint32_t iterations);
 
     Context& ctx_;

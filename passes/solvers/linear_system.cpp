@@ -3,6 +3,7 @@
 #include "gimg/passes/solvers.h"
 
 #include "solvers/bicgstab.h"
+#include "solvers/vcycle.h"
 #include "solvers/conjugate_gradients.h"
 #include "solvers/multigrid.h"
 
@@ -24,6 +25,10 @@ using detail::CsrMatrix;
 
 struct PreconditionerCache::Hierarchy {
     detail::Multigrid multigrid;
+    // The hierarchy uploaded for solve_general on `cycle_context`: a real GPU waits for each upload
+    // (nine textures for two levels), so a run of solves uploads it once.
+    std::unique_ptr<detail::GpuVcycle> cycle;
+    const Context* cycle_context = nullptr;
 };
 PreconditionerCache::PreconditionerCache() = default;
 PreconditionerCache::~PreconditionerCache() = default;
@@ -338,7 +343,14 @@ SolveResult solve_symmetric_cpu(const LinearSystem& system, const SolveOptions& 
 SolveResult solve_general(Context& ctx, const LinearSystem& system, const SolveOptions& o) {
     return solve_general_with(system, o,
                               [&](const CsrMatrix& a, const detail::BicgState& start, const detail::Multigrid* mg) {
-                                  return detail::GpuBicgstab(ctx, a, start, mg);
+                                  PreconditionerCache::Hierarchy* cached = o.reuse ? o.reuse->hierarchy.get() : nullptr;
+                                  if (!mg || !cached || mg != &cached->multigrid)
+                                      return detail::GpuBicgstab(ctx, a, start, mg);
+                                  if (!cached->cycle || cached->cycle_context != &ctx) {
+                                      cached->cycle = std::make_unique<detail::GpuVcycle>(ctx, *mg, "bicgstab mg");
+                                      cached->cycle_context = &ctx;
+                                  }
+                                  return detail::GpuBicgstab(ctx, a, start, *cached->cycle);
                               });
 }
 

@@ -337,6 +337,35 @@ TEST_F(Solvers, GeneralWithTheMultigridCycleNeedsFarFewerIterationsThanJacobi) {
     EXPECT_LT(max_difference(gpu.x, direct), 1e-8);
 }
 
+TEST_F(Solvers, GeneralKeepsTheUploadedCycleInItsCacheAndGivesTheSameSolution) {
+    // A run of solves with one cache uploads the hierarchy once: it stays allocated between solves,
+    // a second solve allocates no more, clear() frees it, and each solve equals an uncached one.
+    geo::MeshAdjacency adj;
+    const SparseMatrix a = floater_system(30, adj);
+    std::vector<double> truth;
+    const LinearSystem s = system_with_solution(a, boundary_fixed(adj), 2, truth);
+    const SolveOptions plain{.tolerance = 1e-10,
+                             .max_iterations = 500,
+                             .iterations_per_check = 4,
+                             .preconditioner = passes::Preconditioner::Multigrid};
+    const SolveResult alone = passes::solve_general(ctx(), s, plain);
+    passes::PreconditionerCache cache;
+    SolveOptions cached = plain;
+    cached.reuse = &cache;
+    const std::uint64_t before = ctx().memory_stats().allocated_bytes;
+    const SolveResult first = passes::solve_general(ctx(), s, cached);
+    const std::uint64_t kept = ctx().memory_stats().allocated_bytes;
+    const SolveResult second = passes::solve_general(ctx(), s, cached);
+    EXPECT_GT(kept, before) << "the hierarchy's images are kept";
+    EXPECT_EQ(ctx().memory_stats().allocated_bytes, kept) << "and not uploaded again";
+    cache.clear();
+    EXPECT_EQ(ctx().memory_stats().allocated_bytes, before);
+    for (const SolveResult* r : {&first, &second}) {
+        EXPECT_EQ(r->iterations, alone.iterations);
+        EXPECT_EQ(max_difference(r->x, alone.x), 0.0);
+    }
+}
+
 TEST_F(Solvers, GeneralWithTheMultigridCycleFallsBackToJacobiOnADiagonalMatrix) {
     // 1,100 rows and no off-diagonal entry: nothing to aggregate, so Jacobi, which solves it at once.
     const std::size_t n = 1100;

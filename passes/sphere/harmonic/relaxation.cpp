@@ -108,11 +108,13 @@ CentreRun centre_mass_cpu(const RelaxationMesh& level, std::vector<glm::dvec3>& 
 
 GpuRelaxation::GpuRelaxation(Context& ctx, const RelaxationMesh& level, const std::vector<glm::dvec3>& y)
     : ctx_(ctx), level_(level) {
-    points_[0] = upload_points(ctx, y, "sphere points A");
-    points_[1] = upload_points(ctx, y, "sphere points B");
-    ring_offsets_ = upload_texel_array(ctx, level.ring_offsets, Format::R32U, "sphere ring offsets");
-    spokes_ = upload_spokes(ctx, level);
-    members_ = upload_texel_array(ctx, level.colour_members, Format::R32U, "sphere colour members");
+    ctx.batch_uploads([&] {  // one submission for the five
+        points_[0] = upload_points(ctx, y, "sphere points A");
+        points_[1] = upload_points(ctx, y, "sphere points B");
+        ring_offsets_ = upload_texel_array(ctx, level.ring_offsets, Format::R32U, "sphere ring offsets");
+        spokes_ = upload_spokes(ctx, level);
+        members_ = upload_texel_array(ctx, level.colour_members, Format::R32U, "sphere colour members");
+    });
     sums_relaxed_ = ctx.create_buffer({6 * sizeof(double), "sphere sums (relaxed)"}, MemoryUsage::Readback);
     sums_recentred_ = ctx.create_buffer({6 * sizeof(double), "sphere sums (recentred)"}, MemoryUsage::Readback);
     control_ = ctx.create_buffer({sizeof(double), "sphere recentre scale"}, MemoryUsage::Upload);

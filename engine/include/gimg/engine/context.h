@@ -145,6 +145,18 @@ public:
     void upload(Image& image, const std::function<void(std::span<std::byte>)>& fill);
     std::vector<std::byte> download(Image& image);
 
+    // Runs `uploads` with every upload that goes through staging (create_image with a fill, and
+    // upload, on a device whose memory the host cannot map) recorded into one submission, made and
+    // waited for when `uploads` returns, or before anything else is submitted meanwhile. A real GPU
+    // takes its time for each submission it waits for, so several uploads cost one; on lavapipe and
+    // integrated GPUs, which need no staging, nothing changes. What `uploads` creates can be used
+    // once it returns. Batches may nest; the outermost one submits. A plan recorded into the host's
+    // own command buffer (Plan::record) inside a batch is submitted by the host, so only after the
+    // batch has returned.
+    void batch_uploads(const std::function<void()>& uploads);
+    // Queue submissions gimg made on this context so far: plans, transfers, batches.
+    std::uint64_t submission_count() const;
+
     // Waits for every submission gimg made on this context.
     void wait_idle();
     MemoryStats memory_stats() const;

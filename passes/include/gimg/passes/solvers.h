@@ -60,7 +60,9 @@ enum class Preconditioner { Jacobi, Multigrid };
 // stays the same. For a run of systems on one mesh whose values drift, such as the reweighting
 // iterations of a square map: the first system's hierarchy still preconditions the later ones
 // (mannequin_devil: within one or two iterations of a rebuilt one) and saves its build each time.
-// A caller whose systems change more should build afresh (no cache, or clear()).
+// A caller whose systems change more should build afresh (no cache, or clear()). solve_general
+// on a GPU also keeps the hierarchy's upload, so a cache must be cleared or destroyed before the
+// Context it was used with.
 class PreconditionerCache {
 public:
     PreconditionerCache();
