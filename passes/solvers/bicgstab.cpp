@@ -63,6 +63,15 @@ std::vector<double> inverse_diagonal(const CsrMatrix& a) {
     return inv;
 }
 
+// beta = (rho' / rho)(alpha / omega) per right-hand side, rho' = r0 . r now (0 where rho or omega
+// vanished); bicgstab_finish's step 0 on the GPU.
+glm::dvec2 next_beta(const BicgState& s) {
+    glm::dvec2 beta;
+    for (int c = 0; c < 2; ++c)
+        beta[c] = s.rho[c] != 0.0 && s.omega[c] != 0.0 ? (s.r0r[c] / s.rho[c]) * (s.alpha[c] / s.omega[c]) : 0.0;
+    return beta;
+}
+
 glm::dvec2 divide_or_zero(glm::dvec2 num, glm::dvec2 den) {
     return {den.x != 0.0 ? num.x / den.x : 0.0, den.y != 0.0 ? num.y / den.y : 0.0};
 }
@@ -139,9 +148,7 @@ void bicgstab_cpu(const CsrMatrix& a, BicgState& s, std::uint32_t iterations, co
     const std::vector<double> inv = mg ? std::vector<double>() : inverse_diagonal(a);
     std::vector<glm::dvec2> y(n), sv(n), z(n), t(n);
     for (std::uint32_t it = 0; it < iterations; ++it) {
-        glm::dvec2 beta;
-        for (int c = 0; c < 2; ++c)
-            beta[c] = s.rho[c] != 0.0 && s.omega[c] != 0.0 ? (s.r0r[c] / s.rho[c]) * (s.alpha[c] / s.omega[c]) : 0.0;
+        const glm::dvec2 beta = next_beta(s);
         s.rho = s.r0r;
         for (std::size_t i = 0; i < n; ++i) s.p[i] = s.r[i] + beta * (s.p[i] - s.omega * s.v[i]);
         precondition(inv, mg, s.p, y);
@@ -202,11 +209,7 @@ void GpuBicgstab::upload(const CsrMatrix& a, const BicgState& start) {
     z_ = ctx.create_image(texel_image_desc(rows_, "bicgstab z"));
     t_ = ctx.create_image(texel_image_desc(rows_, "bicgstab t"));
     // Each iteration's beta comes from the last one's finishing pass; the first one's from here.
-    Scalars scalars{start.r0r, start.alpha, start.omega, glm::dvec2(0.0)};
-    for (int c = 0; c < 2; ++c)
-        scalars.beta[c] = start.rho[c] != 0.0 && start.omega[c] != 0.0
-                              ? (start.r0r[c] / start.rho[c]) * (start.alpha[c] / start.omega[c])
-                              : 0.0;
+    const Scalars scalars{start.r0r, start.alpha, start.omega, next_beta(start)};
     scalars_ = ctx.create_buffer({sizeof(Scalars), "bicgstab scalars"});
     ctx.upload(scalars_, &scalars, sizeof scalars);
     sums_rr_ = ctx.create_buffer({4 * sizeof(double), "bicgstab r0.r r.r"}, MemoryUsage::Readback);

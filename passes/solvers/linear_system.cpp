@@ -3,9 +3,9 @@
 #include "gimg/passes/solvers.h"
 
 #include "solvers/bicgstab.h"
-#include "solvers/vcycle.h"
 #include "solvers/conjugate_gradients.h"
 #include "solvers/multigrid.h"
+#include "solvers/vcycle.h"
 
 #include "gimg/geometry/error.h"
 
