@@ -135,6 +135,20 @@ void write_file_atomically(const fs::path& path, std::string_view contents) {
     unregister_temp(temp.slot);
 }
 
+std::error_code create_output_folder(const fs::path& dir) {
+    std::error_code ec;
+    std::vector<fs::path> missing;  // deepest first
+    for (fs::path p = dir.lexically_normal(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+        missing.push_back(p);
+        if (p == p.parent_path()) break;
+    }
+    fs::create_directories(dir, ec);
+    if (ec) return ec;
+    if (t_current)
+        for (auto it = missing.rbegin(); it != missing.rend(); ++it) t_current->add_folder(*it);
+    return {};
+}
+
 OutputSet::OutputSet() : outer_(t_current) { t_current = this; }
 
 OutputSet::~OutputSet() {
@@ -145,17 +159,25 @@ OutputSet::~OutputSet() {
         fs::remove(f.temp, ec);
         unregister_temp(f.slot);
     }
+    for (auto it = folders_.rbegin(); it != folders_.rend(); ++it) {
+        std::error_code ec;
+        if (fs::is_directory(*it, ec) && fs::is_empty(*it, ec)) fs::remove(*it, ec);
+    }
 }
 
 void OutputSet::add(fs::path temp, fs::path target, int slot) {
     files_.push_back({std::move(temp), std::move(target), slot});
 }
 
+void OutputSet::add_folder(fs::path dir) { folders_.push_back(std::move(dir)); }
+
 void OutputSet::commit() {
     if (t_current == this) t_current = outer_;
     if (outer_) {
         for (Pending& f : files_) outer_->files_.push_back(std::move(f));
         files_.clear();
+        for (fs::path& d : folders_) outer_->folders_.push_back(std::move(d));
+        folders_.clear();
         done_ = true;
         return;
     }

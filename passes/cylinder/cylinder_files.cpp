@@ -52,7 +52,7 @@ void write_cylinder_files(const std::filesystem::path& dir, const CylinderImage&
     std::error_code ec;
     if (std::filesystem::exists(dir, ec))  // refuse before writing any of the three
         for (const char* name : {"distance.exr", "distance.png", "frame.json"}) geo::check_output_target(dir / name);
-    std::filesystem::create_directories(dir, ec);
+    ec = geo::create_output_folder(dir);
     if (ec) throw geo::InputError("cannot create folder " + dir.string() + ": " + ec.message());
 
     geo::FloatImage exr;

@@ -56,7 +56,7 @@ void write_hierarchy_files(const std::filesystem::path& dir, const CylinderHiera
     std::error_code ec;
     if (std::filesystem::exists(dir, ec))
         for (const char* name : {"hierarchy.exr", "hierarchy.png", "frame.json"}) geo::check_output_target(dir / name);
-    std::filesystem::create_directories(dir, ec);
+    ec = geo::create_output_folder(dir);
     if (ec) throw geo::InputError("cannot create folder " + dir.string() + ": " + ec.message());
     geo::FloatImage exr;
     exr.width = exr.height = h.size;

@@ -83,8 +83,7 @@ void check_picture_shows_something(const geo::RgbaImage& picture, const std::str
 }
 
 void make_output_folder(const std::string& option, const fs::path& dir) {
-    std::error_code ec;
-    fs::create_directories(dir, ec);
+    std::error_code ec = geo::create_output_folder(dir);
     if (ec || !fs::is_directory(dir, ec))
         throw geo::InputError(option + " " + dir.string() + ": cannot create the folder (" + ec.message() + ")");
 }

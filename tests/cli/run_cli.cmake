@@ -3,7 +3,7 @@
 #   [-DEXPECT_STDERR=<regex>] [-DEXPECT_STDOUT=<regex>]
 #   [-DEXPECT_OUTPUT=<regex>] (stdout and stderr of a second run, merged in the order written)
 #   [-DINPUT=<file|... to write first> -DINPUT_TEXT=<their contents>]
-#   [-DABSENT=<file that must not exist afterwards>]
+#   [-DABSENT=<file or folder that must not exist afterwards (removed first)>]
 #   [-DJSON=<file> -DJSON_CHECKS=<key=value|...>]  (top-level keys, or key.N for list entries)
 #   [-DEXPECT_FILES=<file|...> that must exist afterwards] [-DQUIET_STDERR=1] (stderr must be empty:
 #   no warning, no validation message)
@@ -19,8 +19,11 @@ endforeach()
 foreach(path IN ITEMS ${INPUT})
   file(WRITE "${path}" "${INPUT_TEXT}")
 endforeach()
-foreach(path IN ITEMS ${ABSENT} ${JSON} ${EXPECT_FILES})
+foreach(path IN ITEMS ${JSON} ${EXPECT_FILES})
   file(REMOVE "${path}")
+endforeach()
+foreach(path IN ITEMS ${ABSENT})
+  file(REMOVE_RECURSE "${path}")
 endforeach()
 
 execute_process(COMMAND "${GIMG}" ${ARGS} RESULT_VARIABLE code OUTPUT_VARIABLE out ERROR_VARIABLE err)

@@ -14,6 +14,7 @@
 #include <string>
 
 namespace fs = std::filesystem;
+using gimg::geo::create_output_folder;
 using gimg::geo::InputError;
 using gimg::geo::OutputSet;
 using gimg::geo::write_file_atomically;
@@ -102,4 +103,43 @@ TEST(OutputFiles, TemporaryFilesOfDeadProcessesAreRemovedOnTheNextWrite) {
     EXPECT_FALSE(fs::exists(dir / ".a.txt.gimg-999999999-0.tmp"));
     EXPECT_TRUE(fs::exists(mine));  // a running process's file is left alone
     EXPECT_EQ(read(dir / "a.txt"), "fresh");
+}
+
+TEST(OutputFiles, AnAbandonedSetRemovesTheEmptyFoldersMadeForIt) {
+    const fs::path dir = fresh_folder("folders");
+    fs::create_directory(dir / "there");
+    {
+        OutputSet set;
+        EXPECT_FALSE(create_output_folder(dir / "there" / "a" / "b"));
+        EXPECT_FALSE(create_output_folder(dir / "c"));
+        EXPECT_FALSE(create_output_folder(dir / "d"));
+        std::ofstream(dir / "d" / "not_ours.txt") << "kept";  // written outside gimg's policy
+        EXPECT_TRUE(fs::is_directory(dir / "there" / "a" / "b"));
+    }
+    EXPECT_FALSE(fs::exists(dir / "there" / "a"));
+    EXPECT_FALSE(fs::exists(dir / "c"));
+    EXPECT_TRUE(fs::is_directory(dir / "there"));  // it was there before
+    EXPECT_TRUE(fs::exists(dir / "d" / "not_ours.txt"));
+    {
+        OutputSet outer;
+        {
+            OutputSet inner;  // hands its folder to the outer set, which commits
+            EXPECT_FALSE(create_output_folder(dir / "e" / "f"));
+            inner.commit();
+        }
+        outer.commit();
+    }
+    EXPECT_TRUE(fs::is_directory(dir / "e" / "f"));
+    {
+        OutputSet outer;
+        {
+            OutputSet inner;  // committed into a set that then fails
+            EXPECT_FALSE(create_output_folder(dir / "g"));
+            write_file_atomically(dir / "g" / "x.txt", "x");
+            inner.commit();
+        }
+    }
+    EXPECT_FALSE(fs::exists(dir / "g"));
+    std::ofstream(dir / "file") << "a file";
+    EXPECT_TRUE(create_output_folder(dir / "file" / "sub"));
 }

@@ -7,11 +7,13 @@
 //    error, on SIGINT and SIGTERM once remove_outputs_on_signals() is installed, and by the next
 //    write of the same target when the process that left it is gone.
 //  - Inside an OutputSet, the renames wait for commit(): a command's files appear together, after
-//    every one of them was written, or none do.
+//    every one of them was written, or none do. The folders create_output_folder() made for the
+//    set go again, if still empty, when it is abandoned: a failed command leaves no empty folder.
 //  - The disk failing (full, read-only, an I/O error) throws geo::EnvironmentError.
 
 #include <filesystem>
 #include <string_view>
+#include <system_error>
 #include <vector>
 
 namespace gimg::geo {
@@ -23,9 +25,14 @@ void check_output_target(const std::filesystem::path& path);
 // Checks the target, then writes `contents` by the policy above.
 void write_file_atomically(const std::filesystem::path& path, std::string_view contents);
 
+// Creates `dir` and its missing parents; the error (none: empty) if it cannot. Inside an
+// OutputSet, the folders it made are removed again, those still empty, if the set is abandoned.
+std::error_code create_output_folder(const std::filesystem::path& dir);
+
 // The files written on this thread while it is alive take their names together at commit(); if it
-// is destroyed before, their temporary files are removed and no target changes. Sets nest: an
-// inner set hands its files to the outer one.
+// is destroyed before, their temporary files are removed, no target changes and the folders made
+// for it by create_output_folder go, where empty. Sets nest: an inner set hands its files and
+// folders to the outer one.
 class OutputSet {
 public:
     OutputSet();
@@ -36,6 +43,8 @@ public:
     // Called by write_file_atomically: `temp` becomes `target` at commit(); `slot` is its entry in
     // the signal handler's list.
     void add(std::filesystem::path temp, std::filesystem::path target, int slot);
+    // Called by create_output_folder: a folder it made, removed (if empty) should the set fail.
+    void add_folder(std::filesystem::path dir);
 
 private:
     struct Pending {
@@ -43,6 +52,7 @@ private:
         int slot;
     };
     std::vector<Pending> files_;
+    std::vector<std::filesystem::path> folders_;  // in the order made: parents first
     OutputSet* outer_;
     bool done_ = false;
 };
