@@ -20,32 +20,49 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Temporary files in flight, as C strings a signal handler can unlink. A slot is taken with an
-// atomic flag; 64 files at once is far more than any command writes.
+// Paths a signal handler acts on, as C strings: temporary files to unlink, folders to remove if
+// empty. A slot is claimed with one atomic flag and read by the handler only once its path is
+// whole; 64 of each at once is far more than any command makes.
 constexpr std::size_t kSlots = 64, kPathBytes = 4096;
-std::array<std::atomic<bool>, kSlots> g_slot_used{};
-std::array<std::array<char, kPathBytes>, kSlots> g_slot_path{};
 
-int register_temp(const fs::path& temp) {
-    const std::string s = temp.string();
-    if (s.size() >= kPathBytes) return -1;
-    for (std::size_t i = 0; i < kSlots; ++i) {
-        bool expected = false;
-        if (g_slot_used[i].compare_exchange_strong(expected, true)) {
-            std::memcpy(g_slot_path[i].data(), s.c_str(), s.size() + 1);
-            return int(i);
+struct SignalPaths {
+    std::array<std::atomic<bool>, kSlots> claimed{}, ready{};
+    std::array<std::array<char, kPathBytes>, kSlots> path{};
+
+    int add(const fs::path& p) {
+        const std::string s = p.string();
+        if (s.size() >= kPathBytes) return -1;
+        for (std::size_t i = 0; i < kSlots; ++i) {
+            bool expected = false;
+            if (claimed[i].compare_exchange_strong(expected, true)) {
+                std::memcpy(path[i].data(), s.c_str(), s.size() + 1);
+                ready[i].store(true);
+                return int(i);
+            }
         }
+        return -1;  // not acted on at a signal, still removed on errors
     }
-    return -1;  // not removable on a signal, still removed on errors
-}
-
-void unregister_temp(int slot) {
-    if (slot >= 0) g_slot_used[std::size_t(slot)].store(false);
-}
+    void remove(int slot) {
+        if (slot < 0) return;
+        ready[std::size_t(slot)].store(false);
+        claimed[std::size_t(slot)].store(false);
+    }
+};
+SignalPaths g_temps, g_folders;
 
 void on_signal(int sig) {
     for (std::size_t i = 0; i < kSlots; ++i)
-        if (g_slot_used[i].load()) ::unlink(g_slot_path[i].data());
+        if (g_temps.ready[i].load()) ::unlink(g_temps.path[i].data());
+    // rmdir fails on a folder that is not empty: pass after pass empties nested ones whatever
+    // their slots' order.
+    for (bool removed = true; removed;) {
+        removed = false;
+        for (std::size_t i = 0; i < kSlots; ++i)
+            if (g_folders.ready[i].load() && ::rmdir(g_folders.path[i].data()) == 0) {
+                g_folders.ready[i].store(false);
+                removed = true;
+            }
+    }
     std::signal(sig, SIG_DFL);
     std::raise(sig);
 }
@@ -57,12 +74,12 @@ struct Temp {
     fs::path path;
     int slot = -1;
     bool keep = false;
-    explicit Temp(fs::path p) : path(std::move(p)), slot(register_temp(path)) {}
+    explicit Temp(fs::path p) : path(std::move(p)), slot(g_temps.add(path)) {}
     ~Temp() {
         if (keep) return;
         std::error_code ec;
         fs::remove(path, ec);
-        unregister_temp(slot);
+        g_temps.remove(slot);
     }
 };
 
@@ -132,7 +149,7 @@ void write_file_atomically(const fs::path& path, std::string_view contents) {
     }
     rename_into_place(temp.path, path);
     temp.keep = true;
-    unregister_temp(temp.slot);
+    g_temps.remove(temp.slot);
 }
 
 std::error_code create_output_folder(const fs::path& dir) {
@@ -157,11 +174,12 @@ OutputSet::~OutputSet() {
     for (const Pending& f : files_) {
         std::error_code ec;
         fs::remove(f.temp, ec);
-        unregister_temp(f.slot);
+        g_temps.remove(f.slot);
     }
     for (auto it = folders_.rbegin(); it != folders_.rend(); ++it) {
         std::error_code ec;
-        if (fs::is_directory(*it, ec) && fs::is_empty(*it, ec)) fs::remove(*it, ec);
+        if (fs::is_directory(it->path, ec) && fs::is_empty(it->path, ec)) fs::remove(it->path, ec);
+        g_folders.remove(it->slot);
     }
 }
 
@@ -169,20 +187,24 @@ void OutputSet::add(fs::path temp, fs::path target, int slot) {
     files_.push_back({std::move(temp), std::move(target), slot});
 }
 
-void OutputSet::add_folder(fs::path dir) { folders_.push_back(std::move(dir)); }
+void OutputSet::add_folder(fs::path dir) {
+    const int slot = g_folders.add(dir);
+    folders_.push_back({std::move(dir), slot});
+}
 
 void OutputSet::commit() {
     if (t_current == this) t_current = outer_;
     if (outer_) {
         for (Pending& f : files_) outer_->files_.push_back(std::move(f));
         files_.clear();
-        for (fs::path& d : folders_) outer_->folders_.push_back(std::move(d));
+        for (Folder& d : folders_) outer_->folders_.push_back(std::move(d));
         folders_.clear();
         done_ = true;
         return;
     }
     for (const Pending& f : files_) rename_into_place(f.temp, f.target);  // a failure leaves the rest to ~OutputSet
-    for (const Pending& f : files_) unregister_temp(f.slot);
+    for (const Pending& f : files_) g_temps.remove(f.slot);
+    for (const Folder& d : folders_) g_folders.remove(d.slot);
     done_ = true;
 }
 

@@ -75,7 +75,7 @@ signal_leaves_nothing)
   code=$?
   [ "$code" -eq 143 ] || fail "the run ended with $code, not by SIGTERM (143)"
   no_temps
-  absent "$W/rt/distance.exr" "$W/rt/frame.json" "$W/rt/reconstruction.ply"
+  absent "$W/rt/distance.exr" "$W/rt/frame.json" "$W/rt/reconstruction.ply" "$W/rt"
   # A temporary file a killed run left (its process gone) is cleaned by the next write.
   mkdir -p "$W/c"
   touch "$W/c/.frame.json.gimg-999999999-0.tmp"

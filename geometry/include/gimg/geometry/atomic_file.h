@@ -52,13 +52,17 @@ private:
         int slot;
     };
     std::vector<Pending> files_;
-    std::vector<std::filesystem::path> folders_;  // in the order made: parents first
+    struct Folder {
+        std::filesystem::path path;
+        int slot;  // in the signal handler's list
+    };
+    std::vector<Folder> folders_;  // in the order made: parents first
     OutputSet* outer_;
     bool done_ = false;
 };
 
-// Installs SIGINT and SIGTERM handlers that remove every temporary file in flight, then end the
-// process as the signal would have. For programs (the gimg command line); a library leaves the
+// Installs SIGINT and SIGTERM handlers that remove every temporary file in flight, and the empty
+// folders made for output sets, then end the process as the signal would have. For programs (the gimg command line); a library leaves the
 // signals to its host.
 void remove_outputs_on_signals();
 
