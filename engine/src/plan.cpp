@@ -223,6 +223,11 @@ void Plan::wait() {
     collect_pending_timings();
 }
 
+bool Plan::finished() {
+    PlanData& d = *data_;
+    return device_of(d).finished(d.submitted);
+}
+
 void Plan::collect_pending_timings() {
     PlanData& d = *data_;
     if (!d.timings_pending) return;

@@ -329,6 +329,7 @@ void add_bench_command(CLI::App& app, const GlobalOptions& global) {
     add_bench_quadmap_command(*bench, global);
     add_bench_maps_command(*bench, global);
     add_bench_retrieval_command(*bench, global);
+    add_bench_engine_command(*bench, global);
 }
 
 }  // namespace gimg::cli

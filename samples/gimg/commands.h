@@ -43,6 +43,8 @@ void add_bench_quadmap_command(CLI::App& bench, const GlobalOptions& global);
 void add_bench_maps_command(CLI::App& bench, const GlobalOptions& global);
 // gimg bench retrieval [--models N] (cmd_bench_retrieval.cpp), under `bench`
 void add_bench_retrieval_command(CLI::App& bench, const GlobalOptions& global);
+// gimg bench engine [--runs N] [--chain N] (cmd_bench_engine.cpp), under `bench`
+void add_bench_engine_command(CLI::App& bench, const GlobalOptions& global);
 void add_reconstruct_command(CLI::App& app, const GlobalOptions& global);
 void add_sample_command(CLI::App& app, const GlobalOptions& global);
 void add_roundtrip_command(CLI::App& app, const GlobalOptions& global);

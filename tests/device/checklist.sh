@@ -86,6 +86,8 @@ check() {
     echo "$name: exit $?, $((SECONDS - t0)) s (limit $limit s)" | tee -a "$out/summary.txt"
   }
   step devices 30 "$gimg" devices
+  # What a round trip costs there: it bounds every iterative GPU path that reads back between submissions.
+  step engine 30 "$gimg" bench engine --runs 200 --json "$out/bench-engine.json"
   # The open issues' real-GPU goals first: dragon at 1024 x 1024 hierarchical (2 ms), quad-region
   # corner edits (4 ms).
   [ -s "$work/large/dragon.ply" ] && step hierarchical-dragon 90 "$gimg" bench hierarchical --mesh "$work/large/dragon.ply" \

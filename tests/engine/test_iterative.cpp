@@ -6,6 +6,7 @@
 
 #include "engine/jacobi1d_comp.h"
 
+#include <chrono>
 #include <cmath>
 #include <vector>
 
@@ -80,4 +81,42 @@ TEST_F(IterativePass, JacobiDiffusionInChunksOfFiftyMatchesTheCpu) {
     EXPECT_EQ(timings[0].name, "jacobi");
     EXPECT_EQ(timings[0].iterations, K);
     EXPECT_GT(timings[0].gpu_ms, 0.0);
+}
+
+// Plan::finished() polls without waiting: false while 2,000 passes run, true once they are done,
+// and the result is the one waiting gives.
+TEST_F(IterativePass, FinishedTurnsTrueWhenTheExecutionIsDone) {
+    constexpr std::uint32_t N = 1000, K = 2000;
+    constexpr float kAlpha = 0.25f;
+    std::vector<float> initial(N);
+    for (std::uint32_t i = 0; i < N; ++i) initial[i] = i % 97 == 0 ? 1.0f : 0.0f;
+    Buffer a = ctx().create_buffer({N * sizeof(float), "u (even)"});
+    Buffer b = ctx().create_buffer({N * sizeof(float), "u (odd)"});
+    ctx().upload(a, initial.data(), N * sizeof(float));
+    Graph g(ctx());
+    auto ha = g.import_buffer(a);
+    auto hb = g.import_buffer(b);
+    g.add_loop(K, [&] {
+        g.add_compute_pass(
+            "jacobi",
+            [&](PassBuilder& p) {
+                ha = p.write(ha, Access::ComputeReadWrite);
+                hb = p.write(hb, Access::ComputeReadWrite);
+            },
+            [=](Cmd& c) {
+                const bool even = c.iteration() % 2 == 0;
+                c.dispatch_threads(kJacobi, {N}, {even ? ha : hb, even ? hb : ha}, JacobiPush{N, kAlpha});
+            });
+    });
+    g.export_buffer(ha, Access::TransferSrc);
+    Plan plan = g.compile();
+    EXPECT_TRUE(plan.finished());  // nothing executed yet
+    plan.execute({.wait = false});
+    EXPECT_FALSE(plan.finished());
+    const auto start = std::chrono::steady_clock::now();
+    while (!plan.finished())
+        ASSERT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(60)) << "never finished";
+    const std::vector<float> gpu = ctx().download<float>(a);
+    const std::vector<float> cpu = jacobi_cpu(initial, kAlpha, int(K));
+    for (std::uint32_t i = 0; i < N; ++i) ASSERT_NEAR(gpu[i], cpu[i], 1e-6) << i;
 }

@@ -84,6 +84,9 @@ public:
     // submits it on the context's queue. Call collect_timings() after it completed.
     void record(VkCommandBuffer command_buffer, bool timestamps = false);
     void wait();
+    // Whether the last execution has finished, without waiting (true before the first): poll it
+    // instead of wait() to overlap host work with the GPU's.
+    bool finished();
     // Per-pass GPU times of the last timed execution (waits for it).
     const std::vector<PassTiming>& timings();
     double total_gpu_ms();
