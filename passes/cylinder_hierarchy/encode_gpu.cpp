@@ -119,12 +119,13 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
         add_cylinder_hierarchy(g, caster, g.import_image(bands), g.import_buffer(directions), options);
     g.export_image(out, Access::TransferSrc);
     Plan plan = g.compile();
-    const bool timed = ctx.device_info().timestamp_period_ns > 0.0;
+    const bool timed = options.timestamps && ctx.device_info().timestamp_period_ns > 0.0;
     plan.execute({.wait = true, .timestamps = timed});
     detail::download_bands(ctx, bands, h);
 
     // One submission: each level's passes by their timestamps (level 1's after the tree's upload),
-    // and what else the submission took (recording, waiting, the download) counted in the last level.
+    // and what else the submission took (recording, waiting, the download) counted in the last
+    // level; untimed, level 1 holds the tree and the last level the whole submission.
     const double cast_ms = detail::ms_since(cast_start);
     std::vector<double> per_level(h.levels() + 1, 0.0);
     if (timed)

@@ -38,8 +38,12 @@ void run_hierarchy(const CylinderOptions& o, const GlobalOptions& global) {
     const geo::Mesh mesh = geo::load_mesh(o.mesh);
     if (mesh.face_count() == 0) throw geo::InputError(o.mesh + " has no faces to project");
     const passes::CylinderFrame frame = passes::fit_cylinder_frame(mesh, !o.no_align);
-    const passes::CylinderHierarchyOptions options{
-        .base = o.base, .size = n, .reach = o.reach, .miss = passes::hierarchy_miss(o.misses)};
+    // Per-level GPU times only for the JSON: timestamps cost lavapipe time.
+    const passes::CylinderHierarchyOptions options{.base = o.base,
+                                                   .size = n,
+                                                   .reach = o.reach,
+                                                   .miss = passes::hierarchy_miss(o.misses),
+                                                   .timestamps = !o.json.empty()};
     std::shared_ptr<Context> ctx;
     if (!o.cpu) ctx = open_context(global);
     const passes::CylinderMesh cyl = passes::make_cylinder_mesh(mesh, frame);

@@ -330,9 +330,17 @@ TEST_F(CylinderHierarchyGpu, TheGpuEncoderGivesTheCpuHierarchy) {
             std::size_t hits = 0;
             for (auto v : cpu.valid) hits += v == gp::kHierarchyHit;
             EXPECT_GT(hits, 2000u);
-            // Where the device times passes (lavapipe and GPUs do), the encoder reports their time.
+            // Asked, and where the device times passes (lavapipe and GPUs do), the encoder reports
+            // their time per level, and the same hierarchy; unasked, none.
+            gp::CylinderHierarchyOptions stamped = options;
+            stamped.timestamps = true;
+            const gp::CylinderHierarchy timed = gp::cylinder_hierarchy_gpu(ctx(), mesh, stamped);
+            ASSERT_EQ(timed.t, cpu.t);
+            EXPECT_EQ(gpu.gpu_ms, 0.0);
             if (ctx().device_info().timestamp_period_ns > 0.0) {
-                EXPECT_GT(gpu.gpu_ms, 0.0);
+                EXPECT_GT(timed.gpu_ms, 0.0);
+                ASSERT_EQ(timed.level_ms.size(), timed.levels());
+                for (std::size_t k = 1; k + 1 < timed.level_ms.size(); ++k) EXPECT_GT(timed.level_ms[k], 0.0) << k;
             }
             ASSERT_EQ(gpu.level_ms.size(), gpu.levels());
             // The tree's build (and upload) is part of level 1's time on both encoders.
