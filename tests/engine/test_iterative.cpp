@@ -35,6 +35,27 @@ std::vector<float> jacobi_cpu(std::vector<float> u, float alpha, int iterations)
     }
     return u;
 }
+
+// K Jacobi iterations ping-ponging between a and b (K even: the result lands in a).
+Plan jacobi_plan(Context& ctx, Buffer& a, Buffer& b, std::uint32_t n, std::uint32_t k, float alpha) {
+    Graph g(ctx);
+    auto ha = g.import_buffer(a);
+    auto hb = g.import_buffer(b);
+    g.add_loop(k, [&] {
+        g.add_compute_pass(
+            "jacobi",
+            [&](PassBuilder& p) {
+                ha = p.write(ha, Access::ComputeReadWrite);
+                hb = p.write(hb, Access::ComputeReadWrite);
+            },
+            [=](Cmd& c) {
+                const bool even = c.iteration() % 2 == 0;  // even iterations read a, odd ones read b
+                c.dispatch_threads(kJacobi, {n}, {even ? ha : hb, even ? hb : ha}, JacobiPush{n, alpha});
+            });
+    });
+    g.export_buffer(ha, Access::TransferSrc);
+    return g.compile();
+}
 }  // namespace
 
 TEST_F(IterativePass, JacobiDiffusionInChunksOfFiftyMatchesTheCpu) {
@@ -47,23 +68,7 @@ TEST_F(IterativePass, JacobiDiffusionInChunksOfFiftyMatchesTheCpu) {
     Buffer b = ctx().create_buffer({N * sizeof(float), "u (odd)"});
     ctx().upload(a, initial.data(), N * sizeof(float));
 
-    Graph g(ctx());
-    auto ha = g.import_buffer(a);
-    auto hb = g.import_buffer(b);
-    g.add_loop(K, [&] {
-        g.add_compute_pass(
-            "jacobi",
-            [&](PassBuilder& p) {
-                ha = p.write(ha, Access::ComputeReadWrite);
-                hb = p.write(hb, Access::ComputeReadWrite);
-            },
-            [=](Cmd& c) {
-                const bool even = c.iteration() % 2 == 0;  // even iterations read a, odd ones read b
-                c.dispatch_threads(kJacobi, {N}, {even ? ha : hb, even ? hb : ha}, JacobiPush{N, kAlpha});
-            });
-    });
-    g.export_buffer(ha, Access::TransferSrc);
-    Plan plan = g.compile();
+    Plan plan = jacobi_plan(ctx(), a, b, N, K, kAlpha);
     for (std::uint32_t e = 0; e < kExecutions; ++e) plan.execute({.wait = false, .timestamps = e + 1 == kExecutions});
 
     const std::vector<float> gpu = ctx().download<float>(a);  // K is even: the result is in a
@@ -93,23 +98,7 @@ TEST_F(IterativePass, FinishedTurnsTrueWhenTheExecutionIsDone) {
     Buffer a = ctx().create_buffer({N * sizeof(float), "u (even)"});
     Buffer b = ctx().create_buffer({N * sizeof(float), "u (odd)"});
     ctx().upload(a, initial.data(), N * sizeof(float));
-    Graph g(ctx());
-    auto ha = g.import_buffer(a);
-    auto hb = g.import_buffer(b);
-    g.add_loop(K, [&] {
-        g.add_compute_pass(
-            "jacobi",
-            [&](PassBuilder& p) {
-                ha = p.write(ha, Access::ComputeReadWrite);
-                hb = p.write(hb, Access::ComputeReadWrite);
-            },
-            [=](Cmd& c) {
-                const bool even = c.iteration() % 2 == 0;
-                c.dispatch_threads(kJacobi, {N}, {even ? ha : hb, even ? hb : ha}, JacobiPush{N, kAlpha});
-            });
-    });
-    g.export_buffer(ha, Access::TransferSrc);
-    Plan plan = g.compile();
+    Plan plan = jacobi_plan(ctx(), a, b, N, K, kAlpha);
     EXPECT_TRUE(plan.finished());  // nothing executed yet
     plan.execute({.wait = false});
     EXPECT_FALSE(plan.finished());
