@@ -154,8 +154,9 @@ void write_file_atomically(const fs::path& path, std::string_view contents) {
 
 std::error_code create_output_folder(const fs::path& dir) {
     std::error_code ec;
-    std::vector<fs::path> missing;  // deepest first
-    for (fs::path p = dir.lexically_normal(); !p.empty() && !fs::exists(p, ec); p = p.parent_path()) {
+    std::vector<fs::path> missing;  // deepest first; a path that cannot be checked counts as there
+    for (fs::path p = dir.lexically_normal(); !p.empty(); p = p.parent_path()) {
+        if (fs::exists(p, ec) || ec) break;
         missing.push_back(p);
         if (p == p.parent_path()) break;
     }

@@ -62,8 +62,8 @@ private:
 };
 
 // Installs SIGINT and SIGTERM handlers that remove every temporary file in flight, and the empty
-// folders made for output sets, then end the process as the signal would have. For programs (the gimg command line); a library leaves the
-// signals to its host.
+// folders made for output sets, then end the process as the signal would have. For programs (the
+// gimg command line); a library leaves the signals to its host.
 void remove_outputs_on_signals();
 
 }  // namespace gimg::geo
