@@ -119,9 +119,9 @@ struct Bin {
 
 class BvhBuilder {
 public:
-    BvhBuilder(std::vector<PrimRef>& prims, const Mesh& mesh, std::vector<std::uint32_t>& copy_of,
+    BvhBuilder(std::vector<PrimRef>& prims, const Mesh& mesh, std::vector<std::uint32_t>& kept_face,
                const BvhBuildOptions& options, unsigned threads)
-        : prims_(prims), mesh_(mesh), copy_of_(copy_of), options_(options), threads_(threads) {}
+        : prims_(prims), mesh_(mesh), kept_face_(kept_face), options_(options), threads_(threads) {}
 
     void build_node(std::uint32_t index, Range range, BvhNodeArray& nodes, int depth) {
         nodes[index].bounds_min = range.bounds.lo;
@@ -176,7 +176,7 @@ private:
     // Faces with the same centroid: copies of one triangle (its three corners at the same points, in
     // any order) keep only the lowest face index, which is the one every query reports at a tie,
     // so queries never test thousands of copies. Returns the new end of the range; the copies sit
-    // after it, in slots no node names, and copy_of_ maps each to its kept face.
+    // after it, in slots no node names, and kept_face_ names the kept face of each.
     std::size_t drop_copies(const Range& range) {
         using Key = std::array<glm::dvec3, 3>;
         auto key_of = [&](const PrimRef& p) {
@@ -203,10 +203,10 @@ private:
         std::vector<PrimRef> dropped;
         for (std::size_t i = 0; i < items.size(); ++i) {
             if (i > 0 && !less(items[i - 1].first, items[i].first)) {
-                copy_of_[items[i].second.face] = copy_of_[items[i - 1].second.face];
+                kept_face_[items[i].second.face] = kept_face_[items[i - 1].second.face];
                 dropped.push_back(items[i].second);
             } else {
-                copy_of_[items[i].second.face] = items[i].second.face;
+                kept_face_[items[i].second.face] = items[i].second.face;
                 prims_[kept++] = items[i].second;
             }
         }
@@ -332,14 +332,21 @@ private:
 
     std::vector<PrimRef>& prims_;
     const Mesh& mesh_;
-    std::vector<std::uint32_t>& copy_of_;
+    std::vector<std::uint32_t>& kept_face_;
     const BvhBuildOptions& options_;
     unsigned threads_;
 };
 
 }  // namespace
 
-TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
+float bvh_extent(const BvhNodeArray& nodes) {
+    float e = 0.0f;
+    for (int a = 0; !nodes.empty() && a < 3; ++a)
+        e = std::max({e, std::abs(nodes[0].bounds_min[a]), std::abs(nodes[0].bounds_max[a])});
+    return e;
+}
+
+BvhLayout build_bvh_layout(const Mesh& mesh, const BvhBuildOptions& options) {
     const std::size_t fcount = mesh.face_count();
     if (fcount >= std::numeric_limits<std::uint32_t>::max() / 2)
         throw std::length_error("mesh too large for a 32-bit BVH");
@@ -347,7 +354,8 @@ TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
     for (const glm::uvec3& t : mesh.triangles)
         if (t.x >= mesh.vertex_count() || t.y >= mesh.vertex_count() || t.z >= mesh.vertex_count())
             throw std::invalid_argument("BVH: a triangle names a vertex index past the vertex count");
-    if (fcount == 0) return;
+    BvhLayout out;
+    if (fcount == 0) return out;
     const unsigned threads = options.threads ? options.threads : default_thread_count();
 
     std::vector<PrimRef> prims(fcount);
@@ -372,32 +380,41 @@ TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
     // Room for the largest tree (a leaf per triangle), so the array never moves while it grows. It
     // is not shrunk afterwards: pages of the reservation the tree never reaches are never touched,
     // while a shrinking copy faults in every page again (0.1-0.2 s at 1M faces on these VMs).
-    nodes_.reserve(2 * fcount + 2);
-    nodes_.resize(2);  // root and padding
-    // copy_of[f]: the face f's triangle is answered by (itself unless it is a dropped copy).
-    std::vector<std::uint32_t> copy_of(fcount, std::numeric_limits<std::uint32_t>::max());
-    BvhBuilder builder(prims, mesh, copy_of, options, threads);
-    builder.build_node(0, root, nodes_, 0);
+    out.nodes.reserve(2 * fcount + 2);
+    out.nodes.resize(2);  // root and padding
+    out.kept_face.assign(fcount, std::numeric_limits<std::uint32_t>::max());
+    BvhBuilder builder(prims, mesh, out.kept_face, options, threads);
+    builder.build_node(0, root, out.nodes, 0);
+    for (std::size_t f = 0; f < fcount; ++f)
+        if (out.kept_face[f] == std::numeric_limits<std::uint32_t>::max()) out.kept_face[f] = std::uint32_t(f);
+    out.face_order.resize(fcount);
+    for (std::size_t i = 0; i < fcount; ++i) out.face_order[i] = prims[i].face;
+    return out;
+}
 
-    face_order_.resize(fcount);
+TriangleBvh::TriangleBvh(const Mesh& mesh, const BvhBuildOptions& options) {
+    BvhLayout layout = build_bvh_layout(mesh, options);
+    nodes_ = std::move(layout.nodes);
+    face_order_ = std::move(layout.face_order);
+    const std::size_t fcount = face_order_.size();
     slot_of_face_.resize(fcount);
     triangles_.resize(fcount);
     parallel_for_chunks(
         fcount, 65536,
         [&](std::size_t, std::size_t begin, std::size_t end) {
             for (std::size_t i = begin; i < end; ++i) {
-                const std::uint32_t f = prims[i].face;
+                const std::uint32_t f = face_order_[i];
                 const glm::uvec3& t = mesh.triangles[f];
-                face_order_[i] = f;
                 slot_of_face_[f] = static_cast<std::uint32_t>(i);
                 triangles_[i] = {mesh.positions[t.x], mesh.positions[t.y], mesh.positions[t.z]};
             }
         },
-        threads);
+        options.threads);
+    const std::vector<std::uint32_t>& kept = layout.kept_face;
     for (std::size_t f = 0; f < fcount; ++f)
-        if (copy_of[f] != std::numeric_limits<std::uint32_t>::max() && copy_of[f] != f) {
-            copy_slots_[copy_of[f]].push_back(slot_of_face_[f]);
-            slot_of_face_[f] = slot_of_face_[copy_of[f]];
+        if (kept[f] != f) {
+            copy_slots_[kept[f]].push_back(slot_of_face_[f]);
+            slot_of_face_[f] = slot_of_face_[kept[f]];
         }
 }
 

@@ -64,10 +64,9 @@ void node_texels(const geo::BvhNodeArray& nodes, std::span<glm::uvec4> out) {
 
 struct GpuRayCaster::State {
     Context& ctx;
-    geo::TriangleBvh bvh;
     Image nodes, corners;  // texel arrays (the shader's header says how)
     Buffer faces;
-    float scene = 0.0f;  // bvh.extent()
+    float scene = 0.0f;  // geo::bvh_extent of the tree
     bool votes = false;
     explicit State(Context& c) : ctx(c) {}
 };
@@ -79,31 +78,32 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCast
     if (mesh.face_count() == 0) throw geo::InputError("ray casting: the mesh has no faces");
     State& s = *state_;
     s.votes = options.subgroup_votes && ctx.device_info().subgroup_vote;
-    s.bvh = geo::TriangleBvh(mesh);
-    s.scene = s.bvh.extent();
+    // The tree without TriangleBvh's double-precision copy of the triangles: the corners go
+    // straight from the mesh into their texel array.
+    const geo::BvhLayout tree = geo::build_bvh_layout(mesh);
+    s.scene = geo::bvh_extent(tree.nodes);
     // Both arrays are written straight into the images where the device allows, else into the
     // upload's staging memory (Context::create_image; bunny's corners: 6 MB), in one submission.
     ctx.batch_uploads([&] {
-        s.nodes = upload_texel_array<glm::uvec4>(ctx, 2 * s.bvh.nodes().size(), Format::RGBA32U, "raycast nodes",
-                                                 [&](std::span<glm::uvec4> out) { node_texels(s.bvh.nodes(), out); });
-        const auto& triangles = s.bvh.triangles();
+        s.nodes = upload_texel_array<glm::uvec4>(ctx, 2 * tree.nodes.size(), Format::RGBA32U, "raycast nodes",
+                                                 [&](std::span<glm::uvec4> out) { node_texels(tree.nodes, out); });
+        const std::size_t slots = tree.face_order.size();
         s.corners = upload_texel_array<glm::uvec4>(
-            ctx, 5 * triangles.size(), Format::RGBA32U, "raycast corners", [&](std::span<glm::uvec4> out) {
-                geo::parallel_for_chunks(triangles.size(), 16384, [&](std::size_t, std::size_t begin, std::size_t end) {
+            ctx, 5 * slots, Format::RGBA32U, "raycast corners", [&](std::span<glm::uvec4> out) {
+                geo::parallel_for_chunks(slots, 16384, [&](std::size_t, std::size_t begin, std::size_t end) {
                     for (std::size_t i = begin; i < end; ++i) {
-                        const auto& t = triangles[i];
-                        const double v[10] = {t.a.x, t.a.y, t.a.z, t.b.x, t.b.y, t.b.z, t.c.x, t.c.y, t.c.z, 0.0};
+                        const glm::uvec3& t = mesh.triangles[tree.face_order[i]];
+                        const glm::dvec3 &a = mesh.positions[t.x], &b = mesh.positions[t.y], &c = mesh.positions[t.z];
+                        const double v[10] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z, 0.0};
                         std::memcpy(&out[5 * i], v, sizeof v);
                     }
                 });
             });
-        s.faces = upload_buffer(ctx, s.bvh.face_order(), "raycast face order");
+        s.faces = upload_buffer(ctx, tree.face_order, "raycast face order");
     });
 }
 
 GpuRayCaster::~GpuRayCaster() = default;
-
-const geo::TriangleBvh& GpuRayCaster::bvh() const { return state_->bvh; }
 
 RaycastTree import_raycast_tree(Graph& graph, GpuRayCaster& caster) {
     GpuRayCaster::State& s = *caster.state_;

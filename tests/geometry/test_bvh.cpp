@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstring>
 #include <random>
 
 using namespace gimg::geo;
@@ -337,6 +339,41 @@ TEST(Bvh, CopiesOfATriangleAnswerAsTheLowestFaceAndIntersectAllReportsEach) {
               [](const RayHit& a, const RayHit& b) { return a.t != b.t ? a.t < b.t : a.face < b.face; });
     EXPECT_EQ(nearest->face, sorted[0].face);
     for (std::size_t k = 0; k < all.size(); ++k) EXPECT_EQ(all[k].face, sorted[k].face);
+}
+
+TEST(Bvh, TheLayoutIsTheTreesNodesAndOrderAndNamesTheKeptFaceOfEachCopy) {
+    // awkward_mesh plus 40 copies of its face 7, some with rotated corners.
+    Mesh m = awkward_mesh();
+    const std::size_t original = m.face_count();
+    for (int k = 0; k < 40; ++k) {
+        const glm::uvec3 a = m.triangles[7];
+        m.triangles.push_back(k % 2 ? glm::uvec3(a.z, a.x, a.y) : a);
+    }
+    const BvhLayout layout = build_bvh_layout(m);
+    const TriangleBvh bvh(m);
+    ASSERT_EQ(layout.nodes.size(), bvh.nodes().size());
+    EXPECT_EQ(std::memcmp(layout.nodes.data(), bvh.nodes().data(), layout.nodes.size() * sizeof(BvhNode)), 0);
+    EXPECT_EQ(layout.face_order, bvh.face_order());
+    EXPECT_EQ(bvh_extent(layout.nodes), bvh.extent());
+    // Every face appears once in the order; a copy answers by the lowest face with its corners.
+    std::vector<std::uint32_t> seen(m.face_count(), 0);
+    for (std::uint32_t f : layout.face_order) ++seen[f];
+    EXPECT_EQ(std::count(seen.begin(), seen.end(), 1u), std::ptrdiff_t(m.face_count()));
+    ASSERT_EQ(layout.kept_face.size(), m.face_count());
+    for (std::size_t f = original; f < m.face_count(); ++f) EXPECT_EQ(layout.kept_face[f], 7u) << f;
+    // awkward_mesh's own faces answer for themselves, but for its one duplicate (of face 5), which
+    // may share a leaf with face 5 or be left out for it.
+    for (std::size_t f = 0; f < original; ++f)
+        if (f != original - 2) {
+            EXPECT_EQ(layout.kept_face[f], f);
+        }
+    EXPECT_TRUE(layout.kept_face[original - 2] == original - 2 || layout.kept_face[original - 2] == 5u);
+    // No leaf names a copy's slot.
+    std::vector<std::uint8_t> in_leaf(m.face_count(), 0);
+    for (const BvhNode& nd : layout.nodes)
+        if (nd.is_leaf())
+            for (std::uint32_t s = nd.first; s < nd.first + nd.count; ++s) in_leaf[layout.face_order[s]] = 1;
+    for (std::size_t f = 0; f < m.face_count(); ++f) EXPECT_EQ(in_leaf[f] != 0, layout.kept_face[f] == f) << f;
 }
 
 TEST(Bvh, CrossingsCountAnEdgeOrACornerOnce) {

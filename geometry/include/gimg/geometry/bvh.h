@@ -60,6 +60,24 @@ struct BvhBuildOptions {
     unsigned threads = 0;             // 0: default_thread_count()
 };
 
+// The tree alone, as the builder leaves it: the nodes and the faces in BVH order. For callers that
+// keep the triangles in a layout of their own (the GPU ray caster); TriangleBvh adds its copies.
+struct BvhLayout {
+    BvhNodeArray nodes;
+    // BVH order -> original face index. Copies of a triangle (the same three corners) sit in slots
+    // no leaf names.
+    std::vector<std::uint32_t> face_order;
+    // Original face index -> the face answering for it: itself, or the kept face it is a copy of.
+    std::vector<std::uint32_t> kept_face;
+};
+// Throws std::invalid_argument for a triangle naming a vertex past the vertex count and
+// std::length_error past 2^31 faces.
+BvhLayout build_bvh_layout(const Mesh& mesh, const BvhBuildOptions& options = {});
+
+// The largest |coordinate| of the root box (0 for an empty tree): the ray box test widens boxes by
+// 2^-18 of it (bvh_query.cpp), and the GPU ray caster passes it to its shader.
+float bvh_extent(const BvhNodeArray& nodes);
+
 struct ClosestPointResult {
     double distance = std::numeric_limits<double>::infinity();
     glm::dvec3 point{0.0};
@@ -104,14 +122,7 @@ public:
         glm::dvec3 a, b, c;
     };
     const BvhNodeArray& nodes() const { return nodes_; }
-    // The largest |coordinate| of the root box (0 when empty): the ray box test widens boxes by
-    // 2^-18 of it (bvh_query.cpp), and the GPU ray caster passes it to its shader.
-    float extent() const {
-        float e = 0.0f;
-        for (int a = 0; !nodes_.empty() && a < 3; ++a)
-            e = std::max({e, std::abs(nodes_[0].bounds_min[a]), std::abs(nodes_[0].bounds_max[a])});
-        return e;
-    }
+    float extent() const { return bvh_extent(nodes_); }
     // Corner positions in BVH order (the slots the leaves name; copies of a triangle sit in slots
     // no leaf names).
     const std::vector<Triangle>& triangles() const { return triangles_; }

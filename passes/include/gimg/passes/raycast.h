@@ -52,8 +52,6 @@ public:
 
     // GPU time of the last call's pass (0 where the device has no timestamps).
     double last_gpu_ms() const { return last_gpu_ms_; }
-    // The CPU BVH the tree was uploaded from (the same answers).
-    const geo::TriangleBvh& bvh() const;
 
 private:
     friend struct RaycastTree import_raycast_tree(Graph&, GpuRayCaster&);
