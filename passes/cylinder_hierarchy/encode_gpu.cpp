@@ -114,14 +114,25 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
     const auto cast_start = std::chrono::steady_clock::now();
     Image bands = ctx.create_image({n, n, Format::RG32U, "hierarchy bands"});  // every sample is written
     Buffer directions = upload_buffer(ctx, detail::level_directions(b, n), "hierarchy directions");
+    Buffer readback = ctx.create_buffer({VkDeviceSize(n) * n * 8, "hierarchy bands readback"}, MemoryUsage::Readback);
     Graph g(ctx);
     const ImageHandle out =
         add_cylinder_hierarchy(g, caster, g.import_image(bands), g.import_buffer(directions), options);
-    g.export_image(out, Access::TransferSrc);
+    // The bands are copied to host-visible memory in the same submission, which saves the round
+    // trip of a separate download (on lavapipe about 0.1 ms, a tenth of the work at 64 x 64).
+    BufferHandle host = g.import_buffer(readback);
+    g.add_compute_pass(
+        level_name(h.levels()) + "read back",
+        [&](PassBuilder& pb) {
+            pb.read(out, Access::TransferSrc);
+            host = pb.write(host, Access::TransferDst);
+        },
+        [out, host](Cmd& c) { c.copy(out, host); });
+    g.export_buffer(host, Access::HostRead);
     Plan plan = g.compile();
     const bool timed = options.timestamps && ctx.device_info().timestamp_period_ns > 0.0;
     plan.execute({.wait = true, .timestamps = timed});
-    detail::download_bands(ctx, bands, h);
+    detail::read_bands(ctx, readback, h);
 
     // One submission: each level's passes by their timestamps (level 1's after the tree's upload),
     // and what else the submission took (recording, waiting, the download) counted in the last

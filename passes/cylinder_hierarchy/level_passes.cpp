@@ -47,8 +47,8 @@ Image upload_bands(Context& ctx, const CylinderHierarchy& h) {
     return image;
 }
 
-void download_bands(Context& ctx, Image& bands, CylinderHierarchy& h) {
-    const std::vector<std::byte> bytes = ctx.download(bands);
+void read_bands(Context& ctx, Buffer& bands, CylinderHierarchy& h) {
+    const std::vector<std::byte> bytes = ctx.download<std::byte>(bands);
     for (std::size_t i = 0; i < h.t.size(); ++i) {
         std::uint32_t kind;
         std::memcpy(&h.t[i], &bytes[8 * i], 4);

@@ -19,8 +19,8 @@ std::vector<double> level_directions(std::uint32_t base, std::uint32_t size);
 
 // The hierarchy as the N x N RG32U image the passes read and write: (t as a float, kind) a sample.
 Image upload_bands(Context& ctx, const CylinderHierarchy& h);
-// Its t and valid back into h (sizes as h's).
-void download_bands(Context& ctx, Image& bands, CylinderHierarchy& h);
+// Its t and valid back into h (sizes as h's), from a buffer the image was copied into.
+void read_bands(Context& ctx, Buffer& bands, CylinderHierarchy& h);
 
 struct LevelBuffers {
     ImageHandle bands;        // the N x N image of upload_bands
