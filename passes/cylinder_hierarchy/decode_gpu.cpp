@@ -3,6 +3,7 @@
 #include "gimg/passes/cylinder_hierarchy.h"
 
 #include "gimg/engine/error.h"
+#include "gimg/engine/texel_array.h"
 #include "gimg/engine/upload.h"
 
 #include "launch_rays.h"
@@ -28,11 +29,14 @@ HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarch
         detail::add_level_step(g, 1, s, n, b, lb, "decode hierarchy: cells at " + std::to_string(s));
         detail::add_level_step(g, 2, s, n, b, lb, "decode hierarchy: level " + std::to_string(l));
     }
-    const ImageHandle grid = lb.grid;
-    g.export_image(grid, Access::TransferSrc);
+    const ImageDesc grid_desc = texel_array_desc(2 * std::size_t(side) * side, Format::RGBA32U, "hierarchy grid");
+    Buffer readback = ctx.create_buffer(
+        {VkDeviceSize(grid_desc.width) * grid_desc.height * bytes_per_pixel(Format::RGBA32U), "decoded grid readback"},
+        MemoryUsage::Readback);
+    detail::add_read_back(g, lb.grid, readback, "decode hierarchy: read back");
     Plan plan = g.compile();
     plan.execute();
-    return detail::grid_from_texels(ctx.download(plan.image(grid)), side, b);
+    return detail::grid_from_texels(ctx.download<std::byte>(readback), side, b);
 }
 
 }  // namespace gimg::passes

@@ -57,6 +57,18 @@ void read_bands(Context& ctx, Buffer& bands, CylinderHierarchy& h) {
     }
 }
 
+void add_read_back(Graph& g, ImageHandle image, Buffer& host, const std::string& name) {
+    BufferHandle out = g.import_buffer(host);
+    g.add_compute_pass(
+        name,
+        [&](PassBuilder& pb) {
+            pb.read(image, Access::TransferSrc);
+            out = pb.write(out, Access::TransferDst);
+        },
+        [image, out](Cmd& c) { c.copy(image, out); });
+    g.export_buffer(out, Access::HostRead);
+}
+
 void add_level_step(Graph& g, std::uint32_t step, std::uint32_t side, std::uint32_t size, std::uint32_t base,
                     LevelBuffers& b, const std::string& name) {
     const std::size_t points = std::size_t(side) * side;
