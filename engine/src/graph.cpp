@@ -180,6 +180,8 @@ ImageHandle Graph::import_image(Image& image) {
     return {std::uint32_t(data_->resources.size() - 1), 0};
 }
 
+const ImageDesc& Graph::image_desc(ImageHandle h) const { return data_->resource(h.id, true, "image_desc").image_desc; }
+
 void Graph::export_buffer(BufferHandle h, Access next) {
     ResourceDecl& r = data_->resource(h.id, false, "export_buffer");
     if (next == Access::None) data_->fail("export of '" + r.name() + "' needs the access that comes next");

@@ -3,7 +3,6 @@
 #include "gimg/passes/cylinder_hierarchy.h"
 
 #include "gimg/engine/error.h"
-#include "gimg/engine/texel_array.h"
 #include "gimg/engine/upload.h"
 
 #include "launch_rays.h"
@@ -29,11 +28,8 @@ HierarchyGrid decode_cylinder_hierarchy_gpu(Context& ctx, const CylinderHierarch
         detail::add_level_step(g, 1, s, n, b, lb, "decode hierarchy: cells at " + std::to_string(s));
         detail::add_level_step(g, 2, s, n, b, lb, "decode hierarchy: level " + std::to_string(l));
     }
-    const ImageDesc grid_desc = texel_array_desc(2 * std::size_t(side) * side, Format::RGBA32U, "hierarchy grid");
-    Buffer readback = ctx.create_buffer(
-        {VkDeviceSize(grid_desc.width) * grid_desc.height * bytes_per_pixel(Format::RGBA32U), "decoded grid readback"},
-        MemoryUsage::Readback);
-    detail::add_read_back(g, lb.grid, readback, "decode hierarchy: read back");
+    Buffer readback;
+    detail::add_read_back(ctx, g, lb.grid, readback, "decode hierarchy: read back");
     Plan plan = g.compile();
     plan.execute();
     return detail::grid_from_texels(ctx.download<std::byte>(readback), side, b);

@@ -114,11 +114,11 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
     const auto cast_start = std::chrono::steady_clock::now();
     Image bands = ctx.create_image({n, n, Format::RG32U, "hierarchy bands"});  // every sample is written
     Buffer directions = upload_buffer(ctx, detail::level_directions(b, n), "hierarchy directions");
-    Buffer readback = ctx.create_buffer({VkDeviceSize(n) * n * 8, "hierarchy bands readback"}, MemoryUsage::Readback);
+    Buffer readback;
     Graph g(ctx);
     const ImageHandle out =
         add_cylinder_hierarchy(g, caster, g.import_image(bands), g.import_buffer(directions), options);
-    detail::add_read_back(g, out, readback, level_name(h.levels()) + "read back");
+    detail::add_read_back(ctx, g, out, readback, level_name(h.levels()) + "read back");
     Plan plan = g.compile();
     const bool timed = options.timestamps && ctx.device_info().timestamp_period_ns > 0.0;
     plan.execute({.wait = true, .timestamps = timed});

@@ -57,7 +57,11 @@ void read_bands(Context& ctx, Buffer& bands, CylinderHierarchy& h) {
     }
 }
 
-void add_read_back(Graph& g, ImageHandle image, Buffer& host, const std::string& name) {
+void add_read_back(Context& ctx, Graph& g, ImageHandle image, Buffer& host, const std::string& name) {
+    const ImageDesc& desc = g.image_desc(image);
+    host = ctx.create_buffer(
+        {VkDeviceSize(desc.width) * desc.height * bytes_per_pixel(desc.format), desc.name + " readback"},
+        MemoryUsage::Readback);
     BufferHandle out = g.import_buffer(host);
     g.add_compute_pass(
         name,

@@ -22,10 +22,10 @@ Image upload_bands(Context& ctx, const CylinderHierarchy& h);
 // Its t and valid back into h (sizes as h's), from a buffer the image was copied into.
 void read_bands(Context& ctx, Buffer& bands, CylinderHierarchy& h);
 
-// A pass copying `image` into `host` (a MemoryUsage::Readback buffer of the image's byte size), left
+// Makes `host` a readback buffer of the image's size and adds a pass copying `image` into it, left
 // for the host to read: the plan's own submission brings the image back, without the second
-// submission and wait of Context::download (on lavapipe about 0.1 ms).
-void add_read_back(Graph& g, ImageHandle image, Buffer& host, const std::string& name);
+// submission and wait of Context::download (on lavapipe about 0.1 ms). `host` must outlive the plan.
+void add_read_back(Context& ctx, Graph& g, ImageHandle image, Buffer& host, const std::string& name);
 
 struct LevelBuffers {
     ImageHandle bands;        // the N x N image of upload_bands

@@ -178,6 +178,19 @@ TEST(PlanBarriers, AnObjectImportedTwiceIsOneResource) {
     EXPECT_TRUE(barriers_on(plan.pass("second reader").barriers, "table").empty()) << plan.describe();
 }
 
+TEST(PlanResources, ImageDescIsTheTransientsAsCreatedAndTheImportsAsItIs) {
+    Graph g;
+    Image table = Image::unbacked({16, 4, Format::RGBA32U, "table"});
+    const auto imported = g.import_image(table);
+    const auto transient = g.create_image({64, 32, Format::R32F, "img"});
+    EXPECT_EQ(g.image_desc(transient).width, 64u);
+    EXPECT_EQ(g.image_desc(transient).height, 32u);
+    EXPECT_EQ(g.image_desc(transient).format, Format::R32F);
+    EXPECT_EQ(g.image_desc(imported).width, 16u);
+    EXPECT_EQ(g.image_desc(imported).format, Format::RGBA32U);
+    EXPECT_THROW(g.image_desc(ImageHandle{7, 0}), Error);
+}
+
 TEST(PlanLayouts, StorageSampledTransferTransitions) {
     Graph g;
     auto img = g.create_image({64, 32, Format::R32F, "img"});

@@ -87,6 +87,8 @@ public:
     // several capabilities sharing it are ordered and synchronised like any other.
     BufferHandle import_buffer(Buffer& buffer);
     ImageHandle import_image(Image& image);
+    // An image's description: a transient's as created, an import's as the image has it.
+    const ImageDesc& image_desc(ImageHandle image) const;
     // After the graph, leave the resource ready for `next` (e.g. TransferSrc to download it,
     // HostRead to map it). An exported transient is kept by the plan: read it through
     // Plan::buffer() / Plan::image().
