@@ -10,8 +10,6 @@
 
 #include <glm/vec3.hpp>
 
-#include <algorithm>
-#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
