@@ -224,10 +224,11 @@ private:
     // Chooses and performs a split of `range`; false makes it a leaf.
     bool split(const Range& range, int depth, Range& left, Range& right) {
         const std::size_t n = range.size();
-        if (n <= 1) return false;
+        // A range of a few triangles is a leaf: splitting it would save the walks little and make
+        // the tree's most numerous nodes.
+        if (n <= options_.max_leaf_size) return false;
         const glm::vec3 extent = range.centroid_bounds.hi - range.centroid_bounds.lo;
         const bool all_centroids_equal = !(extent.x > 0.0f || extent.y > 0.0f || extent.z > 0.0f);
-        if (all_centroids_equal && n <= options_.max_leaf_size) return false;
         if (all_centroids_equal || depth >= kMedianSplitDepth) return median_split(range, left, right);
 
         // One sweep over the range bins it along all three axes; a range of fewer than kBins
@@ -277,9 +278,6 @@ private:
             }
         }
         if (best.axis < 0) return median_split(range, left, right);
-        // SAH in units of one triangle test, a traversal step costing about as much.
-        const double split_cost = 1.0 + best.cost / range.bounds.half_area();
-        if (n <= options_.max_leaf_size && split_cost >= double(n)) return false;
         for (int b = 0; b < nb; ++b) (b <= best.bin ? best.left : best.right).grow(bins[best.axis][b].box());
 
         const int axis = best.axis;

@@ -54,7 +54,7 @@ struct CacheLineAllocator {
 using BvhNodeArray = std::vector<BvhNode, CacheLineAllocator<BvhNode>>;
 
 struct BvhBuildOptions {
-    std::uint32_t max_leaf_size = 4;  // a leaf never holds more triangles
+    std::uint32_t max_leaf_size = 4;  // ranges of at most this many triangles are leaves, never larger
     unsigned threads = 0;             // 0: default_thread_count()
 };
 
