@@ -298,9 +298,11 @@ TEST(SolversMultigrid, ChecksComeWhenThePastRateSaysTheToleranceIsReached) {
 TEST_F(SolversMultigridGpu, TheGpuCycleIsItsCpuTwinToTheBit) {
     // The solvers compare whole solves; this holds each cycle to apply_multigrid_cpu's float
     // cycle exactly, on hierarchies of one, two and three smoothed levels.
+    std::vector<std::size_t> depths;
     for (int subdivisions : {3, 5, 6}) {
         const Case c = lumpy_case(subdivisions);
         const Multigrid mg = build_multigrid(c.problem);
+        depths.push_back(mg.levels.size());
         SCOPED_TRACE(mg.levels.size());
         GpuVcycle cycle(ctx(), mg, "test mg");
         for (double seed : {0.3, 1.1}) {
@@ -312,4 +314,5 @@ TEST_F(SolversMultigridGpu, TheGpuCycleIsItsCpuTwinToTheBit) {
             EXPECT_EQ(differing, 0u) << seed;
         }
     }
+    EXPECT_EQ(depths, (std::vector<std::size_t>{1, 2, 3}));
 }
