@@ -68,6 +68,7 @@ struct GpuRayCaster::State {
     Buffer faces;
     float scene = 0.0f;  // geo::bvh_extent of the tree
     bool votes = false;
+    bool timestamps = false;
     explicit State(Context& c) : ctx(c) {}
 };
 
@@ -78,6 +79,7 @@ GpuRayCaster::GpuRayCaster(Context& ctx, const geo::Mesh& mesh, const GpuRayCast
     if (mesh.face_count() == 0) throw geo::InputError("ray casting: the mesh has no faces");
     State& s = *state_;
     s.votes = options.subgroup_votes && ctx.device_info().subgroup_vote;
+    s.timestamps = options.timestamps && ctx.device_info().timestamp_period_ns > 0.0;
     // The tree without TriangleBvh's double-precision copy of the triangles: the corners go
     // straight from the mesh into their texel array.
     const geo::BvhLayout tree = geo::build_bvh_layout(mesh);
@@ -159,9 +161,8 @@ std::vector<std::uint32_t> GpuRayCaster::run(std::span<const geo::Ray> rays, std
     g.export_buffer(out.t, Access::TransferSrc);
     g.export_buffer(out.face, Access::TransferSrc);
     Plan plan = g.compile();
-    const bool timed = s.ctx.device_info().timestamp_period_ns > 0.0;
-    plan.execute({.wait = true, .timestamps = timed});
-    last_gpu_ms_ = timed ? plan.total_gpu_ms() : 0.0;
+    plan.execute({.wait = true, .timestamps = s.timestamps});
+    last_gpu_ms_ = s.timestamps ? plan.total_gpu_ms() : 0.0;
     std::vector<std::uint32_t> faces(count);
     s.ctx.download(face_buf, faces.data(), faces.size() * 4);
     if (t_out) {

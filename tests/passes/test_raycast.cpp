@@ -94,6 +94,23 @@ TEST_F(Raycast, GpuEqualsTheBvhWithoutSubgroupVotes) {
 }
 
 // The BVH's own test checks these rays against a scan over every face.
+// Timestamps only when asked: lavapipe pays for them on every pass.
+TEST_F(Raycast, TheCallIsTimedOnlyWhenAsked) {
+    if (ctx().device_info().timestamp_period_ns <= 0.0) GTEST_SKIP() << "the device has no timestamps";
+    const geo::Mesh m = geo::make_icosphere(1.0, 2);
+    std::vector<geo::Ray> rays(64);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+        rays[i].origin = {3.0, 0.01 * double(i), 0.0};
+        rays[i].direction = {-1.0, 0.0, 0.0};
+        rays[i].t_max = 10.0;
+    }
+    passes::GpuRayCaster plain(ctx(), m), timed(ctx(), m, {.timestamps = true});
+    EXPECT_EQ(plain.nearest(rays).size(), rays.size());
+    EXPECT_EQ(timed.nearest(rays).size(), rays.size());
+    EXPECT_EQ(plain.last_gpu_ms(), 0.0);
+    EXPECT_GT(timed.last_gpu_ms(), 0.0);
+}
+
 TEST_F(Raycast, FloatBoxTestsLoseNoHitOnAxisAlignedFaces) {
     geo::Mesh box = geo::make_box({2.0, 1.0, 0.5}, 6);
     for (int far = 0; far < 2; ++far) {
