@@ -225,10 +225,24 @@ TEST(Bvh, RayThroughSphereCrossesTwice) {
 }
 
 TEST(Bvh, LayoutIsIndependentOfThreadCount) {
-    // ~160K faces: with 4 threads the two depth-1 subtrees are built on threads of their own too.
-    const Mesh m = gimg::geo::make_uv_sphere(400, 200);
+    // ~160K faces: with 4 threads the two depth-1 subtrees are built on threads of their own too;
+    // ~6K faces: a small mesh's two halves still get a thread each.
+    const Mesh small = gimg::geo::make_uv_sphere(80, 40);
     BvhBuildOptions one;
     one.threads = 1;
+    for (unsigned threads : {2u, 4u}) {
+        const TriangleBvh a(small, one);
+        BvhBuildOptions many;
+        many.threads = threads;
+        const TriangleBvh b(small, many);
+        EXPECT_EQ(a.face_order(), b.face_order());
+        ASSERT_EQ(a.nodes().size(), b.nodes().size());
+        for (std::size_t i = 0; i < a.nodes().size(); ++i) {
+            ASSERT_EQ(a.nodes()[i].first, b.nodes()[i].first) << "node " << i << ", " << threads << " threads";
+            ASSERT_EQ(a.nodes()[i].bounds_min, b.nodes()[i].bounds_min);
+        }
+    }
+    const Mesh m = gimg::geo::make_uv_sphere(400, 200);
     const TriangleBvh a(m, one);
     for (unsigned threads : {2u, 3u, 4u}) {
         BvhBuildOptions many;
