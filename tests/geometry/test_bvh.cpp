@@ -225,38 +225,32 @@ TEST(Bvh, RayThroughSphereCrossesTwice) {
 }
 
 TEST(Bvh, LayoutIsIndependentOfThreadCount) {
-    // ~160K faces: with 4 threads the two depth-1 subtrees are built on threads of their own too;
-    // ~6K faces: a small mesh's two halves still get a thread each.
-    const Mesh small = gimg::geo::make_uv_sphere(80, 40);
     BvhBuildOptions one;
     one.threads = 1;
-    for (unsigned threads : {2u, 4u}) {
-        const TriangleBvh a(small, one);
-        BvhBuildOptions many;
-        many.threads = threads;
-        const TriangleBvh b(small, many);
-        EXPECT_EQ(a.face_order(), b.face_order());
-        ASSERT_EQ(a.nodes().size(), b.nodes().size());
-        for (std::size_t i = 0; i < a.nodes().size(); ++i) {
-            ASSERT_EQ(a.nodes()[i].first, b.nodes()[i].first) << "node " << i << ", " << threads << " threads";
-            ASSERT_EQ(a.nodes()[i].bounds_min, b.nodes()[i].bounds_min);
+    // The tree `mesh` gets on 2, 3 and 4 threads is the one it gets on 1.
+    auto expect_the_serial_tree = [](const Mesh& mesh, const TriangleBvh& serial) {
+        for (unsigned threads : {2u, 3u, 4u}) {
+            BvhBuildOptions many;
+            many.threads = threads;
+            const TriangleBvh b(mesh, many);
+            ASSERT_EQ(serial.nodes().size(), b.nodes().size());
+            EXPECT_EQ(serial.face_order(), b.face_order());
+            for (std::size_t i = 0; i < b.nodes().size(); ++i) {
+                const BvhNode &x = serial.nodes()[i], &y = b.nodes()[i];
+                ASSERT_EQ(x.first, y.first) << "node " << i << ", " << threads << " threads";
+                ASSERT_EQ(x.count, y.count);
+                ASSERT_EQ(x.bounds_min, y.bounds_min);
+                ASSERT_EQ(x.bounds_max, y.bounds_max);
+            }
         }
-    }
+    };
+    // ~160K faces: with 4 threads the two depth-1 subtrees are built on threads of their own too.
     const Mesh m = gimg::geo::make_uv_sphere(400, 200);
     const TriangleBvh a(m, one);
-    for (unsigned threads : {2u, 3u, 4u}) {
-        BvhBuildOptions many;
-        many.threads = threads;
-        const TriangleBvh b(m, many);
-        ASSERT_EQ(a.nodes().size(), b.nodes().size());
-        EXPECT_EQ(a.face_order(), b.face_order());
-        for (std::size_t i = 0; i < a.nodes().size(); ++i) {
-            ASSERT_EQ(a.nodes()[i].first, b.nodes()[i].first) << "node " << i << ", " << threads << " threads";
-            ASSERT_EQ(a.nodes()[i].count, b.nodes()[i].count);
-            ASSERT_EQ(a.nodes()[i].bounds_min, b.nodes()[i].bounds_min);
-            ASSERT_EQ(a.nodes()[i].bounds_max, b.nodes()[i].bounds_max);
-        }
-    }
+    expect_the_serial_tree(m, a);
+    // ~6K faces: a small mesh's two halves still get a thread each.
+    const Mesh small = gimg::geo::make_uv_sphere(80, 40);
+    expect_the_serial_tree(small, TriangleBvh(small, one));
     // Sibling pairs start at even indices (one cache line each on the 64-byte aligned array).
     EXPECT_EQ(reinterpret_cast<std::uintptr_t>(a.nodes().data()) % 64, 0u);
     for (std::size_t i = 0; i < a.nodes().size(); ++i) {

@@ -93,7 +93,6 @@ TEST_F(Raycast, GpuEqualsTheBvhWithoutSubgroupVotes) {
     expect_equal(geo::make_icosphere(1.0, 3), {.subgroup_votes = false});
 }
 
-// The BVH's own test checks these rays against a scan over every face.
 // Timestamps only when asked: lavapipe pays for them on every pass.
 TEST_F(Raycast, TheCallIsTimedOnlyWhenAsked) {
     if (ctx().device_info().timestamp_period_ns <= 0.0) GTEST_SKIP() << "the device has no timestamps";
@@ -111,6 +110,7 @@ TEST_F(Raycast, TheCallIsTimedOnlyWhenAsked) {
     EXPECT_GT(timed.last_gpu_ms(), 0.0);
 }
 
+// The BVH's own test checks these rays against a scan over every face.
 TEST_F(Raycast, FloatBoxTestsLoseNoHitOnAxisAlignedFaces) {
     geo::Mesh box = geo::make_box({2.0, 1.0, 0.5}, 6);
     for (int far = 0; far < 2; ++far) {
