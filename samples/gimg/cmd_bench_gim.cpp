@@ -41,6 +41,7 @@ struct Row {
     std::size_t iterations = 0;  // reweighting iterations (the best one for stretch)
     double seconds = 0.0;        // the map on the GPU (ours) or CGAL's parameterize()
     double cpu_seconds = 0.0;    // ours: the same map with the CPU twin
+    double solve_seconds = 0.0;  // ours: of seconds, the linear solves
     std::size_t flipped = 0;
     std::vector<GimError> errors;       // per size
     std::vector<std::size_t> selected;  // "-selected" rows: the iterate returned, per size
@@ -82,7 +83,8 @@ void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
             corners = map.boundary.corners;
             Row row{.method = passes::variant_name(variant),
                     .iterations = map.iterations.size() - 1,
-                    .seconds = map.seconds};
+                    .seconds = map.seconds,
+                    .solve_seconds = map.solve_seconds};
             if (o.cpu) row.cpu_seconds = passes::parameterize_square(nullptr, mesh, po).seconds;
             if (variant == passes::ParameterizeVariant::Stretch) {
                 // The thesis takes Yoshizawa's iterate of least shape error (per size here).
@@ -161,6 +163,7 @@ void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
                              {"iterations", r.iterations},
                              {"seconds", r.seconds},
                              {"cpu_seconds", r.cpu_seconds},
+                             {"solve_seconds", r.solve_seconds},
                              {"flipped", r.flipped},
                              {"sizes", per_size}});
         }

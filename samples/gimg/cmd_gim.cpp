@@ -31,9 +31,11 @@ struct GimOptions {
 };
 
 nlohmann::json iteration_json(const passes::IterationReport& r) {
-    return {{"iteration", r.iteration},   {"sigma_error", r.sigma_error}, {"area_spread", r.area_spread},
-            {"l2_stretch", r.l2_stretch}, {"flipped", r.flipped},         {"solver_iterations", r.solver_iterations},
-            {"seconds", r.seconds},       {"image_rms", r.image_rms}};
+    return {{"iteration", r.iteration},     {"sigma_error", r.sigma_error},
+            {"area_spread", r.area_spread}, {"l2_stretch", r.l2_stretch},
+            {"flipped", r.flipped},         {"solver_iterations", r.solver_iterations},
+            {"seconds", r.seconds},         {"solve_seconds", r.solve_seconds},
+            {"image_rms", r.image_rms}};
 }
 
 void run_gim(const GimOptions& o, const GlobalOptions& global) {
@@ -123,6 +125,7 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                      {"selected_iteration", map.selected},
                      {"final_solver_iterations", map.final_solver_iterations},
                      {"map_seconds", map.seconds},
+                     {"solve_seconds", map.solve_seconds},
                      {"flipped", flipped},
                      {"covered_pixels", covered},
                      {"sample_ms", sample_ms},

@@ -267,6 +267,25 @@ TEST_F(Parameterize, LooseIteratesAndOneFullSolveGiveTheMapWithFewerSolverIterat
     }
 }
 
+// The solves' share of the time: within each iteration's and the run's, on both paths.
+TEST_F(Parameterize, SolveTimesArePartOfTheIterationsTimes) {
+    const geo::Mesh mesh = bent_grid(24);
+    for (gimg::Context* c : {&ctx(), static_cast<gimg::Context*>(nullptr)}) {
+        SCOPED_TRACE(c ? "GPU" : "CPU twin");
+        const passes::Parameterization map = passes::parameterize_square(c, mesh, {});
+        ASSERT_GT(map.iterations.size(), 1u);
+        ASSERT_GT(map.final_solver_iterations, 0u);
+        double iterations = 0.0;
+        for (const passes::IterationReport& r : map.iterations) {
+            EXPECT_GT(r.solve_seconds, 0.0);
+            EXPECT_LE(r.solve_seconds, r.seconds);
+            iterations += r.solve_seconds;
+        }
+        EXPECT_GT(map.solve_seconds, iterations);  // and the final solve
+        EXPECT_LT(map.solve_seconds, map.seconds);
+    }
+}
+
 TEST_F(Parameterize, EveryVariantIsFoldFreeOnTheSharedDiskMeshes) {
     for (const char* name :
          {"nefertiti.off", "terrain.obj", "three_peaks.off", "mushroom.off", "mannequin_devil.off"}) {

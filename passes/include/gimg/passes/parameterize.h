@@ -104,6 +104,7 @@ struct IterationReport {
     std::size_t flipped = 0;            // parameter triangles of negative area
     std::size_t solver_iterations = 0;  // both solves where an iterate folded at the iterate tolerance
     double seconds = 0.0;               // reweighting and solve of this iteration
+    double solve_seconds = 0.0;         // of seconds: the linear solves (system, upload, iterations, result)
     double image_rms = 0.0;             // with select_size: geometry_image_rms of this iterate
 };
 
@@ -115,6 +116,7 @@ struct Parameterization {
     std::size_t final_solver_iterations = 0;        // the returned map's solve to solve_tolerance
     std::size_t selected = 0;                       // the iterate returned
     double seconds = 0.0;                           // the whole run, set-up included
+    double solve_seconds = 0.0;                     // of seconds: every linear solve, the final one's included
 };
 
 // The map on the GPU (the solver module's BiCGSTAB, each solve warm-started from the last) or, with
