@@ -4,6 +4,7 @@
 #include "device.h"
 #include "device_setup.h"
 
+#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 
@@ -126,6 +127,8 @@ void Context::batch_uploads(const std::function<void()>& uploads) {
 }
 
 std::uint64_t Context::submission_count() const { return device_->timeline_value; }
+
+double Context::device_wait_seconds() const { return std::chrono::duration<double>(device_->waited).count(); }
 
 MemoryStats Context::memory_stats() const { return device_->allocator.stats(); }
 

@@ -275,12 +275,14 @@ std::uint64_t Device::submit(VkCommandBuffer cmd) {
 }
 
 void Device::wait(std::uint64_t value) {
-    if (value == 0) return;
+    if (value == 0 || finished(value)) return;
     VkSemaphoreWaitInfo wait_info{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO};
     wait_info.semaphoreCount = 1;
     wait_info.pSemaphores = &timeline;
     wait_info.pValues = &value;
+    const auto start = std::chrono::steady_clock::now();
     GIMG_VK_CHECK(fn.vkWaitSemaphores(device, &wait_info, UINT64_MAX));
+    waited += std::chrono::steady_clock::now() - start;
 }
 
 bool Device::finished(std::uint64_t value) {

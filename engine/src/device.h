@@ -10,6 +10,7 @@
 #include "vk_dispatch.h"
 
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <functional>
 #include <memory>
@@ -50,6 +51,8 @@ struct Device {
     // gimg's work" is one wait, and no fence is ever left behind on a borrowed queue.
     VkSemaphore timeline = VK_NULL_HANDLE;
     std::uint64_t timeline_value = 0;
+    // Host time spent in wait() on submissions not yet finished (Context::device_wait_seconds).
+    std::chrono::steady_clock::duration waited{};
 
     Device() = default;
     ~Device();

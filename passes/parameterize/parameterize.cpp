@@ -43,6 +43,8 @@ std::size_t count_flipped(const geo::Mesh& mesh, const std::vector<glm::dvec2>& 
 Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const ParameterizeOptions& options,
                                      const std::function<void(const IterationReport&)>& on_iteration) {
     const auto t0 = Clock::now();
+    const std::uint64_t submitted_before = ctx ? ctx->submission_count() : 0;
+    const double waited_before = ctx ? ctx->device_wait_seconds() : 0.0;
     check_disk_mesh(mesh);
     const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
     Parameterization out;
@@ -96,6 +98,14 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
     // curvature: 119 against 131) and about as much of the map's time.
     const std::uint32_t iterations_per_check = !ctx || ctx->device_info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 1u : 4u;
     double solving = 0.0;  // seconds in solve_to so far
+    auto close_run = [&] {
+        out.seconds = seconds_since(t0);
+        out.solve_seconds = solving;
+        if (ctx) {
+            out.submissions = ctx->submission_count() - submitted_before;
+            out.device_wait_seconds = ctx->device_wait_seconds() - waited_before;
+        }
+    };
     auto solve_to = [&](const std::vector<glm::dvec2>& start, double tolerance, std::size_t& solver_iterations,
                         bool from_past = false) {
         const auto solve_start = Clock::now();
@@ -163,8 +173,7 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
     finish(uv, first, started);
     out.uv = uv;
     if (!reweighting) {
-        out.seconds = seconds_since(t0);
-        out.solve_seconds = solving;
+        close_run();
         return out;
     }
     double best_stretch = first.l2_stretch;
@@ -211,8 +220,7 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         weights = std::move(returned_weights);
         out.uv = solve_to(out.uv, options.solve_tolerance, out.final_solver_iterations);
     }
-    out.seconds = seconds_since(t0);
-    out.solve_seconds = solving;
+    close_run();
     return out;
 }
 

@@ -42,6 +42,8 @@ struct Row {
     double seconds = 0.0;        // the map on the GPU (ours) or CGAL's parameterize()
     double cpu_seconds = 0.0;    // ours: the same map with the CPU twin
     double solve_seconds = 0.0;  // ours: of seconds, the linear solves
+    std::uint64_t submissions = 0;     // ours: the GPU map's queue submissions
+    double device_wait_seconds = 0.0;  // and, of seconds, the host's time waiting for them
     std::size_t flipped = 0;
     std::vector<GimError> errors;       // per size
     std::vector<std::size_t> selected;  // "-selected" rows: the iterate returned, per size
@@ -84,7 +86,9 @@ void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
             Row row{.method = passes::variant_name(variant),
                     .iterations = map.iterations.size() - 1,
                     .seconds = map.seconds,
-                    .solve_seconds = map.solve_seconds};
+                    .solve_seconds = map.solve_seconds,
+                    .submissions = map.submissions,
+                    .device_wait_seconds = map.device_wait_seconds};
             if (o.cpu) row.cpu_seconds = passes::parameterize_square(nullptr, mesh, po).seconds;
             if (variant == passes::ParameterizeVariant::Stretch) {
                 // The thesis takes Yoshizawa's iterate of least shape error (per size here).
@@ -164,6 +168,8 @@ void run_gim_bench(const GimBenchOptions& o, const GlobalOptions& global) {
                              {"seconds", r.seconds},
                              {"cpu_seconds", r.cpu_seconds},
                              {"solve_seconds", r.solve_seconds},
+                             {"submissions", r.submissions},
+                             {"device_wait_seconds", r.device_wait_seconds},
                              {"flipped", r.flipped},
                              {"sizes", per_size}});
         }

@@ -126,6 +126,8 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                      {"final_solver_iterations", map.final_solver_iterations},
                      {"map_seconds", map.seconds},
                      {"solve_seconds", map.solve_seconds},
+                     {"map_submissions", map.submissions},
+                     {"map_device_wait_seconds", map.device_wait_seconds},
                      {"flipped", flipped},
                      {"covered_pixels", covered},
                      {"sample_ms", sample_ms},

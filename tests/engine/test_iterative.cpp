@@ -109,3 +109,31 @@ TEST_F(IterativePass, FinishedTurnsTrueWhenTheExecutionIsDone) {
     const std::vector<float> cpu = jacobi_cpu(initial, kAlpha, int(K));
     for (std::uint32_t i = 0; i < N; ++i) ASSERT_NEAR(gpu[i], cpu[i], 1e-6) << i;
 }
+
+// Context::device_wait_seconds counts the host's time blocked on unfinished work: a wait on 2,000
+// passes adds time, at most what the wait took; a wait on work already done adds none. The
+// execution is one submission.
+TEST_F(IterativePass, DeviceWaitCountsOnlyWaitsOnUnfinishedWork) {
+    constexpr std::uint32_t N = 1000, K = 2000;
+    Buffer a = ctx().create_buffer({N * sizeof(float), "u (even)"});
+    Buffer b = ctx().create_buffer({N * sizeof(float), "u (odd)"});
+    const std::vector<float> zeros(N, 0.0f);
+    ctx().upload(a, zeros.data(), N * sizeof(float));
+    Plan plan = jacobi_plan(ctx(), a, b, N, K, 0.25f);
+    ctx().wait_idle();
+    const std::uint64_t submitted = ctx().submission_count();
+    const double before = ctx().device_wait_seconds();
+    plan.execute({.wait = false});
+    EXPECT_EQ(ctx().submission_count(), submitted + 1);
+    EXPECT_FALSE(plan.finished());
+    const auto start = std::chrono::steady_clock::now();
+    plan.wait();
+    const double waited = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double counted = ctx().device_wait_seconds() - before;
+    EXPECT_GT(counted, 0.0);
+    EXPECT_LE(counted, waited);
+    const double after = ctx().device_wait_seconds();
+    plan.wait();
+    ctx().wait_idle();
+    EXPECT_EQ(ctx().device_wait_seconds(), after) << "waits on finished work count nothing";
+}

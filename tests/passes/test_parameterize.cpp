@@ -267,8 +267,9 @@ TEST_F(Parameterize, LooseIteratesAndOneFullSolveGiveTheMapWithFewerSolverIterat
     }
 }
 
-// The solves' share of the time: within each iteration's and the run's, on both paths.
-TEST_F(Parameterize, SolveTimesArePartOfTheIterationsTimes) {
+// The solves' share of the time: within each iteration's and the run's, on both paths; the GPU path's
+// submissions and waits, none on the CPU twin.
+TEST_F(Parameterize, SolveTimesArePartOfTheIterationsTimesAndTheGpuPathCountsItsSubmissions) {
     const geo::Mesh mesh = bent_grid(24);
     for (gimg::Context* c : {&ctx(), static_cast<gimg::Context*>(nullptr)}) {
         SCOPED_TRACE(c ? "GPU" : "CPU twin");
@@ -283,6 +284,14 @@ TEST_F(Parameterize, SolveTimesArePartOfTheIterationsTimes) {
         }
         EXPECT_GT(map.solve_seconds, iterations);  // and the final solve
         EXPECT_LT(map.solve_seconds, map.seconds);
+        if (c) {
+            // At least a submission per solve: the iterations' solves and the final one.
+            EXPECT_GE(map.submissions, map.iterations.size() + 1);
+            EXPECT_LT(map.device_wait_seconds, map.seconds);
+        } else {
+            EXPECT_EQ(map.submissions, 0u);
+            EXPECT_EQ(map.device_wait_seconds, 0.0);
+        }
     }
 }
 

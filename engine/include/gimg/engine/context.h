@@ -156,6 +156,10 @@ public:
     void batch_uploads(const std::function<void()>& uploads);
     // Queue submissions gimg made on this context so far: plans, transfers, batches.
     std::uint64_t submission_count() const;
+    // Seconds the host spent so far waiting for this context's submissions to finish (in plans'
+    // waits, transfers and wait_idle): with submission_count, what tells a run bound by round trips
+    // or by the device's work from one bound by the host's.
+    double device_wait_seconds() const;
 
     // Waits for every submission gimg made on this context.
     void wait_idle();

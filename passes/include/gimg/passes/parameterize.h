@@ -117,6 +117,10 @@ struct Parameterization {
     std::size_t selected = 0;                       // the iterate returned
     double seconds = 0.0;                           // the whole run, set-up included
     double solve_seconds = 0.0;                     // of seconds: every linear solve, the final one's included
+    // GPU path: the queue submissions the run made and, of seconds, the host's time waiting for them
+    // (Context::submission_count and device_wait_seconds); 0 for the CPU twin.
+    std::uint64_t submissions = 0;
+    double device_wait_seconds = 0.0;
 };
 
 // The map on the GPU (the solver module's BiCGSTAB, each solve warm-started from the last) or, with
