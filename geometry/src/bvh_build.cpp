@@ -1,6 +1,7 @@
 // Binned-SAH build of TriangleBvh. Subtrees above a size threshold are built on their own thread
 // into their own node array and appended afterwards, which reproduces the serial layout exactly:
-// the tree, and therefore every query, does not depend on the thread count.
+// the tree, and therefore every query, does not depend on the thread count or on which thread
+// built what.
 #include "gimg/geometry/bvh.h"
 
 #include "gimg/geometry/parallel_for.h"
@@ -9,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -124,6 +126,16 @@ public:
                const BvhBuildOptions& options, unsigned threads)
         : prims_(prims), mesh_(mesh), kept_face_(kept_face), options_(options), threads_(threads) {}
 
+    // A thread for the right subtree whenever fewer than `threads` are building: SAH splits are
+    // uneven, so a fixed split by depth left cores idle (1.2M faces on 2 threads: 1.37 times one
+    // thread's speed). A thread waiting for its worker does not count.
+    bool take_thread() {
+        unsigned n = building_.load();
+        while (n < threads_)
+            if (building_.compare_exchange_weak(n, n + 1)) return true;
+        return false;
+    }
+
     void build_node(std::uint32_t index, Range range, BvhNodeArray& nodes, int depth) {
         nodes[index].bounds_min = range.bounds.lo;
         nodes[index].bounds_max = range.bounds.hi;
@@ -141,7 +153,7 @@ public:
         nodes.resize(nodes.size() + 2);  // nodes.size() stays even: pairs share a cache line
         nodes[index].first = child;
         nodes[index].count = 0;
-        if (right.size() >= kParallelSubtree && (1u << std::min(depth, 30)) < threads_) {
+        if (right.size() >= kParallelSubtree && take_thread()) {
             BvhNodeArray right_nodes(1);  // its root; its pairs then start at odd indices
             right_nodes.reserve(2 * right.size() + 1);  // as nodes_ in the constructor
             std::exception_ptr worker_error;
@@ -151,6 +163,7 @@ public:
                 } catch (...) {
                     worker_error = std::current_exception();
                 }
+                --building_;
             });
             try {
                 build_node(child, left, nodes, depth + 1);
@@ -158,7 +171,9 @@ public:
                 worker.join();
                 throw;
             }
+            --building_;
             worker.join();
+            ++building_;
             if (worker_error) std::rethrow_exception(worker_error);
             // right_nodes[i], i >= 1, lands at nodes[base + i] (base odd, so pairs stay at even
             // indices); right_nodes[0] is the child slot.
@@ -334,6 +349,7 @@ private:
     std::vector<std::uint32_t>& kept_face_;
     const BvhBuildOptions& options_;
     unsigned threads_;
+    std::atomic<unsigned> building_{1};  // threads building now, this one included
 };
 
 }  // namespace

@@ -227,9 +227,10 @@ TEST(Bvh, RayThroughSphereCrossesTwice) {
 TEST(Bvh, LayoutIsIndependentOfThreadCount) {
     BvhBuildOptions one;
     one.threads = 1;
-    // The tree `mesh` gets on 2, 3 and 4 threads is the one it gets on 1.
+    // The tree `mesh` gets on 2, 3, 4 and 8 threads is the one it gets on 1. A subtree gets a thread
+    // whenever one is free, so which thread builds what changes from run to run; the tree may not.
     auto expect_the_serial_tree = [](const Mesh& mesh, const TriangleBvh& serial) {
-        for (unsigned threads : {2u, 3u, 4u}) {
+        for (unsigned threads : {2u, 3u, 4u, 8u}) {
             BvhBuildOptions many;
             many.threads = threads;
             const TriangleBvh b(mesh, many);
@@ -244,7 +245,7 @@ TEST(Bvh, LayoutIsIndependentOfThreadCount) {
             }
         }
     };
-    // ~160K faces: with 4 threads the two depth-1 subtrees are built on threads of their own too.
+    // ~160K faces: many subtrees above the threshold, handed out as threads come free.
     const Mesh m = gimg::geo::make_uv_sphere(400, 200);
     const TriangleBvh a(m, one);
     expect_the_serial_tree(m, a);

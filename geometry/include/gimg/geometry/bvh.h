@@ -13,9 +13,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <new>
 #include <optional>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace gimg::geo {
@@ -52,6 +54,27 @@ struct CacheLineAllocator {
     }
 };
 using BvhNodeArray = std::vector<BvhNode, CacheLineAllocator<BvhNode>>;
+
+// Leaves the elements a resize adds uninitialised, for arrays filled right after (in parallel), so
+// that their pages are first touched by the threads that fill them and not by a serial zeroing.
+template <class T>
+struct UninitializedAllocator : std::allocator<T> {
+    template <class U>
+    struct rebind {
+        using other = UninitializedAllocator<U>;
+    };
+    UninitializedAllocator() = default;
+    template <class U>
+    UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+    template <class U>
+    void construct(U* p) noexcept {
+        ::new (static_cast<void*>(p)) U;
+    }
+    template <class U, class... Args>
+    void construct(U* p, Args&&... args) {
+        ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+    }
+};
 
 struct BvhBuildOptions {
     std::uint32_t max_leaf_size = 4;  // ranges of at most this many triangles are leaves, never larger
@@ -123,7 +146,7 @@ public:
     float extent() const { return bvh_extent(nodes_); }
     // Corner positions in BVH order (the slots the leaves name; copies of a triangle sit in slots
     // no leaf names).
-    const std::vector<Triangle>& triangles() const { return triangles_; }
+    const std::vector<Triangle, UninitializedAllocator<Triangle>>& triangles() const { return triangles_; }
     // BVH order -> original face index.
     const std::vector<std::uint32_t>& face_order() const { return face_order_; }
     std::size_t face_count() const { return face_order_.size(); }
@@ -132,8 +155,8 @@ public:
 private:
     BvhNodeArray nodes_;
     std::vector<std::uint32_t> face_order_;
-    std::vector<std::uint32_t> slot_of_face_;  // original face index -> BVH order
-    std::vector<Triangle> triangles_;          // corner positions in BVH order
+    std::vector<std::uint32_t> slot_of_face_;                            // original face index -> BVH order
+    std::vector<Triangle, UninitializedAllocator<Triangle>> triangles_;  // corner positions in BVH order
     // Copies of a triangle (the same three corners) are left out of the tree; a kept face's
     // copies, by slot, for intersect_all, which reports every face.
     std::unordered_map<std::uint32_t, std::vector<std::uint32_t>> copy_slots_;
