@@ -126,9 +126,9 @@ public:
                const BvhBuildOptions& options, unsigned threads)
         : prims_(prims), mesh_(mesh), kept_face_(kept_face), options_(options), threads_(threads) {}
 
-    // A thread for the right subtree whenever fewer than `threads` are building: SAH splits are
-    // uneven, so a fixed split by depth left cores idle (1.2M faces on 2 threads: 1.37 times one
-    // thread's speed). A thread waiting for its worker does not count.
+    // A thread for the right subtree whenever fewer than `threads` are building, at any depth: SAH
+    // splits are uneven, so threads handed out by depth alone sit idle once their smaller subtrees
+    // are done. A thread waiting for its worker does not count.
     bool take_thread() {
         unsigned n = building_.load();
         while (n < threads_)

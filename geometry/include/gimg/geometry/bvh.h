@@ -16,6 +16,7 @@
 #include <memory>
 #include <new>
 #include <optional>
+#include <span>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -146,7 +147,7 @@ public:
     float extent() const { return bvh_extent(nodes_); }
     // Corner positions in BVH order (the slots the leaves name; copies of a triangle sit in slots
     // no leaf names).
-    const std::vector<Triangle, UninitializedAllocator<Triangle>>& triangles() const { return triangles_; }
+    std::span<const Triangle> triangles() const { return triangles_; }
     // BVH order -> original face index.
     const std::vector<std::uint32_t>& face_order() const { return face_order_; }
     std::size_t face_count() const { return face_order_.size(); }
