@@ -14,6 +14,14 @@ ContextOptions ContextOptions::from_environment() {
     ContextOptions o;
     if (const char* v = std::getenv("GIMG_VALIDATION")) o.validation = std::string(v) == "1";
     if (const char* d = std::getenv("GIMG_DEVICE")) o.device_filter = d;
+    if (const char* w = std::getenv("GIMG_WAIT_SPIN_US")) {
+        char* end = nullptr;
+        const unsigned long us = std::strtoul(w, &end, 10);
+        if (end == w || *end != '\0' || us > 1000000)
+            throw Error(ErrorKind::InvalidArgument,
+                        std::string("GIMG_WAIT_SPIN_US: '") + w + "' is not a number of microseconds up to 1000000");
+        o.wait_spin_us = std::uint32_t(us);
+    }
     return o;
 }
 
@@ -67,6 +75,7 @@ std::unique_ptr<Context> Context::create(const ContextOptions& options) {
     d->physical = detail::choose_physical_device(*d, options.device_filter);
     detail::create_device(*d);
     d->init_engine_objects(options.keep_freed_memory);
+    d->choose_wait_spin(options.wait_spin_us);
     if (options.verbose)
         std::fprintf(stderr, "gimg: device: %s%s\n", d->info.summary().c_str(),
                      d->validation ? " [validation on]" : "");
@@ -91,6 +100,7 @@ std::unique_ptr<Context> Context::borrow(const ExternalDevice& ext, const Contex
     if (d->info.api_version < VK_API_VERSION_1_3)
         throw Error(ErrorKind::Unsupported, "the borrowed device " + d->info.name + " is not Vulkan 1.3");
     d->init_engine_objects(options.keep_freed_memory);
+    d->choose_wait_spin(options.wait_spin_us);
     if (options.verbose) std::fprintf(stderr, "gimg: device (borrowed): %s\n", d->info.summary().c_str());
     return std::unique_ptr<Context>(new Context(std::move(d)));
 }
@@ -129,6 +139,12 @@ void Context::batch_uploads(const std::function<void()>& uploads) {
 std::uint64_t Context::submission_count() const { return device_->timeline_value; }
 
 double Context::device_wait_seconds() const { return std::chrono::duration<double>(device_->waited).count(); }
+
+std::uint32_t Context::wait_spin_us() const { return std::uint32_t(device_->wait_spin.count()); }
+
+void Context::set_wait_spin_us(std::uint32_t microseconds) {
+    device_->wait_spin = std::chrono::microseconds(microseconds);
+}
 
 MemoryStats Context::memory_stats() const { return device_->allocator.stats(); }
 

@@ -274,14 +274,27 @@ std::uint64_t Device::submit(VkCommandBuffer cmd) {
     return value;
 }
 
+void Device::choose_wait_spin(const std::optional<std::uint32_t>& microseconds) {
+    // On a CPU device the device's work runs on the host's cores, which a polling thread would take.
+    wait_spin = std::chrono::microseconds(microseconds                               ? *microseconds
+                                          : info.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0
+                                                                                     : 1000);
+}
+
 void Device::wait(std::uint64_t value) {
     if (value == 0 || finished(value)) return;
-    VkSemaphoreWaitInfo wait_info{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO};
-    wait_info.semaphoreCount = 1;
-    wait_info.pSemaphores = &timeline;
-    wait_info.pValues = &value;
     const auto start = std::chrono::steady_clock::now();
-    GIMG_VK_CHECK(fn.vkWaitSemaphores(device, &wait_info, UINT64_MAX));
+    // Polled first: a thread asleep in vkWaitSemaphores can wake a scheduler tick after the signal.
+    const auto until = start + wait_spin;
+    bool done = false;
+    while (!done && std::chrono::steady_clock::now() < until) done = finished(value);
+    if (!done) {
+        VkSemaphoreWaitInfo wait_info{VK_STRUCTURE_TYPE_SEMAPHORE_WAIT_INFO};
+        wait_info.semaphoreCount = 1;
+        wait_info.pSemaphores = &timeline;
+        wait_info.pValues = &value;
+        GIMG_VK_CHECK(fn.vkWaitSemaphores(device, &wait_info, UINT64_MAX));
+    }
     waited += std::chrono::steady_clock::now() - start;
 }
 

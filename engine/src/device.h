@@ -53,6 +53,9 @@ struct Device {
     std::uint64_t timeline_value = 0;
     // Host time spent in wait() on submissions not yet finished (Context::device_wait_seconds).
     std::chrono::steady_clock::duration waited{};
+    // How long wait() polls the timeline before it sleeps in vkWaitSemaphores.
+    std::chrono::microseconds wait_spin{0};
+    void choose_wait_spin(const std::optional<std::uint32_t>& microseconds);
 
     Device() = default;
     ~Device();

@@ -63,9 +63,21 @@ void run_engine_bench(const EngineBenchOptions& o, const GlobalOptions& global) 
     Plan chain = chain_graph.compile();
 
     std::vector<double> wait_ms, poll_ms, idle_ms, upload_ms, download_ms, chain_ms, chain_timed_ms, chain_gpu_ms;
+    std::vector<double> sleeping_ms, polling_ms;
     std::uint32_t value = 0;
+    const std::uint32_t spin = ctx.wait_spin_us();
+    // The same round trip with the host thread asleep in the wait at once, and polling for up to 1 ms
+    // first (ContextOptions::wait_spin_us), whatever this device's default.
+    auto with_spin = [&](std::uint32_t us) {
+        ctx.set_wait_spin_us(us);
+        const double ms = time_ms([&] { one.execute(); });
+        ctx.set_wait_spin_us(spin);
+        return ms;
+    };
     for (std::uint32_t r = 0; r <= o.runs; ++r) {  // run 0 warms up (pipelines, transients)
         const double w = time_ms([&] { one.execute(); });
+        const double sleeping = with_spin(0);
+        const double polling = with_spin(1000);
         const double p = time_ms([&] {
             one.execute({.wait = false});
             while (!one.finished()) {}
@@ -80,6 +92,8 @@ void run_engine_bench(const EngineBenchOptions& o, const GlobalOptions& global) 
         if (value != kCount)
             throw gimg::Error(ErrorKind::Vulkan, "bench engine: the pass summed 64 ones to " + std::to_string(value));
         wait_ms.push_back(w);
+        sleeping_ms.push_back(sleeping);
+        polling_ms.push_back(polling);
         poll_ms.push_back(p);
         idle_ms.push_back(i);
         download_ms.push_back(d);
@@ -100,12 +114,16 @@ void run_engine_bench(const EngineBenchOptions& o, const GlobalOptions& global) 
                 ctx.device_info().name.c_str(), o.runs);
     auto row = [](const char* what, const std::vector<double>& ms) {
         const nlohmann::json s = spread_us(ms);
-        std::printf("  %-44s %9.1f  (%.1f-%.1f)\n", what, s["median"].get<double>(), s["p10"].get<double>(),
+        std::printf("  %-56s %9.1f  (%.1f-%.1f)\n", what, s["median"].get<double>(), s["p10"].get<double>(),
                     s["p90"].get<double>());
         return s;
     };
     nlohmann::json j{{"runs", o.runs}, {"chain", o.chain}};
-    j["execute_wait_us"] = row("one pass, executed and waited for", wait_ms);
+    j["wait_spin_us"] = spin;
+    j["execute_wait_us"] =
+        row(("one pass, executed and waited for (" + std::to_string(spin) + " us polled first)").c_str(), wait_ms);
+    j["execute_sleeping_wait_us"] = row("the same, the wait asleep at once", sleeping_ms);
+    j["execute_polling_wait_us"] = row("the same, up to 1000 us polled first", polling_ms);
     j["execute_poll_us"] = row("the same, finished() polled", poll_ms);
     j["execute_after_idle_us"] = row("the same after 5 ms idle", idle_ms);
     j["download_us"] = row("a 4-byte download", download_ms);

@@ -86,7 +86,9 @@ check() {
     echo "$name: exit $?, $((SECONDS - t0)) s (limit $limit s)" | tee -a "$out/summary.txt"
   }
   step devices 30 "$gimg" devices
-  # What a round trip costs there: it bounds every iterative GPU path that reads back between submissions.
+  # What a round trip costs there: it bounds every iterative GPU path that reads back between
+  # submissions. execute_sleeping_wait_us against execute_polling_wait_us says whether polling the
+  # timeline before sleeping (ContextOptions::wait_spin_us, 1000 us on a GPU) pays there.
   step engine 30 "$gimg" bench engine --runs 200 --json "$out/bench-engine.json"
   # The open issues' real-GPU goals first: dragon at 1024 x 1024 hierarchical (2 ms), quad-region
   # corner edits (4 ms).

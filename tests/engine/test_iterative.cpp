@@ -1,5 +1,6 @@
 // Iterative passes: 1D Jacobi diffusion for 1,000 iterations as 20 executions of one compiled
 // graph, each running a loop of K = 50 ping-pong iterations; equal to the CPU within 1e-6.
+#include "gimg/engine/error.h"
 #include "gimg/engine/graph.h"
 
 #include "gpu_test.h"
@@ -8,6 +9,8 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
+#include <optional>
 #include <vector>
 
 using namespace gimg;
@@ -136,4 +139,56 @@ TEST_F(IterativePass, DeviceWaitCountsOnlyWaitsOnUnfinishedWork) {
     plan.wait();
     ctx().wait_idle();
     EXPECT_EQ(ctx().device_wait_seconds(), after) << "waits on finished work count nothing";
+}
+
+// A wait polls the timeline before it sleeps (ContextOptions::wait_spin_us): not on a CPU device by
+// default; when asked, it returns as soon as the work is done, whether that is within the polling
+// budget or after it, with the result and the counted wait of a sleeping wait.
+TEST_F(IterativePass, AWaitThatPollsFirstReturnsWhenTheWorkIsDone) {
+    const bool cpu_device = ctx().device_info().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    if (!std::getenv("GIMG_WAIT_SPIN_US")) {
+        EXPECT_EQ(ctx().wait_spin_us(), cpu_device ? 0u : 1000u);
+    }
+    const std::uint32_t chosen = ctx().wait_spin_us();
+    constexpr std::uint32_t N = 1000, K = 2000;
+    constexpr float kAlpha = 0.25f;
+    std::vector<float> initial(N);
+    for (std::uint32_t i = 0; i < N; ++i) initial[i] = std::sin(0.05f * float(i));
+    const std::vector<float> cpu = jacobi_cpu(initial, kAlpha, int(K));
+    Buffer a = ctx().create_buffer({N * sizeof(float), "u (even)"});
+    Buffer b = ctx().create_buffer({N * sizeof(float), "u (odd)"});
+    Plan plan = jacobi_plan(ctx(), a, b, N, K, kAlpha);
+    // 200 us: shorter than 2,000 passes take, so the wait polls, then sleeps; 10 s: the work ends first.
+    for (std::uint32_t spin : {200u, 10'000'000u}) {
+        SCOPED_TRACE("spin " + std::to_string(spin) + " us");
+        ctx().set_wait_spin_us(spin);
+        EXPECT_EQ(ctx().wait_spin_us(), spin);
+        ctx().upload(a, initial.data(), N * sizeof(float));
+        ctx().wait_idle();
+        const double before = ctx().device_wait_seconds();
+        const auto start = std::chrono::steady_clock::now();
+        plan.execute();
+        const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        EXPECT_TRUE(plan.finished()) << "the wait returned before the work was done";
+        const double counted = ctx().device_wait_seconds() - before;
+        EXPECT_GT(counted, 0.0);
+        EXPECT_LE(counted, seconds);
+        EXPECT_LT(seconds, 5.0) << "the wait ended with the work, not with its polling budget";
+        const std::vector<float> gpu = ctx().download<float>(a);
+        double worst = 0.0;
+        for (std::uint32_t i = 0; i < N; ++i) worst = std::max(worst, double(std::abs(gpu[i] - cpu[i])));
+        EXPECT_LE(worst, 1e-6);
+    }
+    ctx().set_wait_spin_us(chosen);
+}
+
+TEST(ContextOptionsFromEnvironment, ReadsTheWaitSpinAndRefusesWhatIsNotANumber) {
+    ::setenv("GIMG_WAIT_SPIN_US", "250", 1);
+    EXPECT_EQ(ContextOptions::from_environment().wait_spin_us, std::optional<std::uint32_t>(250u));
+    for (const char* bad : {"abc", "12us", "", "2000000"}) {
+        ::setenv("GIMG_WAIT_SPIN_US", bad, 1);
+        EXPECT_THROW(ContextOptions::from_environment(), gimg::Error) << bad;
+    }
+    ::unsetenv("GIMG_WAIT_SPIN_US");
+    EXPECT_FALSE(ContextOptions::from_environment().wait_spin_us.has_value());
 }

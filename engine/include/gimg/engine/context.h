@@ -30,8 +30,14 @@ struct ContextOptions {
     // Freed device memory kept for reuse, at most (docs/engine.md, "Resources"); unset: a
     // sixteenth of the largest memory heap, at most 256 MiB. 0 keeps none.
     std::optional<std::uint64_t> keep_freed_memory;
+    // How long a wait for the device polls its progress before the host thread sleeps, in
+    // microseconds (docs/engine.md, "Round trips"): a sleeping thread may wake a scheduler tick
+    // after the work is done. Unset: 0 on a CPU device (lavapipe, whose work needs the host's
+    // cores), 1000 on a GPU.
+    std::optional<std::uint32_t> wait_spin_us;
 
-    // GIMG_VALIDATION=1 turns validation on; GIMG_DEVICE=<part of a name> picks the device.
+    // GIMG_VALIDATION=1 turns validation on; GIMG_DEVICE=<part of a name> picks the device;
+    // GIMG_WAIT_SPIN_US=<microseconds> sets wait_spin_us.
     static ContextOptions from_environment();
 };
 
@@ -160,6 +166,9 @@ public:
     // waits, transfers and wait_idle): with submission_count, what tells a run bound by round trips
     // or by the device's work from one bound by the host's.
     double device_wait_seconds() const;
+    // ContextOptions::wait_spin_us as chosen for this device, and a change of it (for measuring).
+    std::uint32_t wait_spin_us() const;
+    void set_wait_spin_us(std::uint32_t microseconds);
 
     // Waits for every submission gimg made on this context.
     void wait_idle();
