@@ -19,7 +19,25 @@
 #include <stdexcept>
 #include <thread>
 
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
+
 namespace gimg::geo {
+
+void advise_huge_pages(void* memory, std::size_t bytes) noexcept {
+#ifdef __linux__
+    constexpr std::uintptr_t kHuge = std::uintptr_t(2) << 20;
+    if (bytes < 2 * kHuge) return;
+    const auto begin = (reinterpret_cast<std::uintptr_t>(memory) + kHuge - 1) & ~(kHuge - 1);
+    const auto end = (reinterpret_cast<std::uintptr_t>(memory) + bytes) & ~(kHuge - 1);
+    // Advice only: where transparent huge pages are off, the memory stays in small pages.
+    if (end > begin) ::madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);
+#else
+    (void)memory;
+    (void)bytes;
+#endif
+}
 
 namespace {
 
@@ -89,6 +107,7 @@ struct PrimRef {
     }
 };
 static_assert(offsetof(PrimRef, box) + offsetof(Box, hi) + sizeof(Lanes) <= sizeof(PrimRef));
+using PrimRefs = std::vector<PrimRef, UninitializedAllocator<PrimRef>>;
 
 struct Range {
     std::size_t begin, end;
@@ -122,8 +141,8 @@ struct Bin {
 
 class BvhBuilder {
 public:
-    BvhBuilder(std::vector<PrimRef>& prims, const Mesh& mesh, std::vector<std::uint32_t>& kept_face,
-               const BvhBuildOptions& options, unsigned threads)
+    BvhBuilder(PrimRefs& prims, const Mesh& mesh, std::vector<std::uint32_t>& kept_face, const BvhBuildOptions& options,
+               unsigned threads)
         : prims_(prims), mesh_(mesh), kept_face_(kept_face), options_(options), threads_(threads) {}
 
     // A thread for the right subtree whenever fewer than `threads` are building, at any depth: SAH
@@ -344,7 +363,7 @@ private:
         return true;
     }
 
-    std::vector<PrimRef>& prims_;
+    PrimRefs& prims_;
     const Mesh& mesh_;
     std::vector<std::uint32_t>& kept_face_;
     const BvhBuildOptions& options_;
@@ -373,7 +392,7 @@ BvhLayout build_bvh_layout(const Mesh& mesh, const BvhBuildOptions& options) {
     if (fcount == 0) return out;
     const unsigned threads = options.threads ? options.threads : default_thread_count();
 
-    std::vector<PrimRef> prims(fcount);
+    PrimRefs prims(fcount);
     parallel_for_chunks(
         fcount, 65536,
         [&](std::size_t, std::size_t begin, std::size_t end) {

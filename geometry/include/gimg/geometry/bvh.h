@@ -38,6 +38,11 @@ struct alignas(32) BvhNode {
 };
 static_assert(sizeof(BvhNode) == 32);
 
+// Asks the kernel (Linux) to back the 2 MiB-aligned part of a fresh allocation of at least 4 MiB
+// with huge pages on first touch: a build of 1.2M faces first-touches about 21,000 4 KB pages,
+// each fault costing microseconds on a virtual machine. Nothing elsewhere, or for smaller ones.
+void advise_huge_pages(void* memory, std::size_t bytes) noexcept;
+
 // Allocates the node array on a 64-byte boundary. Node 0 is the root and node 1 unused padding,
 // so every sibling pair (2k, 2k + 1) shares one cache line.
 template <class T>
@@ -47,7 +52,11 @@ struct CacheLineAllocator {
     CacheLineAllocator() = default;
     template <class U>
     CacheLineAllocator(const CacheLineAllocator<U>&) noexcept {}
-    T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlignment)); }
+    T* allocate(std::size_t n) {
+        T* p = static_cast<T*>(::operator new(n * sizeof(T), kAlignment));
+        advise_huge_pages(p, n * sizeof(T));
+        return p;
+    }
     void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, kAlignment); }
     template <class U>
     bool operator==(const CacheLineAllocator<U>&) const noexcept {
@@ -57,7 +66,8 @@ struct CacheLineAllocator {
 using BvhNodeArray = std::vector<BvhNode, CacheLineAllocator<BvhNode>>;
 
 // Leaves the elements a resize adds uninitialised, for arrays filled right after (in parallel), so
-// that their pages are first touched by the threads that fill them and not by a serial zeroing.
+// that their pages are first touched by the threads that fill them and not by a serial zeroing;
+// large ones in huge pages where the system has them.
 template <class T>
 struct UninitializedAllocator : std::allocator<T> {
     template <class U>
@@ -67,6 +77,11 @@ struct UninitializedAllocator : std::allocator<T> {
     UninitializedAllocator() = default;
     template <class U>
     UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+    T* allocate(std::size_t n) {
+        T* p = std::allocator<T>::allocate(n);
+        advise_huge_pages(p, n * sizeof(T));
+        return p;
+    }
     template <class U>
     void construct(U* p) noexcept {
         ::new (static_cast<void*>(p)) U;
