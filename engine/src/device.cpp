@@ -276,9 +276,8 @@ std::uint64_t Device::submit(VkCommandBuffer cmd) {
 
 void Device::choose_wait_spin(const std::optional<std::uint32_t>& microseconds) {
     // On a CPU device the device's work runs on the host's cores, which a polling thread would take.
-    wait_spin = std::chrono::microseconds(microseconds                               ? *microseconds
-                                          : info.type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 0
-                                                                                     : 1000);
+    const bool cpu_device = info.type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+    wait_spin = std::chrono::microseconds(microseconds.value_or(cpu_device ? 0u : 1000u));
 }
 
 void Device::wait(std::uint64_t value) {

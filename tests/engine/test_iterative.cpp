@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <optional>
+#include <string>
 #include <vector>
 
 using namespace gimg;
@@ -183,6 +184,8 @@ TEST_F(IterativePass, AWaitThatPollsFirstReturnsWhenTheWorkIsDone) {
 }
 
 TEST(ContextOptionsFromEnvironment, ReadsTheWaitSpinAndRefusesWhatIsNotANumber) {
+    const char* set = std::getenv("GIMG_WAIT_SPIN_US");
+    const std::optional<std::string> outside = set ? std::optional<std::string>(set) : std::nullopt;
     ::setenv("GIMG_WAIT_SPIN_US", "250", 1);
     EXPECT_EQ(ContextOptions::from_environment().wait_spin_us, std::optional<std::uint32_t>(250u));
     for (const char* bad : {"abc", "12us", "", "2000000"}) {
@@ -191,4 +194,5 @@ TEST(ContextOptionsFromEnvironment, ReadsTheWaitSpinAndRefusesWhatIsNotANumber) 
     }
     ::unsetenv("GIMG_WAIT_SPIN_US");
     EXPECT_FALSE(ContextOptions::from_environment().wait_spin_us.has_value());
+    if (outside) ::setenv("GIMG_WAIT_SPIN_US", outside->c_str(), 1);  // as the run set it
 }

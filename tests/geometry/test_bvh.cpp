@@ -313,8 +313,7 @@ TEST(Bvh, ItsLargeArraysAskForHugePages) {
     EXPECT_NE(vm_flags_at(triangles.data() + (8u << 20)).find(" hg"), std::string::npos)
         << vm_flags_at(triangles.data() + (8u << 20));
     EXPECT_NE(vm_flags_at(reinterpret_cast<const char*>(nodes.data()) + (8u << 20)).find(" hg"), std::string::npos);
-    // The advice covers only whole 2 MiB pages inside the allocation, so memory around it keeps its
-    // own flags: the first byte of an unaligned allocation's first partial huge page is not advised.
+    // An allocation under 4 MiB gets no advice.
     std::vector<char, UninitializedAllocator<char>> small(1u << 20);
     EXPECT_EQ(vm_flags_at(small.data()).find(" hg"), std::string::npos) << vm_flags_at(small.data());
 #endif
