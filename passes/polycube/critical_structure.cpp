@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <map>
 #include <numeric>
 #include <unordered_map>
 
@@ -69,12 +68,16 @@ SolveResult solve(Context* ctx, const LinearSystem& system, PolycubeStatistics& 
 }
 
 std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<glm::uvec3>& triangles) {
-    std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+    // The directed edges sorted, each once: an edge whose reverse is missing is on a boundary.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> directed;
+    directed.reserve(3 * triangles.size());
     for (const auto& t : triangles)
-        for (int k = 0; k < 3; ++k) ++directed[{t[k], t[(k + 1) % 3]}];
+        for (int k = 0; k < 3; ++k) directed.push_back({t[k], t[(k + 1) % 3]});
+    std::sort(directed.begin(), directed.end());
+    directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
     std::unordered_map<std::uint32_t, std::uint32_t> next;
-    for (const auto& [e, count] : directed) {
-        if (directed.count({e.second, e.first})) continue;
+    for (const auto& e : directed) {
+        if (std::binary_search(directed.begin(), directed.end(), std::pair{e.second, e.first})) continue;
         if (!next.emplace(e.first, e.second).second)
             throw geo::InputError("vertex " + std::to_string(e.first) +
                                   " lies on two boundary loops (a non-manifold vertex)");

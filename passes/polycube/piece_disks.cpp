@@ -95,8 +95,8 @@ std::uint32_t split_boundary_edge(Local& m, std::uint32_t a, std::uint32_t b, co
 }  // namespace
 
 // The vertex at parameter t on the boundary loop `loop` (a vertex already there, or one added).
-std::uint32_t vertex_at(Local& m, const std::vector<std::uint32_t>& loop, double t,
-                        const std::vector<glm::dvec3>& curve, const std::vector<double>& curve_u) {
+std::uint32_t vertex_at(Local& m, std::vector<std::uint32_t>& loop, double t, const std::vector<glm::dvec3>& curve,
+                        const std::vector<double>& curve_u) {
     for (std::uint32_t v : loop) {
         const double d = std::abs(m.u[v] - t);
         if (std::min(d, 1.0 - d) < 1e-9) return v;
@@ -109,8 +109,11 @@ std::uint32_t vertex_at(Local& m, const std::vector<std::uint32_t>& loop, double
         double dt = t - m.u[a];
         if (dt < -0.5) dt += 1.0;
         if (dt > 0.5) dt -= 1.0;
-        if (du != 0.0 && dt / du > 0.0 && dt / du < 1.0)
-            return split_boundary_edge(m, a, b, point_at(curve, curve_u, t), t);
+        if (du != 0.0 && dt / du > 0.0 && dt / du < 1.0) {
+            const std::uint32_t id = split_boundary_edge(m, a, b, point_at(curve, curve_u, t), t);
+            loop.insert(loop.begin() + std::ptrdiff_t(i + 1), id);  // a -> id -> b, the loop's start kept
+            return id;
+        }
     }
     throw geo::InputError("internal: a contour parameter was not found on a polycube loop");
 }

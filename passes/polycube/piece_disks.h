@@ -34,9 +34,10 @@ std::vector<double> loop_parameter(const std::vector<glm::dvec3>& p, double y_re
 glm::dvec3 point_at(const std::vector<glm::dvec3>& p, const std::vector<double>& u, double t);
 
 // The vertex at parameter t on the boundary loop `loop` of m (a vertex already there, or a boundary
-// edge split at the point of `curve` with that parameter).
-std::uint32_t vertex_at(Local& m, const std::vector<std::uint32_t>& loop, double t,
-                        const std::vector<glm::dvec3>& curve, const std::vector<double>& curve_u);
+// edge split at the point of `curve` with that parameter, which is then inserted into `loop`, so that
+// it stays what boundary_loops(m.tri) would give).
+std::uint32_t vertex_at(Local& m, std::vector<std::uint32_t>& loop, double t, const std::vector<glm::dvec3>& curve,
+                        const std::vector<double>& curve_u);
 
 // Per vertex, its neighbours (sorted).
 std::vector<std::vector<std::uint32_t>> neighbours(const Local& m);

@@ -222,8 +222,10 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
             if (ok && !cuts.empty()) {
                 // The same points on the surface side, then paths between them.
                 std::vector<std::pair<std::uint32_t, std::uint32_t>> ends;
+                // T's loops, which vertex_at keeps up to date as it splits their edges.
+                std::vector<std::vector<std::uint32_t>> t_loops_now = t_loops;
                 const auto at = [&](std::int32_t c, double u) {
-                    for (const auto& l : boundary_loops(T.tri))
+                    for (auto& l : t_loops_now)
                         if (T.contour[l[0]] == c) return vertex_at(T, l, u, loop_points[c], loop_u[c]);
                     throw geo::InputError("internal: polycube loop lost");
                 };
@@ -234,7 +236,7 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
                 }
                 auto tnb = neighbours(T);
                 std::vector<std::uint8_t> tfree(T.pos.size(), 1);
-                for (const auto& l : boundary_loops(T.tri))
+                for (const auto& l : t_loops_now)
                     for (std::uint32_t v : l) tfree[v] = 0;
                 for (std::size_t j = 0; j < ends.size() && ok; ++j) {
                     std::vector<std::uint8_t> target_t(T.pos.size(), 0);
