@@ -342,6 +342,61 @@ TEST(QuadRegionCut, AutomaticCornersGatherTheSquareNotTheRestOfTheMesh) {
     EXPECT_LT(*std::max_element(columns.begin(), columns.end()), m.uv.size() / 2);
 }
 
+// A 20 x 20 grid lifted by r^4 / 10^4 about its centre, flattest there, with a hole 3 to 4 from it
+// when `hole`: the square of 0.3 diagonals (half side 4.3) would enclose the hole, so the automatic
+// corners take the square of half that side, which stays clear of it.
+TEST(QuadRegionCut, AutomaticCornersHalveTheSquareUntilItCutsADisk) {
+    auto sheet = [](bool hole) {
+        geo::Mesh m;
+        for (int j = 0; j <= 20; ++j)
+            for (int i = 0; i <= 20; ++i) {
+                const double r2 = (i - 10.0) * (i - 10.0) + (j - 10.0) * (j - 10.0);
+                m.positions.push_back({double(i), double(j), 1e-4 * r2 * r2});
+            }
+        for (std::uint32_t j = 0; j < 20; ++j)
+            for (std::uint32_t i = 0; i < 20; ++i) {
+                if (hole && i == 13 && (j == 9 || j == 10)) continue;
+                const std::uint32_t v = j * 21 + i;
+                m.triangles.push_back({v, v + 1, v + 22});
+                m.triangles.push_back({v, v + 22, v + 21});
+            }
+        return m;
+    };
+    const auto area = [](const geo::Mesh& m) {
+        const std::vector<double> a = geo::face_areas(m);
+        return std::accumulate(a.begin(), a.end(), 0.0);
+    };
+    const geo::Mesh whole = sheet(false), holed = sheet(true);
+    const gp::QuadRegionCutter whole_cutter(whole), holed_cutter(holed);
+    const gp::QuadRegion big = whole_cutter.cut(gp::flattest_square_corners(whole_cutter, 0.3), false);
+    EXPECT_GT(area(big.mesh), 50.0);  // about 8.6 x 8.6
+    const gp::QuadRegion small = holed_cutter.cut(gp::flattest_square_corners(holed_cutter, 0.3), false);
+    EXPECT_LT(area(small.mesh), 30.0);  // about 4.3 x 4.3
+    EXPECT_GT(area(small.mesh), 9.0);
+    for (const glm::dvec3& p : small.mesh.positions) {
+        EXPECT_LT(std::abs(p.x - 10.0), 3.0);
+        EXPECT_LT(std::abs(p.y - 10.0), 3.0);
+    }
+    // An icosahedron's vertices are too far apart for any square about one to have four distinct
+    // corners: refused, saying so.
+    try {
+        (void)gp::flattest_square_corners(gp::QuadRegionCutter(geo::make_icosphere(1.0, 0)), 0.3);
+        ADD_FAILURE() << "no square about an icosahedron's vertex cuts a region";
+    } catch (const geo::InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("automatic corners: no square of side 0.3 to 0.01875"), std::string::npos)
+            << e.what();
+    }
+}
+
+// teapot's 32 pieces: the square's corners stay on the flattest vertex's piece, so they cut.
+TEST(QuadRegionCut, AutomaticCornersStayOnTheCentresPiece) {
+    GIMG_REQUIRE_SHARED_MESH(path, "teapot.obj");
+    const geo::Mesh teapot = geo::load_mesh(path);
+    const gp::QuadRegionCutter cutter(teapot);
+    const std::array<std::uint32_t, 4> corners = gp::flattest_square_corners(cutter);
+    EXPECT_NO_THROW((void)cutter.cut(corners, false));
+}
+
 TEST(QuadRegionCut, RefusesCornersThatSpanNoRegion) {
     const geo::Mesh sheet = jittered_sheet();
     auto c = unit_corners(sheet);

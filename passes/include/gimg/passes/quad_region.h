@@ -123,10 +123,12 @@ std::vector<double> chord_weights(const geo::Mesh& mesh, const geo::MeshAdjacenc
 
 // Corners for trying a region out (`gimg quadmap --corners auto`): a square of side `side` times
 // the bounding-box diagonal around the flattest interior vertex (least k1^2 + k2^2 summed over its
-// ring), corners counter-clockwise seen along its normal. Where the square is wider than the part
-// it sits on, its sides run round that part and their left is the rest of the mesh; a region of
-// more than half the mesh's area is therefore taken the other way round.
-// The cutter's mesh and adjacency serve both the choice and the trial cut.
+// ring), corners counter-clockwise seen along its normal, on that vertex's piece of the mesh. Where
+// the square is wider than the part it sits on, its sides run round that part and their left is the
+// rest of the mesh; a region of more than half the mesh's area is therefore taken the other way
+// round where that cuts. Where the square's sides cut no disk (they cross, or enclose a handle or a
+// hole), the side is halved, up to four times; past that, geo::InputError says so.
+// The cutter's mesh and adjacency serve both the choice and the trial cuts.
 std::array<std::uint32_t, 4> flattest_square_corners(const QuadRegionCutter& cutter, double side = 0.2);
 
 // Dijkstra's distances along the region's edges from the u = 0 side (s, first) and from the v = 0
