@@ -71,32 +71,34 @@ std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<glm::uv
     // The directed edges sorted, each once: an edge whose reverse is missing is on a boundary.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> directed;
     directed.reserve(3 * triangles.size());
+    std::uint32_t vertices = 0;  // past the largest index (the callers' are compact)
     for (const auto& t : triangles)
-        for (int k = 0; k < 3; ++k) directed.push_back({t[k], t[(k + 1) % 3]});
+        for (int k = 0; k < 3; ++k) {
+            directed.push_back({t[k], t[(k + 1) % 3]});
+            vertices = std::max(vertices, t[k] + 1);
+        }
     std::sort(directed.begin(), directed.end());
     directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
-    std::unordered_map<std::uint32_t, std::uint32_t> next;
+    constexpr std::uint32_t kNoEdge = geo::kInvalidIndex;
+    std::vector<std::uint32_t> next(vertices, kNoEdge);
     for (const auto& e : directed) {
         if (std::binary_search(directed.begin(), directed.end(), std::pair{e.second, e.first})) continue;
-        if (!next.emplace(e.first, e.second).second)
+        if (next[e.first] != kNoEdge)
             throw geo::InputError("vertex " + std::to_string(e.first) +
                                   " lies on two boundary loops (a non-manifold vertex)");
+        next[e.first] = e.second;
     }
     std::vector<std::vector<std::uint32_t>> loops;
-    std::vector<std::uint32_t> starts;
-    for (const auto& [v, w] : next) starts.push_back(v);
-    std::sort(starts.begin(), starts.end());
-    std::unordered_map<std::uint32_t, bool> seen;
-    for (std::uint32_t s : starts) {
-        if (seen[s]) continue;
+    std::vector<std::uint8_t> seen(vertices, 0);
+    for (std::uint32_t s = 0; s < vertices; ++s) {  // each loop from its smallest vertex
+        if (next[s] == kNoEdge || seen[s]) continue;
         std::vector<std::uint32_t> loop;
         std::uint32_t v = s;
         while (!seen[v]) {
-            seen[v] = true;
+            seen[v] = 1;
             loop.push_back(v);
-            const auto it = next.find(v);
-            if (it == next.end()) throw geo::InputError("a boundary chain ends at vertex " + std::to_string(v));
-            v = it->second;
+            if (next[v] == kNoEdge) throw geo::InputError("a boundary chain ends at vertex " + std::to_string(v));
+            v = next[v];
         }
         if (v != s) throw geo::InputError("a boundary chain runs into another at vertex " + std::to_string(v));
         loops.push_back(std::move(loop));
