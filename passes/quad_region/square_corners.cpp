@@ -9,8 +9,8 @@
 
 #include <cmath>
 #include <cstdio>
-#include <string>
 #include <numeric>
+#include <string>
 #include <utility>
 
 namespace gimg::passes {
