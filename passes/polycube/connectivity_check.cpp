@@ -27,33 +27,51 @@ Pieces slab_pieces(const std::vector<glm::uvec3>& tris, const std::vector<std::u
         while (parent[a] != a) a = parent[a] = parent[parent[a]];
         return a;
     };
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edge;
+    const auto key = [&](std::uint32_t f, int k) {
+        const auto [a, b] = std::minmax(tris[f][k], tris[f][(k + 1) % 3]);
+        return (std::uint64_t(a) << 32) | b;
+    };
+    // Every edge with the faces holding it, sorted: each later face of an edge joins the first
+    // one's piece where their slabs are the same.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
+    edges.reserve(3 * tris.size());
     for (std::uint32_t f = 0; f < tris.size(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const auto [it, added] = edge.emplace(std::minmax(tris[f][k], tris[f][(k + 1) % 3]), f);
-            if (!added && slab[it->second] == slab[f]) parent[find(f)] = find(it->second);
-        }
+        for (int k = 0; k < 3; ++k) edges.push_back({key(f, k), f});
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size();) {
+        const std::uint32_t first = edges[i].second;
+        std::size_t j = i + 1;
+        for (; j < edges.size() && edges[j].first == edges[i].first; ++j)
+            if (slab[edges[j].second] == slab[first]) parent[find(edges[j].second)] = find(first);
+        i = j;
+    }
     Pieces p;
-    std::map<std::uint32_t, std::size_t> index;
+    constexpr std::size_t kNoPiece = std::size_t(-1);
+    std::vector<std::size_t> index(tris.size(), kNoPiece);  // per root face, its piece
     for (std::uint32_t f = 0; f < tris.size(); ++f) {
-        const auto [it, added] = index.emplace(find(f), p.triangles.size());
-        if (added) {
+        std::size_t& piece = index[find(f)];
+        if (piece == kNoPiece) {
+            piece = p.triangles.size();
             p.triangles.emplace_back();
             p.slab.push_back(slab[f]);
             p.contours.emplace_back();
         }
-        p.triangles[it->second].push_back(f);
+        p.triangles[piece].push_back(f);
         for (int k = 0; k < 3; ++k)
-            if (const std::int32_t c = contour_of(tris[f][k]); c >= 0) p.contours[it->second].insert(c);
+            if (const std::int32_t c = contour_of(tris[f][k]); c >= 0) p.contours[piece].insert(c);
     }
     for (const auto& t : p.triangles) {
-        std::set<std::uint32_t> vs;
-        std::set<std::pair<std::uint32_t, std::uint32_t>> es;
+        std::vector<std::uint32_t> vs;
+        std::vector<std::uint64_t> es;
         std::vector<glm::uvec3> local;
         for (std::uint32_t f : t) {
             local.push_back(tris[f]);
-            for (int k = 0; k < 3; ++k) vs.insert(tris[f][k]), es.insert(std::minmax(tris[f][k], tris[f][(k + 1) % 3]));
+            for (int k = 0; k < 3; ++k) vs.push_back(tris[f][k]), es.push_back(key(f, k));
         }
+        std::sort(vs.begin(), vs.end());
+        vs.erase(std::unique(vs.begin(), vs.end()), vs.end());
+        std::sort(es.begin(), es.end());
+        es.erase(std::unique(es.begin(), es.end()), es.end());
         const long long chi = (long long)vs.size() - (long long)es.size() + (long long)t.size();
         try {
             p.disk_like.push_back(chi == 2 - (long long)boundary_loops(local).size());
