@@ -71,7 +71,7 @@ std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<glm::uv
     // The directed edges sorted, each once: an edge whose reverse is missing is on a boundary.
     std::vector<std::pair<std::uint32_t, std::uint32_t>> directed;
     directed.reserve(3 * triangles.size());
-    std::uint32_t vertices = 0;  // past the largest index (the callers' are compact)
+    std::uint32_t vertices = 0;  // past the largest index: the arrays below cost little beside the sort
     for (const auto& t : triangles)
         for (int k = 0; k < 3; ++k) {
             directed.push_back({t[k], t[(k + 1) % 3]});

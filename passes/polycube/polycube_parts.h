@@ -29,8 +29,9 @@ LinearSystem positive_laplacian(const geo::Mesh& mesh, const geo::MeshAdjacency&
 // One solve on the GPU when ctx is given, by its CPU twin otherwise; adds to the statistics.
 SolveResult solve(Context* ctx, const LinearSystem& system, PolycubeStatistics& stats);
 
-// Boundary loops of a triangle set, each in the faces' direction (interior on the left). Throws
-// geo::InputError when a vertex has more than one outgoing boundary edge.
+// Boundary loops of a triangle set, each in the faces' direction (interior on the left), each
+// from its smallest vertex, in the order of those. Throws geo::InputError when a vertex has more
+// than one outgoing boundary edge. Its arrays are as long as the largest vertex index.
 std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<glm::uvec3>& triangles);
 
 // The mesh cut by horizontal planes: every edge crossing a plane split there (the new vertex
