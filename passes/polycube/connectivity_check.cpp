@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <functional>
 #include <map>
-#include <numeric>
 #include <set>
 #include <tuple>
 
@@ -21,35 +20,17 @@ using Pieces = SlabPieces;
 // Components of triangles of the same slab joined across edges; their contour sets.
 Pieces slab_pieces(const std::vector<glm::uvec3>& tris, const std::vector<std::uint32_t>& slab,
                    const std::function<std::int32_t(std::uint32_t)>& contour_of) {
-    std::vector<std::uint32_t> parent(tris.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    const auto find = [&](std::uint32_t a) {
-        while (parent[a] != a) a = parent[a] = parent[parent[a]];
-        return a;
-    };
+    const std::vector<std::uint32_t> root =
+        join_across_edges(tris, [&](std::uint32_t f, std::uint32_t g) { return slab[f] == slab[g]; });
     const auto key = [&](std::uint32_t f, int k) {
         const auto [a, b] = std::minmax(tris[f][k], tris[f][(k + 1) % 3]);
         return (std::uint64_t(a) << 32) | b;
     };
-    // Every edge with the faces holding it, sorted: each later face of an edge joins the first
-    // one's piece where their slabs are the same.
-    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
-    edges.reserve(3 * tris.size());
-    for (std::uint32_t f = 0; f < tris.size(); ++f)
-        for (int k = 0; k < 3; ++k) edges.push_back({key(f, k), f});
-    std::sort(edges.begin(), edges.end());
-    for (std::size_t i = 0; i < edges.size();) {
-        const std::uint32_t first = edges[i].second;
-        std::size_t j = i + 1;
-        for (; j < edges.size() && edges[j].first == edges[i].first; ++j)
-            if (slab[edges[j].second] == slab[first]) parent[find(edges[j].second)] = find(first);
-        i = j;
-    }
     Pieces p;
     constexpr std::size_t kNoPiece = std::size_t(-1);
     std::vector<std::size_t> index(tris.size(), kNoPiece);  // per root face, its piece
     for (std::uint32_t f = 0; f < tris.size(); ++f) {
-        std::size_t& piece = index[find(f)];
+        std::size_t& piece = index[root[f]];
         if (piece == kNoPiece) {
             piece = p.triangles.size();
             p.triangles.emplace_back();

@@ -106,6 +106,34 @@ std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<glm::uv
     return loops;
 }
 
+std::vector<std::uint32_t> join_across_edges(const std::vector<glm::uvec3>& triangles,
+                                             const std::function<bool(std::uint32_t, std::uint32_t)>& same) {
+    std::vector<std::uint32_t> root(triangles.size());
+    std::iota(root.begin(), root.end(), 0u);
+    const auto find = [&](std::uint32_t a) {
+        while (root[a] != a) a = root[a] = root[root[a]];
+        return a;
+    };
+    // Every edge with the triangles holding it, sorted by edge, then triangle.
+    std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
+    edges.reserve(3 * triangles.size());
+    for (std::uint32_t f = 0; f < triangles.size(); ++f)
+        for (int k = 0; k < 3; ++k) {
+            const auto [a, b] = std::minmax(triangles[f][k], triangles[f][(k + 1) % 3]);
+            edges.push_back({(std::uint64_t(a) << 32) | b, f});
+        }
+    std::sort(edges.begin(), edges.end());
+    for (std::size_t i = 0; i < edges.size();) {
+        const std::uint32_t first = edges[i].second;
+        std::size_t j = i + 1;
+        for (; j < edges.size() && edges[j].first == edges[i].first; ++j)
+            if (same(first, edges[j].second)) root[find(edges[j].second)] = find(first);
+        i = j;
+    }
+    for (std::uint32_t f = 0; f < root.size(); ++f) root[f] = find(f);
+    return root;
+}
+
 }  // namespace polycube
 
 CappedMesh cap_holes(const geo::Mesh& mesh) {

@@ -10,6 +10,7 @@
 #include <glm/vec3.hpp>
 
 #include <cstdint>
+#include <functional>
 #include <set>
 #include <string>
 #include <vector>
@@ -33,6 +34,12 @@ SolveResult solve(Context* ctx, const LinearSystem& system, PolycubeStatistics& 
 // from its smallest vertex, in the order of those. Throws geo::InputError when a vertex has more
 // than one outgoing boundary edge. Its arrays are as long as the largest vertex index.
 std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<glm::uvec3>& triangles);
+
+// Pieces of a triangle set: triangles sharing an edge are joined where same(f, g) says so (f the
+// edge's first triangle, g a later one). Returns each triangle's piece as the piece's root
+// triangle, so two triangles are in one piece when their roots are equal.
+std::vector<std::uint32_t> join_across_edges(const std::vector<glm::uvec3>& triangles,
+                                             const std::function<bool(std::uint32_t, std::uint32_t)>& same);
 
 // The mesh cut by horizontal planes: every edge crossing a plane split there (the new vertex
 // exactly at the plane's z), every crossed triangle split in three. Vertices keep their ids;

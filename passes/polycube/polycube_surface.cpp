@@ -8,7 +8,6 @@
 #include <array>
 #include <cmath>
 #include <map>
-#include <numeric>
 #include <functional>
 #include <unordered_map>
 
@@ -434,23 +433,12 @@ PolycubeSurface polycube_surface(const Layers& layers) {
         }
     }
     // Polycube faces: triangles of one axis joined across edges; corners: where three faces meet.
-    std::vector<std::uint32_t> parent(s.mesh.triangles.size());
-    std::iota(parent.begin(), parent.end(), 0u);
-    const auto find = [&](std::uint32_t a) {
-        while (parent[a] != a) a = parent[a] = parent[parent[a]];
-        return a;
-    };
-    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edge_face;
-    for (std::uint32_t f = 0; f < s.mesh.triangles.size(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const auto key = std::minmax(s.mesh.triangles[f][k], s.mesh.triangles[f][(k + 1) % 3]);
-            const auto [it, added] = edge_face.emplace(key, f);
-            if (!added && s.axis[it->second] == s.axis[f]) parent[find(f)] = find(it->second);
-        }
+    const std::vector<std::uint32_t> root =
+        join_across_edges(s.mesh.triangles, [&](std::uint32_t f, std::uint32_t g) { return s.axis[f] == s.axis[g]; });
     std::vector<std::vector<std::uint32_t>> vertex_faces(s.mesh.positions.size());
     for (std::uint32_t f = 0; f < s.mesh.triangles.size(); ++f) {
-        if (find(f) == f) ++s.faces;
-        for (int k = 0; k < 3; ++k) vertex_faces[s.mesh.triangles[f][k]].push_back(find(f));
+        if (root[f] == f) ++s.faces;
+        for (int k = 0; k < 3; ++k) vertex_faces[s.mesh.triangles[f][k]].push_back(root[f]);
     }
     for (auto& v : vertex_faces) {
         std::sort(v.begin(), v.end());
