@@ -68,21 +68,33 @@ SolveResult solve(Context* ctx, const LinearSystem& system, PolycubeStatistics& 
 }
 
 std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<glm::uvec3>& triangles) {
-    // The directed edges sorted, each once: an edge whose reverse is missing is on a boundary.
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> directed;
-    directed.reserve(3 * triangles.size());
+    // Each edge once per direction it is used in, sorted by its ends: an edge used one way only is
+    // on a boundary, in that direction.
+    std::vector<std::uint64_t> uses;  // (lower end << 33) | (higher end << 1) | (1 if from the higher)
+    uses.reserve(3 * triangles.size());
     std::uint32_t vertices = 0;  // past the largest index: the arrays below cost little beside the sort
     for (const auto& t : triangles)
         for (int k = 0; k < 3; ++k) {
-            directed.push_back({t[k], t[(k + 1) % 3]});
-            vertices = std::max(vertices, t[k] + 1);
+            const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+            uses.push_back((std::uint64_t(std::min(a, b)) << 33) | (std::uint64_t(std::max(a, b)) << 1) | (a > b));
+            vertices = std::max(vertices, a + 1);
         }
-    std::sort(directed.begin(), directed.end());
-    directed.erase(std::unique(directed.begin(), directed.end()), directed.end());
+    std::sort(uses.begin(), uses.end());
+    uses.erase(std::unique(uses.begin(), uses.end()), uses.end());
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary;
+    for (std::size_t i = 0; i < uses.size(); ++i) {
+        if (i + 1 < uses.size() && uses[i + 1] >> 1 == uses[i] >> 1) {
+            ++i;  // used both ways
+            continue;
+        }
+        const auto lower = std::uint32_t(uses[i] >> 33), higher = std::uint32_t((uses[i] >> 1) & 0xffffffffu);
+        if (lower == higher) continue;  // a triangle's repeated corner: its own reverse
+        boundary.push_back(uses[i] & 1u ? std::pair{higher, lower} : std::pair{lower, higher});
+    }
+    std::sort(boundary.begin(), boundary.end());  // a vertex with two is named as before
     constexpr std::uint32_t kNoEdge = geo::kInvalidIndex;
     std::vector<std::uint32_t> next(vertices, kNoEdge);
-    for (const auto& e : directed) {
-        if (std::binary_search(directed.begin(), directed.end(), std::pair{e.second, e.first})) continue;
+    for (const auto& e : boundary) {
         if (next[e.first] != kNoEdge)
             throw geo::InputError("vertex " + std::to_string(e.first) +
                                   " lies on two boundary loops (a non-manifold vertex)");

@@ -454,6 +454,21 @@ TEST(PolycubePlanes, SlicingCarriesTheTruePositions) {
         ASSERT_NEAR(glm::length(carried[v] - 2.0 * sliced.mesh.positions[v]), 0.0, 1e-12) << v;
 }
 
+// Boundary loops: each from its smallest vertex, in the order of those; a triangle's repeated corner
+// makes no boundary of its own (the degenerate (0, 1, 1) closes the edge 0 1 and leaves the chain
+// 1 -> 2 -> 0 open); a vertex with two outgoing boundary edges is refused.
+TEST(PolycubePieceDisks, BoundaryLoopsStartAtTheirSmallestVertex) {
+    using Loops = std::vector<std::vector<std::uint32_t>>;
+    EXPECT_EQ(gp::polycube::boundary_loops({{4, 5, 3}, {2, 0, 1}}), (Loops{{0, 1, 2}, {3, 4, 5}}));
+    try {
+        (void)gp::polycube::boundary_loops({{0, 1, 2}, {0, 1, 1}});
+        ADD_FAILURE() << "an open chain makes no loop";
+    } catch (const geo::InputError& e) {
+        EXPECT_STREQ(e.what(), "a boundary chain ends at vertex 0");
+    }
+    EXPECT_THROW((void)gp::polycube::boundary_loops({{0, 1, 2}, {0, 3, 4}}), geo::InputError);
+}
+
 // A hexagon fanned from its centre: its one loop runs 1..6 from the smallest vertex. Splitting its
 // edges at contour parameters adds vertices that vertex_at puts into the loop as boundary_loops
 // would (the map's cuts read the loop from there instead of from the triangles): between 2 and 3,
