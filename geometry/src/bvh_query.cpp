@@ -90,22 +90,24 @@ ClosestPointResult TriangleBvh::closest_point(const glm::dvec3& p, double max_di
     };
     Entry stack[kStackSize];
     int top = 0;
-    stack[top++] = {0, box_distance_squared(nodes_[0], p)};
-    while (top > 0) {
-        const Entry e = stack[--top];
-        if (e.d2 > best_d2) continue;
-        const BvhNode& node = nodes_[e.node];
-        if (node.is_leaf()) {
+    Entry e{0, box_distance_squared(nodes_[0], p)};
+    for (;;) {
+        if (e.d2 <= best_d2) {
+            const BvhNode& node = nodes_[e.node];
+            if (!node.is_leaf()) {
+                const std::uint32_t l = node.first, r = node.first + 1;
+                const double dl = box_distance_squared(nodes_[l], p), dr = box_distance_squared(nodes_[r], p);
+                // The nearer child next, so that it tightens best_d2 first; the farther one waits.
+                const Entry near_e = dl <= dr ? Entry{l, dl} : Entry{r, dr};
+                const Entry far_e = dl <= dr ? Entry{r, dr} : Entry{l, dl};
+                if (far_e.d2 <= best_d2) stack[top++] = far_e;
+                e = near_e;
+                continue;
+            }
             for (std::uint32_t s = node.first; s < node.first + node.count; ++s) consider(s);
-            continue;
         }
-        const std::uint32_t l = node.first, r = node.first + 1;
-        const double dl = box_distance_squared(nodes_[l], p), dr = box_distance_squared(nodes_[r], p);
-        // Push the farther child first so the nearer one is searched first and tightens best_d2.
-        const Entry near_e = dl <= dr ? Entry{l, dl} : Entry{r, dr};
-        const Entry far_e = dl <= dr ? Entry{r, dr} : Entry{l, dl};
-        if (far_e.d2 <= best_d2) stack[top++] = far_e;
-        if (near_e.d2 <= best_d2) stack[top++] = near_e;
+        if (top == 0) break;
+        e = stack[--top];
     }
     if (best.found()) best.distance = std::sqrt(best_d2);
     return best;
@@ -124,34 +126,40 @@ std::optional<RayHit> TriangleBvh::intersect_nearest(const Ray& ray) const {
     int top = 0;
     const double t_root = slabs.enter(nodes_[0], ray.t_min, ray.t_max);
     if (t_root == std::numeric_limits<double>::infinity()) return std::nullopt;
-    stack[top++] = {0, t_root};
-    while (top > 0) {
-        const Entry e = stack[--top];
-        if (e.t > best.t) continue;
-        const BvhNode& node = nodes_[e.node];
-        if (node.is_leaf()) {
-            for (std::uint32_t s = node.first; s < node.first + node.count; ++s) {
-                const Triangle& t = triangles_[s];
-                Ray clipped = ray;
-                clipped.t_max = best.t;  // ties at best.t are still found (closed range)
-                TriangleHit h;
-                if (!intersect_ray_triangle(clipped, t.a, t.b, t.c, h)) continue;
-                const std::uint32_t face = face_order_[s];
-                if (h.t < best.t || (h.t == best.t && face < best.face)) {
-                    best.t = h.t;
-                    best.face = face;
-                    best.barycentric = h.barycentric;
+    Entry e{0, t_root};
+    for (;;) {
+        if (e.t <= best.t) {
+            const BvhNode& node = nodes_[e.node];
+            if (!node.is_leaf()) {
+                const std::uint32_t l = node.first, r = node.first + 1;
+                const double tl = slabs.enter(nodes_[l], ray.t_min, best.t);
+                const double tr = slabs.enter(nodes_[r], ray.t_min, best.t);
+                // The nearer child next; the farther one waits.
+                const Entry near_e = tl <= tr ? Entry{l, tl} : Entry{r, tr};
+                const Entry far_e = tl <= tr ? Entry{r, tr} : Entry{l, tl};
+                if (far_e.t != std::numeric_limits<double>::infinity()) stack[top++] = far_e;
+                if (near_e.t != std::numeric_limits<double>::infinity()) {
+                    e = near_e;
+                    continue;
+                }
+            } else {
+                for (std::uint32_t s = node.first; s < node.first + node.count; ++s) {
+                    const Triangle& t = triangles_[s];
+                    Ray clipped = ray;
+                    clipped.t_max = best.t;  // ties at best.t are still found (closed range)
+                    TriangleHit h;
+                    if (!intersect_ray_triangle(clipped, t.a, t.b, t.c, h)) continue;
+                    const std::uint32_t face = face_order_[s];
+                    if (h.t < best.t || (h.t == best.t && face < best.face)) {
+                        best.t = h.t;
+                        best.face = face;
+                        best.barycentric = h.barycentric;
+                    }
                 }
             }
-            continue;
         }
-        const std::uint32_t l = node.first, r = node.first + 1;
-        const double tl = slabs.enter(nodes_[l], ray.t_min, best.t);
-        const double tr = slabs.enter(nodes_[r], ray.t_min, best.t);
-        const Entry near_e = tl <= tr ? Entry{l, tl} : Entry{r, tr};
-        const Entry far_e = tl <= tr ? Entry{r, tr} : Entry{l, tl};
-        if (far_e.t != std::numeric_limits<double>::infinity()) stack[top++] = far_e;
-        if (near_e.t != std::numeric_limits<double>::infinity()) stack[top++] = near_e;
+        if (top == 0) break;
+        e = stack[--top];
     }
     if (best.face == kInvalidIndex) return std::nullopt;
     return best;
