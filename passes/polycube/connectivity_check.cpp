@@ -22,10 +22,6 @@ Pieces slab_pieces(const std::vector<glm::uvec3>& tris, const std::vector<std::u
                    const std::function<std::int32_t(std::uint32_t)>& contour_of) {
     const std::vector<std::uint32_t> root =
         join_across_edges(tris, [&](std::uint32_t f, std::uint32_t g) { return slab[f] == slab[g]; });
-    const auto key = [&](std::uint32_t f, int k) {
-        const auto [a, b] = std::minmax(tris[f][k], tris[f][(k + 1) % 3]);
-        return (std::uint64_t(a) << 32) | b;
-    };
     Pieces p;
     constexpr std::size_t kNoPiece = std::size_t(-1);
     std::vector<std::size_t> index(tris.size(), kNoPiece);  // per root face, its piece
@@ -47,7 +43,8 @@ Pieces slab_pieces(const std::vector<glm::uvec3>& tris, const std::vector<std::u
         std::vector<glm::uvec3> local;
         for (std::uint32_t f : t) {
             local.push_back(tris[f]);
-            for (int k = 0; k < 3; ++k) vs.push_back(tris[f][k]), es.push_back(key(f, k));
+            for (int k = 0; k < 3; ++k)
+                vs.push_back(tris[f][k]), es.push_back(edge_key(tris[f][k], tris[f][(k + 1) % 3]));
         }
         std::sort(vs.begin(), vs.end());
         vs.erase(std::unique(vs.begin(), vs.end()), vs.end());

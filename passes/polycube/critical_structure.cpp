@@ -130,10 +130,7 @@ std::vector<std::uint32_t> join_across_edges(const std::vector<glm::uvec3>& tria
     std::vector<std::pair<std::uint64_t, std::uint32_t>> edges;
     edges.reserve(3 * triangles.size());
     for (std::uint32_t f = 0; f < triangles.size(); ++f)
-        for (int k = 0; k < 3; ++k) {
-            const auto [a, b] = std::minmax(triangles[f][k], triangles[f][(k + 1) % 3]);
-            edges.push_back({(std::uint64_t(a) << 32) | b, f});
-        }
+        for (int k = 0; k < 3; ++k) edges.push_back({edge_key(triangles[f][k], triangles[f][(k + 1) % 3]), f});
     std::sort(edges.begin(), edges.end());
     for (std::size_t i = 0; i < edges.size();) {
         const std::uint32_t first = edges[i].second;

@@ -35,6 +35,11 @@ SolveResult solve(Context* ctx, const LinearSystem& system, PolycubeStatistics& 
 // than one outgoing boundary edge. Its arrays are as long as the largest vertex index.
 std::vector<std::vector<std::uint32_t>> boundary_loops(const std::vector<glm::uvec3>& triangles);
 
+// An undirected edge as one sortable number (lower end in the high half).
+inline std::uint64_t edge_key(std::uint32_t a, std::uint32_t b) {
+    return a < b ? (std::uint64_t(a) << 32) | b : (std::uint64_t(b) << 32) | a;
+}
+
 // Pieces of a triangle set: triangles sharing an edge are joined where same(f, g) says so (f the
 // edge's first triangle, g a later one). Returns each triangle's piece as the piece's root
 // triangle, so two triangles are in one piece when their roots are equal.

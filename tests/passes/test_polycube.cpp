@@ -11,7 +11,6 @@
 #include "gimg/geometry/shapes.h"
 #include "gimg/geometry/topology.h"
 #include "gimg/passes/polycube.h"
-#include "polycube/piece_disks.h"
 #include "polycube/polycube_parts.h"
 
 #include <glm/geometric.hpp>
@@ -452,60 +451,6 @@ TEST(PolycubePlanes, SlicingCarriesTheTruePositions) {
     ASSERT_GT(sliced.mesh.vertex_count(), sphere.vertex_count());
     for (std::size_t v = 0; v < carried.size(); ++v)
         ASSERT_NEAR(glm::length(carried[v] - 2.0 * sliced.mesh.positions[v]), 0.0, 1e-12) << v;
-}
-
-// Boundary loops: each from its smallest vertex, in the order of those; a triangle's repeated corner
-// makes no boundary of its own (the degenerate (0, 1, 1) closes the edge 0 1 and leaves the chain
-// 1 -> 2 -> 0 open); a vertex with two outgoing boundary edges is refused.
-TEST(PolycubePieceDisks, BoundaryLoopsStartAtTheirSmallestVertex) {
-    using Loops = std::vector<std::vector<std::uint32_t>>;
-    EXPECT_EQ(gp::polycube::boundary_loops({{4, 5, 3}, {2, 0, 1}}), (Loops{{0, 1, 2}, {3, 4, 5}}));
-    try {
-        (void)gp::polycube::boundary_loops({{0, 1, 2}, {0, 1, 1}});
-        ADD_FAILURE() << "an open chain makes no loop";
-    } catch (const geo::InputError& e) {
-        EXPECT_STREQ(e.what(), "a boundary chain ends at vertex 0");
-    }
-    EXPECT_THROW((void)gp::polycube::boundary_loops({{0, 1, 2}, {0, 3, 4}}), geo::InputError);
-}
-
-// A hexagon fanned from its centre: its one loop runs 1..6 from the smallest vertex. Splitting its
-// edges at contour parameters adds vertices that vertex_at puts into the loop as boundary_loops
-// would (the map's cuts read the loop from there instead of from the triangles): between 2 and 3,
-// and on the closing edge 6 -> 1, where the parameter wraps.
-TEST(PolycubePieceDisks, VertexAtKeepsTheLoopBoundaryLoopsGives) {
-    gp::polycube::Local m;
-    std::vector<glm::dvec3> ring;
-    std::vector<double> ring_u;
-    m.pos.push_back(glm::dvec3(0.0));
-    m.contour.push_back(-1);
-    m.u.push_back(0.0);
-    for (int k = 0; k < 6; ++k) {
-        const double a = std::numbers::pi * k / 3.0;
-        ring.push_back({std::cos(a), std::sin(a), 0.0});
-        ring_u.push_back(k / 6.0);
-        m.pos.push_back(ring.back());
-        m.contour.push_back(0);
-        m.u.push_back(ring_u.back());
-    }
-    for (std::uint32_t k = 1; k <= 6; ++k) {
-        m.tri.push_back({0u, k, k % 6 + 1});
-        m.tri_source.push_back(k - 1);
-    }
-    m.global.assign(m.pos.size(), gp::polycube::kNone);
-    for (std::uint32_t v = 0; v < m.pos.size(); ++v) m.origin.push_back(v);
-    auto loops = gp::polycube::boundary_loops(m.tri);
-    ASSERT_EQ(loops, (std::vector<std::vector<std::uint32_t>>{{1, 2, 3, 4, 5, 6}}));
-
-    EXPECT_EQ(gp::polycube::vertex_at(m, loops[0], 2.0 / 6.0, ring, ring_u), 3u);  // already there
-    EXPECT_EQ(m.pos.size(), 7u);
-    EXPECT_EQ(gp::polycube::vertex_at(m, loops[0], 0.25, ring, ring_u), 7u);
-    EXPECT_EQ(loops, (std::vector<std::vector<std::uint32_t>>{{1, 2, 7, 3, 4, 5, 6}}));
-    EXPECT_NEAR(glm::length(m.pos[7] - 0.5 * (ring[1] + ring[2])), 0.0, 1e-12);
-    EXPECT_EQ(gp::polycube::vertex_at(m, loops[0], 0.95, ring, ring_u), 8u);
-    EXPECT_EQ(loops, (std::vector<std::vector<std::uint32_t>>{{1, 2, 7, 3, 4, 5, 6, 8}}));
-    EXPECT_EQ(loops, gp::polycube::boundary_loops(m.tri));
-    EXPECT_EQ(m.tri.size(), 8u);
 }
 
 TEST(PolycubeBuild, AxisAlignedBoxGivesOneBox) {
