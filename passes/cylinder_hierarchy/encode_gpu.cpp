@@ -1,7 +1,8 @@
 // The hierarchy's GPU encoder: the GpuRayCaster's tree, then every level in one submission: level 1's
-// rays, and per later level two passes: the grid's cells (grid_cells.comp) and the level's rays
-// with their launches, parity segments, misses, stored samples and the next grid built from them
-// as the decoder builds it (cast_level.glsl). The CPU encoder's hierarchy bit for bit.
+// rays (cast_level_one.comp), and per later level two passes: the grid's cells (grid_cells.comp)
+// and the level's rays with their launches, parity segments, misses, stored samples and the next
+// grid built from them as the decoder builds it (cast_level.comp). The CPU encoder's hierarchy bit
+// for bit.
 #include "gimg/passes/cylinder_hierarchy.h"
 
 #include "gimg/engine/error.h"
@@ -10,6 +11,8 @@
 #include "gimg/passes/raycast.h"
 
 #include "cylinder_hierarchy/cast_level_comp.h"
+#include "cylinder_hierarchy/cast_level_one_comp.h"
+#include "cylinder_hierarchy/cast_level_one_plain_comp.h"
 #include "cylinder_hierarchy/cast_level_plain_comp.h"
 #include "encode.h"
 #include "level_passes.h"
@@ -27,13 +30,15 @@ namespace {
 
 const Spirv kCastLevel = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_cast_level_comp);
 const Spirv kCastLevelPlain = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_cast_level_plain_comp);
+const Spirv kCastLevelOne = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_cast_level_one_comp);
+const Spirv kCastLevelOnePlain = GIMG_SPIRV(gimg_spv_cylinder_hierarchy_cast_level_one_plain_comp);
 
 struct CastPush {
-    std::uint32_t side, n, base, miss, level_one, write_next;
+    std::uint32_t side, n, base, miss, write_next;
     float scene;
     double behind, reach;
 };
-static_assert(offsetof(CastPush, behind) == 32 && sizeof(CastPush) == 48, "cast_level.glsl's push constants");
+static_assert(offsetof(CastPush, behind) == 24 && sizeof(CastPush) == 40, "cast_level.glsl's push constants");
 
 std::uint32_t miss_code(HierarchyMiss miss) {
     return miss == HierarchyMiss::Surface ? 0u : miss == HierarchyMiss::Invalid ? 1u : 2u;
@@ -57,15 +62,16 @@ ImageHandle add_cylinder_hierarchy(Graph& g, GpuRayCaster& caster, ImageHandle b
     const std::uint32_t b = options.base, n = options.size;
     const RaycastTree tree = import_raycast_tree(g, caster);
     detail::LevelBuffers lb{.bands = bands, .directions = directions};
-    const Spirv& kernel = tree.votes ? kCastLevel : kCastLevelPlain;
     auto unused = [&] { return g.create_image(texel_array_desc(0, Format::RGBA32U, "unused")); };
     // Level `level`'s rays from the grid of side `side` (level 1: the B x B image's), writing the
     // bands and, unless it is the last level, the next grid.
     auto add_cast = [&](std::uint32_t level, std::uint32_t side) {
         const bool first = level == 1, write_next = (first ? side : 2 * side) < n;
         const std::size_t next_points = std::size_t(first ? side : 2 * side) * (first ? side : 2 * side);
-        const CastPush push{side,       n,     b, miss_code(options.miss), first ? 1u : 0u, write_next ? 1u : 0u,
-                            tree.scene, detail::kBehind, options.reach};
+        const CastPush push{
+            side, n, b, miss_code(options.miss), write_next ? 1u : 0u, tree.scene, detail::kBehind, options.reach};
+        const Spirv& kernel =
+            first ? (tree.votes ? kCastLevelOne : kCastLevelOnePlain) : (tree.votes ? kCastLevel : kCastLevelPlain);
         // Level 1 reads no grid: one-row stand-ins take the grid's and the cells' bindings.
         ImageHandle grid = first ? unused() : lb.grid, cells = first ? unused() : lb.cells;
         ImageHandle next =

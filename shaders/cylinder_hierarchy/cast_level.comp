@@ -3,4 +3,5 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_vote : require
 #define RAYCAST_VOTE 1
+#define CAST_LEVEL_ONE 0
 #include "cylinder_hierarchy/cast_level.glsl"

@@ -10,9 +10,9 @@
 //  - a radial launch: the ordinary image's ray from the axis, front faces only, t in [-1, 1]; the
 //    value 1 + t, the distance from the wall;
 //  - a miss: by `miss`, 0 a sample on the surface (kind 2), 1 nothing, 2 the radial launch.
-// With level_one, invocation (u, v) is level 1's pixel instead: the ordinary image's ray. Every
-// walk has one call site (crossings, nearest hit): lavapipe inlines each call, and more copies of
-// the walk made the pass slower.
+// With CAST_LEVEL_ONE (cast_level_one.comp), invocation (u, v) is level 1's pixel instead: the
+// ordinary image's ray. Every walk has one call site (crossings, nearest hit): lavapipe inlines each
+// call, and more copies of the walk made the pass slower.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(binding = 0, rgba32ui) uniform readonly uimage2D node_texels;
@@ -30,12 +30,13 @@ layout(push_constant) uniform Push {
     uint n;     // N
     uint base;  // B
     uint miss;  // 0 surface, 1 empty, 2 radial (HierarchyMiss)
-    uint level_one;   // 1: level 1, the ordinary B x B image, instead
     uint write_next;  // 1: write next_texels
     float scene;      // the largest |coordinate| of the tree's boxes
     double behind;  // ray_rules.h's kBehind
     double reach;   // t_max = reach x span; 0: without limit
 };
+// Level 1's pass is a shader of its own (cast_level_one.comp): lavapipe would run the other path too.
+const bool level_one = CAST_LEVEL_ONE != 0;
 
 #include "raycast/walk.glsl"
 #include "cylinder_hierarchy/level_grid.glsl"
@@ -66,7 +67,7 @@ void main() {
     Ray ray;
     GridLaunch l;
     bool casting = true, inside = false;
-    if (level_one != 0u) {
+    if (level_one) {
         // Level 1's pixel (u, v), as CylinderRaycaster::project: from the axis point at the row's
         // height along -theta_u.
         ray = Ray(dvec3(0.0LF, row_height(v, base), 0.0LF), dvec3(-dirs[2 * u], 0.0LF, -dirs[2 * u + 1]), -1.0LF,
@@ -119,7 +120,7 @@ void main() {
         casting = rl.valid;
         ray = radial_ray(rl);
     }
-    const ivec2 at_band = level_one != 0u ? ivec2(u, v)
+    const ivec2 at_band = level_one ? ivec2(u, v)
                           : band == 0u    ? band_h(u, v)
                           : band == 1u    ? band_v(u, v)
                                           : band_d(u, v);
@@ -128,11 +129,11 @@ void main() {
     if (write_next == 0u) return;
 
     // The new grid point from the stored sample, as level_one_grid.comp and next_grid.comp place it.
-    const uint i = level_one != 0u ? v * side + u : row * (2u * side) + col;
-    const uvec4 t[2] = level_one != 0u ? level_one_point(u, v, stored, kind) : sample_point(col, row, l, stored, kind);
+    const uint i = level_one ? v * side + u : row * (2u * side) + col;
+    const uvec4 t[2] = level_one ? level_one_point(u, v, stored, kind) : sample_point(col, row, l, stored, kind);
     imageStore(next_texels, texel(2u * i), t[0]);
     imageStore(next_texels, texel(2u * i + 1u), t[1]);
-    if (level_one != 0u) return;
+    if (level_one) return;
     if (band == 0u) {  // and the grid's own point, (2u, 2v)
         const uint o = (2u * v) * (2u * side) + 2u * u, g = v * side + u;
         imageStore(next_texels, texel(2u * o), imageLoad(grid_texels, texel(2u * g)));
