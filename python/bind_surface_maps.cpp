@@ -210,7 +210,7 @@ void bind_surface_maps(py::module_& m) {
                 p = passes::build_polycube(device ? &device->context() : nullptr, mesh, o);
             }
             const auto& s = p.stats;
-            const std::string cut = s.retries_cut_short ? "; no retry started after retry_seconds" : "";
+            const std::string cut = s.retries_cut_short ? "; retries stopped at retry_seconds" : "";
             if (!s.polycube_valid) throw geo::InputError("the polycube is not valid (" + s.invalid_reason + ")" + cut);
             if (map && !s.mapped) throw geo::InputError("the map could not be built: " + s.map_note + cut);
             py::dict d;

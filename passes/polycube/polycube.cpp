@@ -10,8 +10,9 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <functional>
+#include <numeric>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -44,15 +45,25 @@ double clear_of_vertices(double z, const std::vector<double>& zv, double eps, do
     return best;
 }
 
+using Clock = std::chrono::steady_clock;
+
+// A retry still running when the attempts' time (PolycubeOptions::retry_seconds) is spent stops at
+// its next check: the first attempt's failure is then returned, as when no retry starts.
+struct OutOfTime {};
+void check_time(const std::optional<Clock::time_point>& stop_at) {
+    if (stop_at && Clock::now() > *stop_at) throw OutOfTime{};
+}
+
 long long euler(const geo::MeshInfo& info) {
     long long chi = 0;
     for (const auto& c : info.component_info) chi += c.euler_characteristic;
     return chi;
 }
 
-// The construction with the planes normal to z.
-Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o) {
-    const auto started = std::chrono::steady_clock::now();
+// The construction with the planes normal to z, stopped by OutOfTime after `stop_at`.
+Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o,
+                       const std::optional<Clock::time_point>& stop_at) {
+    const auto started = Clock::now();
     if (!(o.dz >= 0.0) || !std::isfinite(o.dz)) throw geo::InputError("--dz must be a finite number >= 0");
     if (!(o.da > 0.0) || !std::isfinite(o.da)) throw geo::InputError("--da must be a finite number > 0");
     if (o.max_level > 10) throw geo::InputError("the quadtree level must be at most 10");
@@ -123,6 +134,7 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         sliced = slice_mesh(mesh, plane_z, &carried);
         contours = plane_contours(sliced, plane_z.size(), capped.original_faces);
         const ClosureCounts closed = close_contours(sliced.mesh, contours, o.k, mean_edge);
+        check_time(stop_at);
 
         double excess = 0.0;
         const SlabPieces mesh_pieces = mesh_slab_pieces(sliced, contours, plane_z);
@@ -130,6 +142,7 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         Layers layers = stacked_regions(contours, plane_z, box, o.da, o.max_level, joined, excess, st.cells_carved);
         st.cells_filled = make_manifold(layers);
         st.cells_opened = layers.opened;
+        check_time(stop_at);
         surface = polycube_surface(layers);
 
         loop_contour = match_loops(surface, contours, plane_z.size());
@@ -153,6 +166,7 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
         const std::size_t mismatches = check.bad_slabs.size() + check.bad_planes.size();
         if (mismatches < fewest) fewest = mismatches, best_round = round;
         if (matched || st.repair_planes >= o.max_repairs || ++round > 48 || round - best_round > 8) break;
+        check_time(stop_at);
         // A plane whose section's regions came out with other loops than its contours (contours
         // closer than the deepest cells, a plane grazing a tip) moves within its gaps, up and down
         // by turns, to the nearby section with the fewest loops; the slabs beside it wait for the
@@ -211,6 +225,7 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
 
     // Step 3: the map.
     if (o.map) {
+        check_time(stop_at);
         if (!st.polycube_valid)
             st.map_note = "no map: the polycube is not valid (" + st.invalid_reason + ")";
         else if (!matched)
@@ -254,15 +269,16 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
     }
     st.max_level = o.max_level;
     st.slice_smoothing = o.slice_smoothing;
-    st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+    st.seconds = std::chrono::duration<double>(Clock::now() - started).count();
     return out;
 }
 
 // The construction with the planes normal to axis a (0 x, 1 y, 2 z).
-Polycube build_along(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o, int a) {
+Polycube build_along(Context* ctx, const geo::Mesh& input, const PolycubeOptions& o, int a,
+                     const std::optional<Clock::time_point>& stop_at) {
     Polycube out;
     if (a == 2) {
-        out = build_along_z(ctx, input, o);
+        out = build_along_z(ctx, input, o, stop_at);
     } else {
         // A cyclic permutation of the coordinates (it keeps the orientation) makes the axis z.
         const auto to_work = [a](glm::dvec3 p) { return glm::dvec3(p[(a + 1) % 3], p[(a + 2) % 3], p[a]); };
@@ -273,7 +289,7 @@ Polycube build_along(Context* ctx, const geo::Mesh& input, const PolycubeOptions
         };
         geo::Mesh work = input;
         for (auto& p : work.positions) p = to_work(p);
-        out = build_along_z(ctx, work, o);
+        out = build_along_z(ctx, work, o, stop_at);
         for (auto& p : out.surface.positions) p = back(p);
         for (auto& p : out.mapped) p = back(p);
         for (auto& x : out.face_axis) x = std::uint8_t(2 * ((x / 2 + a + 1) % 3) + x % 2);
@@ -296,8 +312,8 @@ Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOpti
     if (o.slice_smoothing > 1000) throw geo::InputError("the slice smoothing must be at most 1000 sweeps");
     if (!(o.retry_seconds >= 0.0)) throw geo::InputError("the retry time must be a number of seconds, 0 or more");
     // Per axis (auto: z, the paper's, then y and x), the options given, then the retries, none
-    // started once the attempts took retry_seconds. A refusal of the mesh itself is not retried;
-    // all failing, the first attempt's result says why.
+    // started once the attempts took retry_seconds, and one still running then stopped. A refusal
+    // of the mesh itself is not retried; all failing, the first attempt's result says why.
     std::vector<PolycubeOptions> tries{o};
     if (o.retry) {
         PolycubeOptions smoothed = o, deeper = o, both = o;
@@ -316,10 +332,21 @@ Polycube build_polycube(Context* ctx, const geo::Mesh& input, const PolycubeOpti
     double seconds = 0.0, solve_seconds = 0.0;
     const std::size_t total = axes.size() * tries.size();
     bool cut_short = false;
+    const auto begun = Clock::now();
+    std::optional<Clock::time_point> stop_at;  // none past 1e9 s, which the clock's type may not hold
+    if (o.retry_seconds < 1e9)
+        stop_at = begun + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.retry_seconds));
     for (std::size_t k = 0; k < total && !cut_short; ++k) {
         const int a = axes[k / tries.size()];
         if (k % tries.size() == 0) ++axes_tried;
-        Polycube p = build_along(ctx, input, tries[k % tries.size()], a);
+        Polycube p;
+        try {
+            p = build_along(ctx, input, tries[k % tries.size()], a, attempts > 0 ? stop_at : std::nullopt);
+        } catch (const OutOfTime&) {
+            ++attempts, cut_short = true;
+            seconds = std::chrono::duration<double>(Clock::now() - begun).count();
+            break;
+        }
         seconds += p.stats.seconds, solve_seconds += p.stats.solve_seconds;
         p.stats.seconds = seconds, p.stats.solve_seconds = solve_seconds;
         p.stats.attempts = ++attempts, p.stats.axes_tried = axes_tried;

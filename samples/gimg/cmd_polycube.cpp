@@ -286,8 +286,10 @@ void add_polycube_command(CLI::App& app, const GlobalOptions& global) {
     add_count_option(cmd, "--slice-smoothing", o->slice_smoothing, 0, 1000,
                      "Sweeps of umbrella smoothing of the copy of the mesh the planes cut (default 0: the mesh "
                      "itself; the map is still the mesh's)");
-    add_number_option(cmd, "--retry-seconds", o->retry_seconds, 0.0, 1e6,
-                      "Start no further attempt (retry or axis) once the attempts took this long (default 60)");
+    add_number_option(
+        cmd, "--retry-seconds", o->retry_seconds, 0.0, 1e6,
+        "Start no further attempt (retry or axis) once the attempts took this long, and stop one still running "
+        "(default 60; the first attempt runs to its end)");
     cmd->add_flag("--no-retry", o->no_retry,
                   "Fail at once instead of retrying a failed construction on a copy smoothed by 3 sweeps, then with "
                   "the quadtree down to level 10, then with both");

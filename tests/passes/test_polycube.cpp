@@ -15,8 +15,10 @@
 
 #include <glm/geometric.hpp>
 
+#include <chrono>
 #include <cmath>
 #include <numbers>
+#include <thread>
 
 using namespace gimg;
 namespace gp = gimg::passes;
@@ -656,6 +658,36 @@ TEST(PolycubeSharedMeshes, NoRetryStartsOnceTheRetryTimeIsSpent) {
     EXPECT_TRUE(p.stats.retries_cut_short);
     EXPECT_FALSE(gp::failure_of(p.stats, true).empty());
     EXPECT_EQ(p.stats.slice_smoothing, 0u);
+}
+
+// A retry still running once retry_seconds have passed stops at its first check: the turbine's
+// first attempt fails, and its retry, which would succeed, starts just past the time (the announcement
+// sleeps), so the first attempt's failure comes back, cut short, well before the retry's own time.
+TEST(PolycubeSharedMeshes, ARetryRunningPastTheRetryTimeStops) {
+    GIMG_REQUIRE_SHARED_MESH(turbine, "turbine.off");
+    const geo::Mesh mesh = geo::load_mesh(turbine);
+    gp::PolycubeOptions o;
+    o.axis = 2;
+    o.retry_seconds = 0.0;
+    const double first = gp::build_polycube(nullptr, mesh, o).stats.seconds;
+    o.retry_seconds = 3.0 * first + 0.5;
+    using Clock = std::chrono::steady_clock;
+    const auto begun = Clock::now();
+    Clock::time_point woke;
+    std::size_t announced = 0;
+    const gp::Polycube p = gp::build_polycube(nullptr, mesh, o, [&](const gp::PolycubeStatistics&) {
+        ++announced;
+        std::this_thread::sleep_until(
+            begun + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(o.retry_seconds + 0.05)));
+        woke = Clock::now();
+    });
+    const double after_waking = std::chrono::duration<double>(Clock::now() - woke).count();
+    ASSERT_EQ(announced, 1u);
+    EXPECT_EQ(p.stats.attempts, 2u);
+    EXPECT_TRUE(p.stats.retries_cut_short);
+    EXPECT_FALSE(gp::failure_of(p.stats, true).empty());
+    EXPECT_EQ(p.stats.slice_smoothing, 0u);  // the first attempt's
+    EXPECT_LT(after_waking, first) << "the whole retry takes about twice the first attempt";
 }
 
 TEST(PolycubeSharedMeshes, DoubleTorusAndAnOpenScan) {

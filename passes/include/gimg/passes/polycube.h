@@ -45,9 +45,10 @@ struct PolycubeOptions {
     // (the pits of a scanned surface), then with the quadtree down to level 10 (thin handles,
     // contours closer than a cell), then with both, before the next axis.
     bool retry = true;
-    // No further attempt (retry or axis) starts once the attempts so far took longer than this, so
-    // that a mesh every attempt fails on fails in minutes (cheese, genus 133: about 100 s an
-    // attempt, twelve of them).
+    // No further attempt (retry or axis) starts once the attempts so far took longer than this, and
+    // one still running then stops at its next round of the connectivity check or before its map,
+    // so that a mesh every attempt fails on fails in about this time (the first attempt is never
+    // stopped).
     double retry_seconds = 60.0;
     bool map = true;               // also build the map (step 3)
     std::uint32_t smoothing = 10;  // sweeps of chart smoothing over the map (step 5); 0: none
@@ -139,7 +140,7 @@ struct PolycubeStatistics {
     std::uint8_t axis = 2;                             // the planes' normal used (0 x, 1 y, 2 z)
     std::size_t axes_tried = 1;                        // with axis auto: how many axes were built
     std::size_t attempts = 1;                          // constructions run, every axis and retry
-    bool retries_cut_short = false;                    // attempts left untried: retry_seconds had passed
+    bool retries_cut_short = false;                    // attempts left untried or stopped: retry_seconds had passed
     std::uint32_t max_level = 8, slice_smoothing = 0;  // the options of the attempt returned
     std::size_t planes = 0, inserted_planes = 0, repair_planes = 0, moved_planes = 0;
     std::string repair_note;  // why the first planes were inserted (the first few mismatches)
