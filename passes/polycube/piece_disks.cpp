@@ -94,6 +94,38 @@ std::uint32_t split_boundary_edge(Local& m, std::uint32_t a, std::uint32_t b, co
 
 }  // namespace
 
+void subdivide(Local& m) {
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (const auto& t : m.tri)
+        for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[k], t[(k + 1) % 3])];
+    std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> mid;
+    const auto midpoint = [&](std::uint32_t a, std::uint32_t b) {
+        const auto key = std::minmax(a, b);
+        const auto [it, added] = mid.emplace(key, std::uint32_t(m.pos.size()));
+        if (!added) return it->second;
+        m.pos.push_back(0.5 * (m.pos[a] + m.pos[b]));
+        m.global.push_back(kNone);
+        m.origin.push_back(it->second);
+        // A loop edge's midpoint lies on the loop's polyline, halfway in its arc-length parameter.
+        const bool on_loop = uses[key] == 1 && m.contour[a] >= 0 && m.contour[a] == m.contour[b];
+        double u = 0.5 * (m.u[a] + m.u[b]);
+        if (std::abs(m.u[a] - m.u[b]) > 0.5) u = std::fmod(u + 0.5, 1.0);
+        m.contour.push_back(on_loop ? m.contour[a] : -1);
+        m.u.push_back(on_loop ? u : 0.0);
+        return it->second;
+    };
+    const std::size_t faces = m.tri.size();
+    for (std::size_t f = 0; f < faces; ++f) {
+        const glm::uvec3 t = m.tri[f];
+        const std::uint32_t ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+        m.tri[f] = {ab, bc, ca};
+        m.tri.push_back({t[0], ab, ca});
+        m.tri.push_back({ab, t[1], bc});
+        m.tri.push_back({ca, bc, t[2]});
+        for (int k = 0; k < 3; ++k) m.tri_source.push_back(m.tri_source[f]);
+    }
+}
+
 // The vertex at parameter t on the boundary loop `loop` (a vertex already there, or one added).
 std::uint32_t vertex_at(Local& m, std::vector<std::uint32_t>& loop, double t, const std::vector<glm::dvec3>& curve,
                         const std::vector<double>& curve_u) {

@@ -39,6 +39,10 @@ glm::dvec3 point_at(const std::vector<glm::dvec3>& p, const std::vector<double>&
 std::uint32_t vertex_at(Local& m, std::vector<std::uint32_t>& loop, double t, const std::vector<glm::dvec3>& curve,
                         const std::vector<double>& curve_u);
 
+// Every triangle split in four at its edges' midpoints (the same surface, twice as fine): room for
+// disjoint cuts where the paths of a coarse side wall each other off.
+void subdivide(Local& m);
+
 // Per vertex, its neighbours (sorted).
 std::vector<std::vector<std::uint32_t>> neighbours(const Local& m);
 

@@ -173,86 +173,99 @@ PolycubeMap map_pieces(Context* ctx, const SlicedMesh& sliced, const std::vector
         std::int32_t c0 = -1;
         std::map<std::pair<std::uint32_t, std::uint32_t>, int> s_cut_of, t_cut_of;
         std::uint32_t s_start = 0, t_start = 0;
-        const Local s_before = S, t_before = T;
-        for (std::size_t root = 0; root < s_loops.size(); ++root) {
-            S = s_before, T = t_before;
-            s_cut_of.clear(), t_cut_of.clear();
-            ok = true;
-            std::rotate(s_loops.begin(), s_loops.begin() + std::ptrdiff_t(root > 0 ? 1 : 0), s_loops.end());
-            c0 = S.contour[s_loops[0][0]];
-            auto nb = neighbours(S);
-            std::vector<std::uint8_t> free(S.pos.size(), 1), target(S.pos.size(), 0);
-            for (const auto& l : s_loops)
-                for (std::uint32_t v : l) free[v] = 0;
-            for (std::uint32_t v : s_loops[0]) target[v] = 1;
-            std::vector<std::uint8_t> joined(s_loops.size(), 0);
-            joined[0] = 1;
-            const auto loop_of = [&](std::uint32_t v) {
-                for (std::size_t l = 0; l < s_loops.size(); ++l)
-                    if (S.contour[s_loops[l][0]] == S.contour[v]) return l;
-                return std::size_t(0);
-            };
-            struct Cut {
-                std::int32_t child, parent;
-                double child_u, parent_u;
-            };
-            std::vector<Cut> cuts;
-            for (std::size_t step = 1; step < s_loops.size() && ok; ++step) {
-                std::vector<std::uint32_t> sources;
-                for (std::size_t l = 0; l < s_loops.size(); ++l)
-                    if (!joined[l])
-                        for (std::uint32_t v : s_loops[l])
-                            if (target[v] == 0) sources.push_back(v);
-                const auto path = shortest_path(S, nb, sources, target, free);
-                if (path.empty()) {
-                    ok = false;
-                    break;
-                }
-                const int id = int(cuts.size());
-                for (std::size_t i = 0; i + 1 < path.size(); ++i) s_cut_of[std::minmax(path[i], path[i + 1])] = id;
-                for (std::uint32_t v : path) free[v] = 0;
-                target[path.back()] = 0;
-                const std::size_t child = loop_of(path.front());
-                joined[child] = 1;
-                for (std::uint32_t v : s_loops[child])
-                    if (v != path.front()) target[v] = 1;
-                if (step == 1) s_start = path.back();
-                cuts.push_back({S.contour[path.front()], S.contour[path.back()], S.u[path.front()], S.u[path.back()]});
+        const Local s_before = S;
+        Local t_before = T;
+        // Where the surface side's paths wall each other off from every root, that side is split
+        // finer (the same surface) and the roots are tried again, at most twice.
+        for (int finer = 0; finer <= 2; ++finer) {
+            bool t_blocked = false;
+            if (finer > 0) {
+                subdivide(t_before);
+                t_loops = boundary_loops(t_before.tri);
             }
-            if (ok && !cuts.empty()) {
-                // The same points on the surface side, then paths between them.
-                std::vector<std::pair<std::uint32_t, std::uint32_t>> ends;
-                // T's loops, which vertex_at keeps up to date as it splits their edges.
-                std::vector<std::vector<std::uint32_t>> t_loops_now = t_loops;
-                const auto at = [&](std::int32_t c, double u) {
-                    for (auto& l : t_loops_now)
-                        if (T.contour[l[0]] == c) return vertex_at(T, l, u, loop_points[c], loop_u[c]);
-                    throw geo::InputError("internal: polycube loop lost");
+            for (std::size_t root = 0; root < s_loops.size(); ++root) {
+                S = s_before, T = t_before;
+                s_cut_of.clear(), t_cut_of.clear();
+                ok = true;
+                std::rotate(s_loops.begin(), s_loops.begin() + std::ptrdiff_t(root > 0 ? 1 : 0), s_loops.end());
+                c0 = S.contour[s_loops[0][0]];
+                auto nb = neighbours(S);
+                std::vector<std::uint8_t> free(S.pos.size(), 1), target(S.pos.size(), 0);
+                for (const auto& l : s_loops)
+                    for (std::uint32_t v : l) free[v] = 0;
+                for (std::uint32_t v : s_loops[0]) target[v] = 1;
+                std::vector<std::uint8_t> joined(s_loops.size(), 0);
+                joined[0] = 1;
+                const auto loop_of = [&](std::uint32_t v) {
+                    for (std::size_t l = 0; l < s_loops.size(); ++l)
+                        if (S.contour[s_loops[l][0]] == S.contour[v]) return l;
+                    return std::size_t(0);
                 };
-                for (const Cut& c : cuts) {
-                    const std::uint32_t tb = at(c.child, c.child_u);
-                    const std::uint32_t ta = at(c.parent, c.parent_u);
-                    ends.push_back({tb, ta});
-                }
-                auto tnb = neighbours(T);
-                std::vector<std::uint8_t> tfree(T.pos.size(), 1);
-                for (const auto& l : t_loops_now)
-                    for (std::uint32_t v : l) tfree[v] = 0;
-                for (std::size_t j = 0; j < ends.size() && ok; ++j) {
-                    std::vector<std::uint8_t> target_t(T.pos.size(), 0);
-                    target_t[ends[j].second] = 1;
-                    const auto path = shortest_path(T, tnb, {ends[j].first}, target_t, tfree);
+                struct Cut {
+                    std::int32_t child, parent;
+                    double child_u, parent_u;
+                };
+                std::vector<Cut> cuts;
+                for (std::size_t step = 1; step < s_loops.size() && ok; ++step) {
+                    std::vector<std::uint32_t> sources;
+                    for (std::size_t l = 0; l < s_loops.size(); ++l)
+                        if (!joined[l])
+                            for (std::uint32_t v : s_loops[l])
+                                if (target[v] == 0) sources.push_back(v);
+                    const auto path = shortest_path(S, nb, sources, target, free);
                     if (path.empty()) {
                         ok = false;
                         break;
                     }
-                    for (std::size_t i = 0; i + 1 < path.size(); ++i)
-                        t_cut_of[std::minmax(path[i], path[i + 1])] = int(j);
-                    for (std::uint32_t v : path) tfree[v] = 0;
-                    if (j == 0) t_start = path.back();
+                    const int id = int(cuts.size());
+                    for (std::size_t i = 0; i + 1 < path.size(); ++i) s_cut_of[std::minmax(path[i], path[i + 1])] = id;
+                    for (std::uint32_t v : path) free[v] = 0;
+                    target[path.back()] = 0;
+                    const std::size_t child = loop_of(path.front());
+                    joined[child] = 1;
+                    for (std::uint32_t v : s_loops[child])
+                        if (v != path.front()) target[v] = 1;
+                    if (step == 1) s_start = path.back();
+                    cuts.push_back(
+                        {S.contour[path.front()], S.contour[path.back()], S.u[path.front()], S.u[path.back()]});
                 }
+                if (ok && !cuts.empty()) {
+                    // The same points on the surface side, then paths between them.
+                    std::vector<std::pair<std::uint32_t, std::uint32_t>> ends;
+                    // T's loops, which vertex_at keeps up to date as it splits their edges.
+                    std::vector<std::vector<std::uint32_t>> t_loops_now = t_loops;
+                    const auto at = [&](std::int32_t c, double u) {
+                        for (auto& l : t_loops_now)
+                            if (T.contour[l[0]] == c) return vertex_at(T, l, u, loop_points[c], loop_u[c]);
+                        throw geo::InputError("internal: polycube loop lost");
+                    };
+                    for (const Cut& c : cuts) {
+                        const std::uint32_t tb = at(c.child, c.child_u);
+                        const std::uint32_t ta = at(c.parent, c.parent_u);
+                        ends.push_back({tb, ta});
+                    }
+                    auto tnb = neighbours(T);
+                    std::vector<std::uint8_t> tfree(T.pos.size(), 1);
+                    for (const auto& l : t_loops_now)
+                        for (std::uint32_t v : l) tfree[v] = 0;
+                    for (std::size_t j = 0; j < ends.size() && ok; ++j) {
+                        std::vector<std::uint8_t> target_t(T.pos.size(), 0);
+                        target_t[ends[j].second] = 1;
+                        const auto path = shortest_path(T, tnb, {ends[j].first}, target_t, tfree);
+                        if (path.empty()) {
+                            t_blocked = true;
+                            ok = false;
+                            break;
+                        }
+                        for (std::size_t i = 0; i + 1 < path.size(); ++i)
+                            t_cut_of[std::minmax(path[i], path[i + 1])] = int(j);
+                        for (std::uint32_t v : path) tfree[v] = 0;
+                        if (j == 0) t_start = path.back();
+                    }
+                }
+                if (ok) break;
             }
-            if (ok) break;
+            if (ok || !t_blocked) break;
         }
         if (!ok) {
             ++out.cut_mismatch, ++failed_paths;
