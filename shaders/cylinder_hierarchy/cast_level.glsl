@@ -120,10 +120,10 @@ void main() {
         casting = rl.valid;
         ray = radial_ray(rl);
     }
-    const ivec2 at_band = level_one ? ivec2(u, v)
-                          : band == 0u    ? band_h(u, v)
-                          : band == 1u    ? band_v(u, v)
-                                          : band_d(u, v);
+    const ivec2 at_band = level_one    ? ivec2(u, v)
+                          : band == 0u ? band_h(u, v)
+                          : band == 1u ? band_v(u, v)
+                                       : band_d(u, v);
     const float stored = float(value);
     imageStore(bands, at_band, uvec4(floatBitsToUint(stored), kind, 0u, 0u));
     if (write_next == 0u) return;
