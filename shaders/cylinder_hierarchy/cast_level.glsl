@@ -60,7 +60,12 @@ Ray radial_ray(GridLaunch l) {
 }
 
 void main() {
-    const uint u = gl_GlobalInvocationID.x, v = gl_GlobalInvocationID.y, band = gl_GlobalInvocationID.z;
+    // A subgroup of 8 lanes takes a 4 x 2 block of the workgroup's 8 x 8 (not a row of 8): nearer
+    // launches walk more alike, and lavapipe runs the 8 until the longest walk ends.
+    const uint lane = gl_LocalInvocationIndex;
+    const uint u = gl_WorkGroupID.x * 8u + ((lane & 1u) | ((lane >> 1u) & 2u) | ((lane >> 2u) & 4u));
+    const uint v = gl_WorkGroupID.y * 8u + (((lane >> 1u) & 1u) | ((lane >> 2u) & 2u) | ((lane >> 3u) & 4u));
+    const uint band = gl_GlobalInvocationID.z;
     if (u >= side || v >= side) return;
     // The next grid's sample of this launch, where a radial ray replaces it.
     const uint col = 2u * u + (band != 1u ? 1u : 0u), row = 2u * v + (band != 0u ? 1u : 0u);
