@@ -3,19 +3,31 @@
 // back onto the polycube's surface: in a face chart the mean stays in the face's plane; at an edge
 // or a corner the closest point folds it back onto the faces, as unfolding the chart would. A move
 // is kept only when no triangle around the vertex turns its image away from the faces under it, so
-// the count of turned triangles never grows.
+// the count of turned triangles never grows; and, more than kUntangleRings rings away from any
+// turned triangle, only when it does not raise the distortion of the triangles around the vertex.
+// Near turned triangles every such move is kept, as they untangle them; elsewhere the harmonic mean
+// of clamped weights would pull good images away from the mesh's shape (cheese's area distortion
+// mean 1.30 against 3.83 with every move kept, the same turned triangles within 3).
 #include "polycube_parts.h"
 
 #include "gimg/geometry/bvh.h"
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 namespace gimg::passes::polycube {
 
-std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
-                       const std::vector<std::uint8_t>& surface_axis, std::vector<glm::dvec3>& image,
-                       std::vector<std::uint8_t>& image_axis, std::uint32_t iterations) {
+namespace {
+
+constexpr int kUntangleRings = 2;
+
+}  // namespace
+
+std::size_t smooth_map(const SlicedMesh& sliced, const std::vector<glm::dvec3>& rest, std::size_t original_faces,
+                       const geo::Mesh& surface, const std::vector<std::uint8_t>& surface_axis,
+                       std::vector<glm::dvec3>& image, std::vector<std::uint8_t>& image_axis,
+                       std::uint32_t iterations) {
     if (iterations == 0) return 0;
     const geo::Mesh& mesh = sliced.mesh;
     const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
@@ -24,9 +36,45 @@ std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
     const double diagonal = surface.bounds().diagonal();
     const double min_area2 = std::pow(1e-9 * diagonal * diagonal, 2);
 
+    // The distortion of the real triangles (not the holes' caps) at the scale that gives the image
+    // the mesh's area, as measure_map takes it.
+    auto real = [&](std::uint32_t f) { return sliced.source_face[f] < original_faces; };
+    double area = 0.0, image_area = 0.0;
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
+        if (!real(f)) continue;
+        const glm::uvec3& t = mesh.triangles[f];
+        area += glm::length(glm::cross(rest[t[1]] - rest[t[0]], rest[t[2]] - rest[t[0]]));
+        image_area += glm::length(glm::cross(image[t[1]] - image[t[0]], image[t[2]] - image[t[0]]));
+    }
+    const double scale = image_area > 0.0 ? std::sqrt(area / image_area) : 1.0;
+    auto distortion = [&](std::span<const std::uint32_t> faces) {
+        double sum = 0.0;
+        for (std::uint32_t f : faces) {
+            if (!real(f)) continue;
+            const glm::uvec3& t = mesh.triangles[f];
+            const glm::dvec3 a[3] = {rest[t[0]], rest[t[1]], rest[t[2]]};
+            const glm::dvec3 b[3] = {scale * image[t[0]], scale * image[t[1]], scale * image[t[2]]};
+            sum += glm::length(glm::cross(a[1] - a[0], a[2] - a[0])) * triangle_distortion(a, b);
+        }
+        return sum;
+    };
+
     std::size_t moved = 0;
     std::vector<std::uint32_t> hint(mesh.vertex_count(), geo::kInvalidIndex);
-    for (std::uint32_t it = 0; it < iterations; ++it)
+    std::vector<std::uint8_t> untangling(mesh.vertex_count()), grown;
+    for (std::uint32_t it = 0; it < iterations; ++it) {
+        // The vertices within kUntangleRings rings of a turned (or nearly flat) triangle.
+        std::fill(untangling.begin(), untangling.end(), 0);
+        for (const glm::uvec3& t : mesh.triangles)
+            if (turned(t, image, image_axis, min_area2)) untangling[t[0]] = untangling[t[1]] = untangling[t[2]] = 1;
+        for (int ring = 0; ring < kUntangleRings; ++ring) {
+            grown = untangling;
+            for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v)
+                if (untangling[v])
+                    for (std::uint32_t k = adj.vertex_vertex_offsets[v]; k < adj.vertex_vertex_offsets[v + 1]; ++k)
+                        grown[adj.vertex_vertices[k]] = 1;
+            untangling.swap(grown);
+        }
         for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
             glm::dvec3 sum(0.0);
             double total = 0.0;
@@ -48,6 +96,7 @@ std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
                 turned_before += turned(mesh.triangles[f], image, image_axis, min_area2);
                 flipped_before += turned(mesh.triangles[f], image, image_axis);
             }
+            const double distortion_before = untangling[v] ? 0.0 : distortion(faces);
             const glm::dvec3 old = image[v];
             const std::uint8_t old_axis = image_axis[v];
             image[v] = c.point;
@@ -56,13 +105,15 @@ std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
                 turned_after += turned(mesh.triangles[f], image, image_axis, min_area2);
                 flipped_after += turned(mesh.triangles[f], image, image_axis);
             }
-            if (turned_after > turned_before || flipped_after > flipped_before) {
+            if (turned_after > turned_before || flipped_after > flipped_before ||
+                (!untangling[v] && !(distortion(faces) <= distortion_before))) {
                 image[v] = old;
                 image_axis[v] = old_axis;
             } else {
                 ++moved;
             }
         }
+    }
     return moved;
 }
 

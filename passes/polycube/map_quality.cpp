@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 namespace gimg::passes::polycube {
@@ -28,6 +29,12 @@ std::pair<double, double> singular_values(const glm::dvec3 a[3], const glm::dvec
 const glm::dvec3 kAxis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
 
 }  // namespace
+
+double triangle_distortion(const glm::dvec3 a[3], const glm::dvec3 b[3]) {
+    const auto [s1, s2] = singular_values(a, b);
+    if (!(s2 > 1e-12)) return std::numeric_limits<double>::infinity();
+    return 0.5 * (s1 * s2 + 1.0 / (s1 * s2)) + 0.5 * (s1 / s2 + s2 / s1);
+}
 
 bool turned(const glm::uvec3& t, const std::vector<glm::dvec3>& image, const std::vector<std::uint8_t>& axis,
             double min_area2) {

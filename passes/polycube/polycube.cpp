@@ -254,7 +254,8 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
                 st.area_distortion_median_unsmoothed = before.area_distortion_median;
                 st.angle_distortion_median_unsmoothed = before.angle_distortion_median;
                 st.turned_chords_unsmoothed = before.turned_chords;
-                st.smoothing_moves = smooth_map(sliced, surface.mesh, surface.axis, m.image, m.image_axis, o.smoothing);
+                st.smoothing_moves = smooth_map(sliced, carried, capped.original_faces, surface.mesh, surface.axis,
+                                                m.image, m.image_axis, o.smoothing);
                 out.mapped.assign(m.image.begin(), m.image.begin() + std::ptrdiff_t(input.vertex_count()));
                 if (o.smoothing == 0) {  // nothing moved: the figures before are the figures
                     st.turned_chords = before.turned_chords;

@@ -213,15 +213,21 @@ SlabCheck check_slabs(const SlabPieces& mesh_pieces, const std::vector<Contour>&
                       const std::vector<double>& plane_z);
 
 // Step 5: `iterations` sweeps of chart smoothing over every vertex's image (and the axis of the
-// polycube face it lies on); returns the moves kept.
-std::size_t smooth_map(const SlicedMesh& sliced, const geo::Mesh& surface,
-                       const std::vector<std::uint8_t>& surface_axis, std::vector<glm::dvec3>& image,
-                       std::vector<std::uint8_t>& image_axis, std::uint32_t iterations);
+// polycube face it lies on); returns the moves kept. `rest`: the mesh's own positions, against
+// which the distortion is measured; triangles whose source face is `original_faces` or more (the
+// holes' caps) are left out of it.
+std::size_t smooth_map(const SlicedMesh& sliced, const std::vector<glm::dvec3>& rest, std::size_t original_faces,
+                       const geo::Mesh& surface, const std::vector<std::uint8_t>& surface_axis,
+                       std::vector<glm::dvec3>& image, std::vector<std::uint8_t>& image_axis, std::uint32_t iterations);
 
 // A triangle of the mesh whose image faces away from the polycube faces under its corners (per
 // vertex, the axis index of its face), or whose image's squared doubled area is at most min_area2.
 bool turned(const glm::uvec3& t, const std::vector<glm::dvec3>& image, const std::vector<std::uint8_t>& axis,
             double min_area2 = 0.0);
+
+// The area and the angle distortion of the map from triangle a to triangle b, summed (each 1 for a
+// similarity of the right scale); infinite where b is collapsed.
+double triangle_distortion(const glm::dvec3 a[3], const glm::dvec3 b[3]);
 
 // turned_chords, and the distortion means and medians over the real triangles of the cut mesh.
 void measure_map(const SlicedMesh& sliced, const PolycubeMap& map, std::size_t original_faces,
