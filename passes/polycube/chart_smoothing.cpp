@@ -47,23 +47,27 @@ std::size_t smooth_map(const SlicedMesh& sliced, const std::vector<glm::dvec3>& 
         image_area += glm::length(glm::cross(image[t[1]] - image[t[0]], image[t[2]] - image[t[0]]));
     }
     const double scale = image_area > 0.0 ? std::sqrt(area / image_area) : 1.0;
-    auto distortion = [&](std::span<const std::uint32_t> faces) {
-        double sum = 0.0;
-        for (std::uint32_t f : faces) {
-            if (!real(f)) continue;
-            const glm::uvec3& t = mesh.triangles[f];
-            const glm::dvec3 a[3] = {rest[t[0]], rest[t[1]], rest[t[2]]};
-            const glm::dvec3 b[3] = {scale * image[t[0]], scale * image[t[1]], scale * image[t[2]]};
-            sum += glm::length(glm::cross(a[1] - a[0], a[2] - a[0])) * triangle_distortion(a, b);
-        }
-        return sum;
+    auto face_distortion = [&](std::uint32_t f) {
+        if (!real(f)) return 0.0;
+        const glm::uvec3& t = mesh.triangles[f];
+        const glm::dvec3 a[3] = {rest[t[0]], rest[t[1]], rest[t[2]]};
+        const glm::dvec3 b[3] = {scale * image[t[0]], scale * image[t[1]], scale * image[t[2]]};
+        return glm::length(glm::cross(a[1] - a[0], a[2] - a[0])) * triangle_distortion(a, b);
     };
+    // Per triangle, its area-weighted distortion, kept as the images move.
+    std::vector<double> distortion(mesh.face_count());
+    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) distortion[f] = face_distortion(f);
+    std::vector<double> moved_distortion;
 
     std::size_t moved = 0;
     std::vector<std::uint32_t> hint(mesh.vertex_count(), geo::kInvalidIndex);
-    std::vector<std::uint8_t> untangling(mesh.vertex_count()), grown;
+    std::vector<std::uint8_t> untangling(mesh.vertex_count()), grown, was_untangling;
+    // A vertex is looked at again only when a neighbour's image or its own rule changed since it
+    // was last: otherwise its mean, its move and the verdict are those of last time.
+    std::vector<std::uint8_t> stale(mesh.vertex_count(), 1);
     for (std::uint32_t it = 0; it < iterations; ++it) {
         // The vertices within kUntangleRings rings of a turned (or nearly flat) triangle.
+        was_untangling = untangling;
         std::fill(untangling.begin(), untangling.end(), 0);
         for (const glm::uvec3& t : mesh.triangles)
             if (turned(t, image, image_axis, min_area2)) untangling[t[0]] = untangling[t[1]] = untangling[t[2]] = 1;
@@ -76,6 +80,8 @@ std::size_t smooth_map(const SlicedMesh& sliced, const std::vector<glm::dvec3>& 
             untangling.swap(grown);
         }
         for (std::uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+            if (!stale[v] && untangling[v] == was_untangling[v]) continue;
+            stale[v] = 0;
             glm::dvec3 sum(0.0);
             double total = 0.0;
             for (std::uint32_t k = adj.vertex_vertex_offsets[v]; k < adj.vertex_vertex_offsets[v + 1]; ++k) {
@@ -96,7 +102,6 @@ std::size_t smooth_map(const SlicedMesh& sliced, const std::vector<glm::dvec3>& 
                 turned_before += turned(mesh.triangles[f], image, image_axis, min_area2);
                 flipped_before += turned(mesh.triangles[f], image, image_axis);
             }
-            const double distortion_before = untangling[v] ? 0.0 : distortion(faces);
             const glm::dvec3 old = image[v];
             const std::uint8_t old_axis = image_axis[v];
             image[v] = c.point;
@@ -105,12 +110,27 @@ std::size_t smooth_map(const SlicedMesh& sliced, const std::vector<glm::dvec3>& 
                 turned_after += turned(mesh.triangles[f], image, image_axis, min_area2);
                 flipped_after += turned(mesh.triangles[f], image, image_axis);
             }
-            if (turned_after > turned_before || flipped_after > flipped_before ||
-                (!untangling[v] && !(distortion(faces) <= distortion_before))) {
+            bool keep = turned_after <= turned_before && flipped_after <= flipped_before;
+            if (keep) {
+                double before = 0.0, after = 0.0;
+                moved_distortion.clear();
+                for (std::uint32_t f : faces) {
+                    moved_distortion.push_back(face_distortion(f));
+                    before += distortion[f];
+                    after += moved_distortion.back();
+                }
+                keep = untangling[v] || after <= before;
+            }
+            if (keep) {
+                for (std::size_t k = 0; k < faces.size(); ++k) distortion[faces[k]] = moved_distortion[k];
+                if (image[v] != old || image_axis[v] != old_axis) {
+                    ++moved;
+                    for (std::uint32_t k = adj.vertex_vertex_offsets[v]; k < adj.vertex_vertex_offsets[v + 1]; ++k)
+                        stale[adj.vertex_vertices[k]] = 1;
+                }
+            } else {
                 image[v] = old;
                 image_axis[v] = old_axis;
-            } else {
-                ++moved;
             }
         }
     }

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -75,7 +76,7 @@ std::size_t turned_count(const geo::Mesh& mesh, const std::vector<glm::dvec3>& i
 // The identity map of a planar mesh with obtuse triangles: the clamped cotangent weights do not
 // reproduce it (the harmonic mean of some vertex lies elsewhere, so keeping every move would move
 // it), but nothing is turned, and no move can lower the distortion below the identity's: the
-// smoothing keeps every image where it is (with every move kept, vertices would move by 1e-3).
+// smoothing keeps every image where it is (keeping every move would move one by more than 1e-3).
 TEST(PolycubeChartSmoothing, KeepsAnUndistortedMap) {
     const geo::Mesh mesh = planar_grid(9, 0.35);
     const geo::MeshAdjacency adj = geo::build_adjacency(mesh);

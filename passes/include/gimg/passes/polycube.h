@@ -172,7 +172,8 @@ struct PolycubeStatistics {
     double boundary_snap = 0.0;
     double area_distortion = 0.0, angle_distortion = 0.0;                // area-weighted means, 1 ideal
     double area_distortion_median = 0.0, angle_distortion_median = 0.0;  // area-weighted medians
-    // Before the chart smoothing (step 5): the means, medians and turned chords; the moves it kept.
+    // Before the chart smoothing (step 5): the means, medians and turned chords; the moves it kept
+    // (each moving an image).
     double area_distortion_unsmoothed = 0.0, angle_distortion_unsmoothed = 0.0;
     double area_distortion_median_unsmoothed = 0.0, angle_distortion_median_unsmoothed = 0.0;
     std::size_t turned_chords_unsmoothed = 0, smoothing_moves = 0;
