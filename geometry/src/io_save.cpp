@@ -75,7 +75,7 @@ void append_binary(std::string& out, T value) {
 }
 
 // One vertex's values: position, normal (if any), texture coordinates (if any), in the precision
-// asked for. Texture coordinates are always float32.
+// asked for.
 template <typename Real>
 int vertex_values(const Mesh& mesh, std::size_t i, Real values[8]) {
     int n = 0;
@@ -83,7 +83,7 @@ int vertex_values(const Mesh& mesh, std::size_t i, Real values[8]) {
     if (mesh.has_normals())
         for (int k = 0; k < 3; ++k) values[n++] = static_cast<Real>(mesh.normals[i][k]);
     if (mesh.has_texcoords())
-        for (int k = 0; k < 2; ++k) values[n++] = static_cast<Real>(static_cast<float>(mesh.texcoords[i][k]));
+        for (int k = 0; k < 2; ++k) values[n++] = static_cast<Real>(mesh.texcoords[i][k]);
     return n;
 }
 
@@ -164,10 +164,15 @@ std::string obj_contents(const Mesh& mesh, bool double_precision) {
     }
     if (uv) {
         for (const glm::dvec2& t : mesh.texcoords) {
-            out += "vt ";
-            append_number(out, static_cast<float>(t.x));
-            out += ' ';
-            append_number(out, static_cast<float>(t.y));
+            out += "vt";
+            for (int k = 0; k < 2; ++k) {
+                out += ' ';
+                if (double_precision) {
+                    append_number(out, t[k]);
+                } else {
+                    append_number(out, static_cast<float>(t[k]));
+                }
+            }
             out += '\n';
         }
     }

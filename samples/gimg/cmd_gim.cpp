@@ -81,6 +81,12 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     const std::filesystem::path dir(o.out);
     passes::write_position_exr(image, dir / "gim.exr");
     geo::save_mesh(back, dir / "reconstruction.ply");
+    // The map itself: the mesh with (u, v) as texture coordinates, in float64 so that no triangle
+    // too small for float32 turns over. gim.exr's pixel (a, b), b the row from the top, samples
+    // (u, v) = (a, N - 1 - b) / (N - 1).
+    geo::Mesh mapped = mesh;
+    mapped.texcoords = map.uv;
+    geo::save_mesh(mapped, dir / "param.obj", {.double_precision = true});
     geo::write_png(parameter_picture(*ctx, mesh, map.uv, o.picture), dir / "param.png");
     passes::RenderOptions view;
     view.width = view.height = o.picture;
@@ -110,7 +116,7 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
             "Hausdorff %.3e, PSNR %.2f dB\n",
             e.rms, e.distance.a_to_b.rms / e.distance.bbox_diagonal, e.distance.b_to_a.rms / e.distance.bbox_diagonal,
             e.hausdorff, e.psnr);
-        std::printf("wrote %s/{gim.exr, reconstruction.ply, param.png, compare.png}\n", o.out.c_str());
+        std::printf("wrote %s/{gim.exr, reconstruction.ply, param.obj, param.png, compare.png}\n", o.out.c_str());
     }
     nlohmann::json iterations = nlohmann::json::array();
     for (const auto& r : map.iterations) iterations.push_back(iteration_json(r));
@@ -144,7 +150,8 @@ void add_gim_command(CLI::App& app, const GlobalOptions& global) {
     auto o = std::make_shared<GimOptions>();
     auto* cmd = app.add_subcommand("gim", "Disk mesh -> square parameterization -> geometry image -> mesh, measured");
     cmd->add_option("mesh", o->mesh, "Input mesh: one component, manifold, one boundary loop")->required();
-    cmd->add_option("--out", o->out, "Output folder (gim.exr, reconstruction.ply, param.png, compare.png)")->required();
+    cmd->add_option("--out", o->out, "Output folder (gim.exr, reconstruction.ply, param.obj, param.png, compare.png)")
+        ->required();
     add_count_option(cmd, "--size", o->size, 0, 16384, "Image size N (N x N; 0, the default: round(sqrt(vertices)))");
     cmd->add_option("--variant", o->variant,
                     "tutte, floater, stretch (Yoshizawa et al. 2004), density, uniform3d or curvature (default)")
@@ -172,7 +179,8 @@ void add_gim_command(CLI::App& app, const GlobalOptions& global) {
                      "Surface samples per mesh for the distance (default max(1M, 10 per face))");
     cmd->add_option("--json", o->json, "Write the figures as JSON");
     cmd->callback([o, &global] {
-        auto outputs = folder_outputs("--out", o->out, {"gim.exr", "reconstruction.ply", "param.png", "compare.png"});
+        auto outputs =
+            folder_outputs("--out", o->out, {"gim.exr", "reconstruction.ply", "param.obj", "param.png", "compare.png"});
         outputs.push_back(json_output(o->json));
         run_writing({o->mesh}, outputs, [&] {
             parse_view(o->view);  // refused before any work

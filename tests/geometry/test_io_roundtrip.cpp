@@ -172,3 +172,67 @@ TEST(RoundTrip, DoublePrecisionFilesHoldTheDoubles) {
         EXPECT_EQ(back.positions[1].x, double(float(1.0 + 1e-15))) << path;
     }
 }
+
+// Texture coordinates follow the precision asked for: float64 keeps every bit (a map's triangles
+// can be below float32's resolution), float32 rounds them; the OBJ's vt lines and the PLY's s, t.
+TEST(RoundTrip, DoublePrecisionFilesHoldTheTextureCoordinates) {
+    Mesh mesh;
+    mesh.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+    mesh.triangles = {{0, 1, 2}};
+    mesh.texcoords = {{0.5 + 1e-12, 0.25}, {1.0 - 1e-13, 1e-14}, {0.1, 0.7}};
+    for (const bool dbl : {true, false}) {
+        for (const Target& target : kTargets) {
+            const auto path =
+                gimg::test::output_dir("io_roundtrip") / (std::string("uv_") + (dbl ? "double" : "float") +
+                                                          (target.binary ? "_binary" : "_ascii") + target.extension);
+            save_mesh(mesh, path, SaveOptions{.binary = target.binary, .double_precision = dbl});
+            std::ifstream in(path, std::ios::binary);
+            const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+            std::vector<double> uv;  // as written
+            if (target.binary) {
+                const std::size_t body = bytes.find("end_header\n") + 11, real = dbl ? 8 : 4;
+                for (std::size_t v = 0; v < 3; ++v)
+                    for (std::size_t k = 0; k < 2; ++k) {
+                        const char* at = bytes.data() + body + (5 * v + 3 + k) * real;
+                        if (dbl) {
+                            double x;
+                            std::memcpy(&x, at, 8);
+                            uv.push_back(x);
+                        } else {
+                            float x;
+                            std::memcpy(&x, at, 4);
+                            uv.push_back(x);
+                        }
+                    }
+            } else {
+                std::istringstream text(
+                    target.extension == std::string(".obj") ? bytes : bytes.substr(bytes.find("end_header\n") + 11));
+                std::string line;
+                for (int v = 0; v < 3 && std::getline(text, line);) {
+                    std::istringstream fields(line);
+                    std::string head;
+                    if (target.extension == std::string(".obj")) {
+                        fields >> head;
+                        if (head != "vt") continue;
+                    } else {
+                        double skip;
+                        for (int k = 0; k < 3; ++k) fields >> skip;  // x, y, z
+                    }
+                    double s, t;
+                    fields >> s >> t;
+                    uv.push_back(s);
+                    uv.push_back(t);
+                    ++v;
+                }
+            }
+            ASSERT_EQ(uv.size(), 6u) << path;
+            for (std::size_t k = 0; k < 6; ++k) {
+                const double want = mesh.texcoords[k / 2][int(k % 2)];
+                if (dbl)
+                    EXPECT_EQ(uv[k], want) << path << " value " << k;
+                else  // text holds the shortest float, which reads back as that float
+                    EXPECT_EQ(float(uv[k]), float(want)) << path << " value " << k;
+            }
+        }
+    }
+}

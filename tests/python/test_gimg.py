@@ -96,6 +96,11 @@ def test_gim_and_quadmap_match_the_command_line(device, tmp_path):
     scli = cli_json("gim", path, "--size", "17", "--variant", "density", "--select", "--cpu", "--samples", "20000",
                     "--out", str(tmp_path / "gim_select"))
     assert chosen["selected_iteration"] == scli["selected_iteration"]
+    # param.obj: the mesh and the map returned as its texture coordinates, every bit of both.
+    with open(tmp_path / "gim_select" / "param.obj") as obj:
+        rows = [line.split() for line in obj]
+    assert np.array_equal(np.array([[float(x) for x in r[1:]] for r in rows if r[0] == "v"]), positions)
+    assert np.array_equal(np.array([[float(x) for x in r[1:]] for r in rows if r[0] == "vt"]), chosen["uv"])
     rms = [it["image_rms"] for it in scli["iterations"]]
     assert rms[scli["selected_iteration"]] == min(rms)
     assert gimg.gim(None, positions, faces, size=0, variant="floater")["image"].shape == (9, 9, 3)  # 81 vertices

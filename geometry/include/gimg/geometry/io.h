@@ -42,8 +42,9 @@ Mesh load_mesh(const std::filesystem::path& path, const LoadOptions& options = {
 
 struct SaveOptions {
     bool binary = true;  // PLY only; OBJ is always text
-    // Positions (and normals) as float64: for maps whose triangles are below float32's resolution,
-    // e.g. conformal sphere maps of long limbs (areas of 1e-15 on the unit sphere).
+    // Positions, normals and texture coordinates as float64: for maps whose triangles are below
+    // float32's resolution, e.g. conformal sphere maps of long limbs (areas of 1e-15 on the unit
+    // sphere).
     bool double_precision = false;
 };
 
