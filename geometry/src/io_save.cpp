@@ -140,9 +140,10 @@ std::string ply_contents(const Mesh& mesh, bool binary, bool double_precision) {
     return out;
 }
 
-// x y z of a position or normal, as float32 or float64 text.
-void append_triple(std::string& out, const glm::dvec3& v, bool double_precision) {
-    for (int k = 0; k < 3; ++k) {
+// The coordinates of a position, normal or texture coordinate, as float32 or float64 text.
+template <int N>
+void append_coordinates(std::string& out, const glm::vec<N, double>& v, bool double_precision) {
+    for (int k = 0; k < N; ++k) {
         out += ' ';
         if (double_precision) {
             append_number(out, v[k]);
@@ -160,26 +161,18 @@ std::string obj_contents(const Mesh& mesh, bool double_precision) {
     out.reserve(mesh.vertex_count() * (uv ? 64 : 36) + mesh.face_count() * (uv ? 40 : 24));
     for (const glm::dvec3& position : mesh.positions) {
         out += 'v';
-        append_triple(out, position, double_precision);
+        append_coordinates(out, position, double_precision);
     }
     if (uv) {
         for (const glm::dvec2& t : mesh.texcoords) {
             out += "vt";
-            for (int k = 0; k < 2; ++k) {
-                out += ' ';
-                if (double_precision) {
-                    append_number(out, t[k]);
-                } else {
-                    append_number(out, static_cast<float>(t[k]));
-                }
-            }
-            out += '\n';
+            append_coordinates(out, t, double_precision);
         }
     }
     if (normals) {
         for (const glm::dvec3& normal : mesh.normals) {
             out += "vn";
-            append_triple(out, normal, double_precision);
+            append_coordinates(out, normal, double_precision);
         }
     }
     for (const glm::uvec3& t : mesh.triangles) {
