@@ -123,7 +123,7 @@ void run_triangle(const QuadOptions& o, const GlobalOptions& global, const passe
     geo::Mesh out = region.mesh;
     out.texcoords = uv;
     const std::filesystem::path dir(o.out);
-    geo::save_mesh(out, dir / "region.obj");
+    geo::save_mesh(out, dir / "region.obj", {.double_precision = true});  // as gim's param.obj
     geo::write_png(checker_picture(ctx, region, uv), dir / "checker.png");
     std::size_t flipped = 0;
     for (const auto& t : out.triangles) {
@@ -162,7 +162,7 @@ void run_quadmap(const QuadOptions& o, const GlobalOptions& global) {
     const passes::QuadMap m = passes::map_quad_region(o.cpu ? nullptr : ctx.get(), region, map_options(o));
     geo::Mesh out = region.mesh;
     out.texcoords = m.uv;
-    geo::save_mesh(out, dir / "region.obj");
+    geo::save_mesh(out, dir / "region.obj", {.double_precision = true});  // as gim's param.obj
     geo::write_png(checker_picture(*ctx, region, m.uv), dir / "checker.png");
     if (!global.quiet) {
         std::printf("%s: region of %zu vertices (%zu points inserted on edges, %zu merged), %zu faces\n",

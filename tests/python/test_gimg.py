@@ -25,6 +25,13 @@ def cli_json(*args):
     return json.loads(out.stdout)
 
 
+def obj_vertices(path):
+    """An OBJ file's positions and texture coordinates, as written."""
+    with open(path) as obj:
+        rows = [line.split() for line in obj]
+    return [np.array([[float(x) for x in r[1:]] for r in rows if r and r[0] == key]) for key in ("v", "vt")]
+
+
 def grid(n, bump=0.0):
     """An n x n vertex grid of the unit square (two triangles a square), its middle raised by `bump`."""
     x, y = np.meshgrid(np.linspace(0, 1, n), np.linspace(0, 1, n))
@@ -97,10 +104,8 @@ def test_gim_and_quadmap_match_the_command_line(device, tmp_path):
                     "--out", str(tmp_path / "gim_select"))
     assert chosen["selected_iteration"] == scli["selected_iteration"]
     # param.obj: the mesh and the map returned as its texture coordinates, every bit of both.
-    with open(tmp_path / "gim_select" / "param.obj") as obj:
-        rows = [line.split() for line in obj]
-    assert np.array_equal(np.array([[float(x) for x in r[1:]] for r in rows if r[0] == "v"]), positions)
-    assert np.array_equal(np.array([[float(x) for x in r[1:]] for r in rows if r[0] == "vt"]), chosen["uv"])
+    v, vt = obj_vertices(tmp_path / "gim_select" / "param.obj")
+    assert np.array_equal(v, positions) and np.array_equal(vt, chosen["uv"])
     rms = [it["image_rms"] for it in scli["iterations"]]
     assert rms[scli["selected_iteration"]] == min(rms)
     assert gimg.gim(None, positions, faces, size=0, variant="floater")["image"].shape == (9, 9, 3)  # 81 vertices
@@ -110,6 +115,8 @@ def test_gim_and_quadmap_match_the_command_line(device, tmp_path):
     assert (quad["iterations_u"], quad["iterations_v"]) == (qcli["iterations_u"], qcli["iterations_v"])
     assert len(quad["positions"]) == qcli["region_vertices"] and quad["flipped"] == 0
     assert (quad["uv"] >= 0).all() and (quad["uv"] <= 1).all()
+    v, vt = obj_vertices(tmp_path / "q" / "region.obj")
+    assert np.array_equal(v, quad["positions"]) and np.array_equal(vt, quad["uv"])
 
 
 @pytest.mark.parametrize("positions, faces, message", [
