@@ -202,7 +202,7 @@ void run_polycube(const PolycubeCommandOptions& o, const GlobalOptions& global) 
         geo::Mesh mapped = mesh;
         mapped.positions = p.mapped;
         mapped.texcoords.clear();
-        geo::save_mesh(mapped, dir / "mapped.ply");
+        geo::save_mesh(mapped, dir / "mapped.ply", {.double_precision = true});  // crushed images stay unfolded
     }
     write_pictures(*ctx, mesh, p, dir);
     nlohmann::json j = statistics_json(s);

@@ -337,7 +337,7 @@ def test_evaluate_gives_the_command_line_scores(device, tmp_path):
         assert ours[key] == pytest.approx(cli["overall"][key], abs=1e-12), key
 
 
-def test_polycube_of_an_open_tube_keeps_its_ends(device):
+def test_polycube_of_an_open_tube_keeps_its_ends(device, tmp_path):
     # An upright tube of 32 x 8 quads, open at both ends: a box-like polycube whose top and bottom
     # hold the two holes, every vertex mapped onto its surface, on the device as by the CPU twins.
     around, rows = 32, 8
@@ -364,6 +364,17 @@ def test_polycube_of_an_open_tube_keeps_its_ends(device):
     assert np.abs(gpu["mapped"] - cpu["mapped"]).max() < 1e-4
     with pytest.raises(ValueError):
         gimg.polycube(None, positions, faces, axis="w")
+    # mapped.ply holds the images in float64, every bit of the map the CPU twins give.
+    path = str(tmp_path / "tube.obj")
+    gimg.save_mesh(path, positions, faces)
+    positions, faces = gimg.load_mesh(path)  # as the command line reads it
+    cli_json("polycube", path, "--da", "10", "--cpu", "--out", str(tmp_path / "tube"))
+    with open(tmp_path / "tube" / "mapped.ply", "rb") as ply:
+        data = ply.read()
+    header, body = data.split(b"end_header\n", 1)
+    assert b"property double x" in header
+    mapped = np.frombuffer(body, dtype="<f8", count=3 * len(positions)).reshape(-1, 3)
+    assert np.array_equal(mapped, gimg.polycube(None, positions, faces, da=10.0)["mapped"])
 
 
 def test_batch_runs_a_function_over_a_list_as_gimg_batch_does(device, tmp_path):
