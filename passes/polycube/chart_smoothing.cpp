@@ -38,21 +38,14 @@ std::size_t smooth_map(const SlicedMesh& sliced, const std::vector<glm::dvec3>& 
 
     // The distortion of the real triangles (not the holes' caps) at the scale that gives the image
     // the mesh's area, as measure_map takes it.
-    auto real = [&](std::uint32_t f) { return sliced.source_face[f] < original_faces; };
-    double area = 0.0, image_area = 0.0;
-    for (std::uint32_t f = 0; f < mesh.face_count(); ++f) {
-        if (!real(f)) continue;
-        const glm::uvec3& t = mesh.triangles[f];
-        area += glm::length(glm::cross(rest[t[1]] - rest[t[0]], rest[t[2]] - rest[t[0]]));
-        image_area += glm::length(glm::cross(image[t[1]] - image[t[0]], image[t[2]] - image[t[0]]));
-    }
-    const double scale = image_area > 0.0 ? std::sqrt(area / image_area) : 1.0;
+    const double scale = image_scale(sliced, rest, image, original_faces);
     auto face_distortion = [&](std::uint32_t f) {
-        if (!real(f)) return 0.0;
+        if (sliced.source_face[f] >= original_faces) return 0.0;
         const glm::uvec3& t = mesh.triangles[f];
         const glm::dvec3 a[3] = {rest[t[0]], rest[t[1]], rest[t[2]]};
         const glm::dvec3 b[3] = {scale * image[t[0]], scale * image[t[1]], scale * image[t[2]]};
-        return glm::length(glm::cross(a[1] - a[0], a[2] - a[0])) * triangle_distortion(a, b);
+        const auto [area, angle] = triangle_distortion(a, b);
+        return glm::length(glm::cross(a[1] - a[0], a[2] - a[0])) * (area + angle);
     };
     // Per triangle, its area-weighted distortion, kept as the images move.
     std::vector<double> distortion(mesh.face_count());

@@ -30,10 +30,22 @@ const glm::dvec3 kAxis[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0
 
 }  // namespace
 
-double triangle_distortion(const glm::dvec3 a[3], const glm::dvec3 b[3]) {
+std::pair<double, double> triangle_distortion(const glm::dvec3 a[3], const glm::dvec3 b[3]) {
     const auto [s1, s2] = singular_values(a, b);
-    if (!(s2 > 1e-12)) return std::numeric_limits<double>::infinity();
-    return 0.5 * (s1 * s2 + 1.0 / (s1 * s2)) + 0.5 * (s1 / s2 + s2 / s1);
+    if (!(s2 > 1e-12)) return {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+    return {0.5 * (s1 * s2 + 1.0 / (s1 * s2)), 0.5 * (s1 / s2 + s2 / s1)};
+}
+
+double image_scale(const SlicedMesh& sliced, const std::vector<glm::dvec3>& rest, const std::vector<glm::dvec3>& image,
+                   std::size_t original_faces) {
+    double area = 0.0, image_area = 0.0;
+    for (std::size_t f = 0; f < sliced.mesh.face_count(); ++f) {
+        if (sliced.source_face[f] >= original_faces) continue;
+        const glm::uvec3& t = sliced.mesh.triangles[f];
+        area += glm::length(glm::cross(rest[t[1]] - rest[t[0]], rest[t[2]] - rest[t[0]]));
+        image_area += glm::length(glm::cross(image[t[1]] - image[t[0]], image[t[2]] - image[t[0]]));
+    }
+    return image_area > 0.0 ? std::sqrt(area / image_area) : 1.0;
 }
 
 bool turned(const glm::uvec3& t, const std::vector<glm::dvec3>& image, const std::vector<std::uint8_t>& axis,
@@ -46,32 +58,25 @@ bool turned(const glm::uvec3& t, const std::vector<glm::dvec3>& image, const std
 void measure_map(const SlicedMesh& sliced, const PolycubeMap& m, std::size_t original_faces,
                  PolycubeStatistics& stats) {
     // Flips and distortion over the real triangles of the sliced mesh.
-    double area = 0.0, image_area = 0.0;
     std::vector<std::size_t> real;
     for (std::size_t f = 0; f < sliced.mesh.face_count(); ++f) {
         if (sliced.source_face[f] >= original_faces) continue;
-        const auto& t = sliced.mesh.triangles[f];
-        const glm::dvec3 n0 = glm::cross(sliced.mesh.positions[t[1]] - sliced.mesh.positions[t[0]],
-                                         sliced.mesh.positions[t[2]] - sliced.mesh.positions[t[0]]);
-        const glm::dvec3 n1 = glm::cross(m.image[t[1]] - m.image[t[0]], m.image[t[2]] - m.image[t[0]]);
-        if (turned(t, m.image, m.image_axis)) ++stats.turned_chords;
-        area += 0.5 * glm::length(n0);
-        image_area += 0.5 * glm::length(n1);
+        if (turned(sliced.mesh.triangles[f], m.image, m.image_axis)) ++stats.turned_chords;
         real.push_back(f);
     }
-    const double scale = image_area > 0 ? std::sqrt(area / image_area) : 1.0;
+    const double scale = image_scale(sliced, sliced.mesh.positions, m.image, original_faces);
     double wsum = 0.0;
     std::vector<std::tuple<double, double, double>> per_triangle;  // area, angle, weight
     for (std::size_t f : real) {
         const auto& t = sliced.mesh.triangles[f];
         const glm::dvec3 a[3] = {sliced.mesh.positions[t[0]], sliced.mesh.positions[t[1]], sliced.mesh.positions[t[2]]};
         const glm::dvec3 b[3] = {scale * m.image[t[0]], scale * m.image[t[1]], scale * m.image[t[2]]};
-        const auto [s1, s2] = singular_values(a, b);
+        const auto [area, angle] = triangle_distortion(a, b);
         const double w = 0.5 * glm::length(glm::cross(a[1] - a[0], a[2] - a[0]));
-        if (!(s2 > 1e-12) || w <= 0.0) continue;
-        stats.area_distortion += w * 0.5 * (s1 * s2 + 1.0 / (s1 * s2));
-        stats.angle_distortion += w * 0.5 * (s1 / s2 + s2 / s1);
-        per_triangle.emplace_back(0.5 * (s1 * s2 + 1.0 / (s1 * s2)), 0.5 * (s1 / s2 + s2 / s1), w);
+        if (std::isinf(area) || w <= 0.0) continue;
+        stats.area_distortion += w * area;
+        stats.angle_distortion += w * angle;
+        per_triangle.emplace_back(area, angle, w);
         wsum += w;
     }
     if (wsum > 0) stats.area_distortion /= wsum, stats.angle_distortion /= wsum;

@@ -13,6 +13,7 @@
 #include <functional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gimg::passes::polycube {
@@ -225,9 +226,14 @@ std::size_t smooth_map(const SlicedMesh& sliced, const std::vector<glm::dvec3>& 
 bool turned(const glm::uvec3& t, const std::vector<glm::dvec3>& image, const std::vector<std::uint8_t>& axis,
             double min_area2 = 0.0);
 
-// The area and the angle distortion of the map from triangle a to triangle b, summed (each 1 for a
+// The area and the angle distortion of the map from triangle a to triangle b (each 1 for a
 // similarity of the right scale); infinite where b is collapsed.
-double triangle_distortion(const glm::dvec3 a[3], const glm::dvec3 b[3]);
+std::pair<double, double> triangle_distortion(const glm::dvec3 a[3], const glm::dvec3 b[3]);
+
+// The factor that gives the image the area of `rest` over the real triangles (source face below
+// original_faces), at which the distortion is measured.
+double image_scale(const SlicedMesh& sliced, const std::vector<glm::dvec3>& rest, const std::vector<glm::dvec3>& image,
+                   std::size_t original_faces);
 
 // turned_chords, and the distortion means and medians over the real triangles of the cut mesh.
 void measure_map(const SlicedMesh& sliced, const PolycubeMap& map, std::size_t original_faces,

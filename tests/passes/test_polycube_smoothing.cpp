@@ -59,7 +59,8 @@ double total_distortion(const geo::Mesh& mesh, const std::vector<glm::dvec3>& im
     for (const glm::uvec3& t : mesh.triangles) {
         const glm::dvec3 a[3] = {mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]};
         const glm::dvec3 b[3] = {scale * image[t[0]], scale * image[t[1]], scale * image[t[2]]};
-        sum += glm::length(glm::cross(a[1] - a[0], a[2] - a[0])) * gp::polycube::triangle_distortion(a, b);
+        const auto [area, angle] = gp::polycube::triangle_distortion(a, b);
+        sum += glm::length(glm::cross(a[1] - a[0], a[2] - a[0])) * (area + angle);
     }
     return sum;
 }
