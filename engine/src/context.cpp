@@ -3,8 +3,15 @@
 #include "check.h"
 #include "device.h"
 #include "device_setup.h"
+#include "pipelines.h"
 
+#include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
 #include <cstdio>
 #include <cstdlib>
 
@@ -120,6 +127,31 @@ Buffer Context::create_buffer(const BufferDesc& desc, MemoryUsage usage) { retur
 Image Context::create_image(const ImageDesc& desc) { return device_->create_image(desc); }
 
 void Context::wait_idle() { device_->wait_idle(); }
+
+void Context::prepare_compute(std::initializer_list<Spirv> shaders) {
+    std::vector<Spirv> todo;
+    for (const Spirv& s : shaders)
+        if (!device_->pipelines->has_compute(s)) todo.push_back(s);
+    std::atomic<std::size_t> next{0};
+    std::exception_ptr failure;
+    std::mutex failure_mutex;
+    auto work = [&] {
+        for (std::size_t i = next++; i < todo.size(); i = next++) {
+            try {
+                device_->pipelines->compute(todo[i]);
+            } catch (...) {
+                const std::lock_guard<std::mutex> lock(failure_mutex);
+                if (!failure) failure = std::current_exception();
+            }
+        }
+    };
+    const std::size_t threads = std::min<std::size_t>(todo.size(), std::max(1u, std::thread::hardware_concurrency()));
+    std::vector<std::thread> helpers;
+    for (std::size_t t = 1; t < threads; ++t) helpers.emplace_back(work);
+    work();
+    for (std::thread& h : helpers) h.join();
+    if (failure) std::rethrow_exception(failure);
+}
 
 void Context::batch_uploads(const std::function<void()>& uploads) {
     device_->begin_batch();

@@ -130,9 +130,17 @@ Pipeline PipelineCache::make_layout(const std::vector<ShaderReflection>& stages,
     return p;
 }
 
+bool PipelineCache::has_compute(const Spirv& shader) {
+    const std::lock_guard<std::mutex> lock(compute_mutex_);
+    return compute_.count(shader.words) != 0;
+}
+
 const Pipeline& PipelineCache::compute(const Spirv& shader) {
-    auto it = compute_.find(shader.words);
-    if (it != compute_.end()) return *it->second;
+    {
+        const std::lock_guard<std::mutex> lock(compute_mutex_);
+        auto it = compute_.find(shader.words);
+        if (it != compute_.end()) return *it->second;
+    }
     ShaderReflection r = reflect_spirv(shader);
     if (r.stage != VK_SHADER_STAGE_COMPUTE_BIT)
         throw Error(ErrorKind::InvalidArgument, std::string("shader ") + shader.name + " is not a compute shader");
@@ -154,9 +162,15 @@ const Pipeline& PipelineCache::compute(const Spirv& shader) {
     device_.fn.vkDestroyShaderModule(device_.device, module, nullptr);
     if (result != VK_SUCCESS) destroy_layouts(*p);
     GIMG_VK_CHECK(result);
+    device_.set_name(VK_OBJECT_TYPE_PIPELINE, std::uint64_t(p->pipeline), shader.name);
+    const std::lock_guard<std::mutex> lock(compute_mutex_);
     auto& slot = compute_[shader.words];
-    slot = std::move(p);
-    device_.set_name(VK_OBJECT_TYPE_PIPELINE, std::uint64_t(slot->pipeline), shader.name);
+    if (slot) {  // another thread made it meanwhile
+        device_.fn.vkDestroyPipeline(device_.device, p->pipeline, nullptr);
+        destroy_layouts(*p);
+    } else {
+        slot = std::move(p);
+    }
     return *slot;
 }
 

@@ -10,6 +10,7 @@
 
 #include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -38,7 +39,9 @@ public:
     PipelineCache(const PipelineCache&) = delete;
     PipelineCache& operator=(const PipelineCache&) = delete;
 
+    // Thread-safe: pipelines of different shaders may be created at once (Context::prepare_compute).
     const Pipeline& compute(const Spirv& shader);
+    bool has_compute(const Spirv& shader);
     const Pipeline& graphics(const RasterProgram& program, const std::vector<VkFormat>& color_formats,
                              VkFormat depth_format);
     void clear();
@@ -51,6 +54,7 @@ private:
     void destroy_layouts(Pipeline& p);
 
     Device& device_;
+    std::mutex compute_mutex_;  // guards compute_; a pipeline is created outside it
     std::map<const std::uint32_t*, std::unique_ptr<Pipeline>> compute_;
     std::map<GraphicsKey, std::unique_ptr<Pipeline>> graphics_;
 };

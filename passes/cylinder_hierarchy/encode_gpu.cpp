@@ -113,6 +113,12 @@ CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
     // The largest texel array: the cells of the grid of side N / 2, 4 texels each.
     detail::check_level_images(ctx, std::size_t(n) * n, n, "the GPU encoder at " + std::to_string(n) + " x " + std::to_string(n));
     CylinderHierarchy h = detail::empty_hierarchy(options);
+    // The pipelines first, on every core at once (lavapipe: about 20 ms for each cast shader).
+    const auto prepare_start = std::chrono::steady_clock::now();
+    const bool votes = walk.subgroup_votes && ctx.device_info().subgroup_vote;
+    ctx.prepare_compute({votes ? kCastLevelOne : kCastLevelOnePlain, votes ? kCastLevel : kCastLevelPlain,
+                         detail::level_step_kernel(1)});
+    h.pipeline_ms = detail::ms_since(prepare_start);
     // The BVH every level casts through counts as level 1's time.
     const auto start = std::chrono::steady_clock::now();
     GpuRayCaster caster(ctx, to_cylinder_frame(mesh), walk);

@@ -73,6 +73,8 @@ void add_read_back(Context& ctx, Graph& g, ImageHandle image, Buffer& host, cons
     g.export_buffer(out, Access::HostRead);
 }
 
+const Spirv& level_step_kernel(std::uint32_t step) { return kSteps[step]; }
+
 void add_level_step(Graph& g, std::uint32_t step, std::uint32_t side, std::uint32_t size, std::uint32_t base,
                     LevelBuffers& b, const std::string& name) {
     const std::size_t points = std::size_t(side) * side;

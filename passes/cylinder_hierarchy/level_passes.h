@@ -39,6 +39,8 @@ struct LevelBuffers {
 // bands, which replaces grid. `size` is N, `base` B.
 void add_level_step(Graph& g, std::uint32_t step, std::uint32_t side, std::uint32_t size, std::uint32_t base,
                     LevelBuffers& b, const std::string& name);
+// The shader of that step.
+const Spirv& level_step_kernel(std::uint32_t step);
 
 // Throws gimg::Error (Unsupported, naming the CPU as the way out) where the device's images cannot
 // hold `texels` texel-array elements or an N x N image: `what` says for what.

@@ -66,6 +66,7 @@ void run_hierarchy(const CylinderOptions& o, const GlobalOptions& global) {
     j["encoder"] = ctx ? "gpu" : "cpu";
     j["level_ms"] = h.level_ms;
     j["tree_ms"] = h.tree_ms;
+    if (ctx) j["pipeline_ms"] = h.pipeline_ms;
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }

@@ -5,11 +5,13 @@
 
 #include "gimg/engine/memory.h"
 #include "gimg/engine/resources.h"
+#include "gimg/engine/shader.h"
 
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
 #include <functional>
+#include <initializer_list>
 #include <memory>
 #include <optional>
 #include <span>
@@ -169,6 +171,11 @@ public:
     // ContextOptions::wait_spin_us as chosen for this device, and a change of it (for measuring).
     std::uint32_t wait_spin_us() const;
     void set_wait_spin_us(std::uint32_t microseconds);
+
+    // Creates the compute pipelines of `shaders` that this context has not made yet, on up to one
+    // thread per core, and returns when all exist. A pass otherwise makes its pipeline the first
+    // time it is recorded, one after another (lavapipe: up to about 20 ms for a large shader).
+    void prepare_compute(std::initializer_list<Spirv> shaders);
 
     // Waits for every submission gimg made on this context.
     void wait_idle();

@@ -80,6 +80,7 @@ struct CylinderHierarchy {
     std::vector<double> level_ms;  // the encoder's wall time per level (not stored in files)
     double tree_ms = 0.0;          // of level_ms[0]: the BVH's build (on the GPU, and its upload)
     double gpu_ms = 0.0;           // the GPU encoder's passes by timestamps (0 on the CPU or without them)
+    double pipeline_ms = 0.0;      // the GPU encoder's pipelines made first (0 where the context had them)
     std::uint32_t levels() const;  // 1 + log2(size / base)
 };
 
@@ -95,7 +96,8 @@ CylinderHierarchy cylinder_hierarchy_cpu(const CylinderMesh& mesh, const Cylinde
 // the next grid, all on the GPU): the CPU encoder's hierarchy bit for bit. level_ms: each level's
 // passes by timestamps, level 1's with the tree's build and upload, and the submission's other
 // costs (recording, waiting, the download) counted in the last level (all of it there on a device
-// without timestamps). Needs shaderFloat64. `walk` picks the walk's variant (gimg/passes/raycast.h).
+// without timestamps); the pipelines a context's first call makes come before, in pipeline_ms.
+// Needs shaderFloat64. `walk` picks the walk's variant (gimg/passes/raycast.h).
 CylinderHierarchy cylinder_hierarchy_gpu(Context& ctx, const CylinderMesh& mesh,
                                          const CylinderHierarchyOptions& options = {},
                                          const GpuRayCasterOptions& walk = {});
