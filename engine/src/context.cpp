@@ -129,23 +129,23 @@ Image Context::create_image(const ImageDesc& desc) { return device_->create_imag
 void Context::wait_idle() { device_->wait_idle(); }
 
 void Context::prepare_compute(std::initializer_list<Spirv> shaders) {
-    std::vector<Spirv> todo;
+    std::vector<Spirv> missing;
     for (const Spirv& s : shaders)
-        if (!device_->pipelines->has_compute(s)) todo.push_back(s);
+        if (!device_->pipelines->has_compute(s)) missing.push_back(s);
     std::atomic<std::size_t> next{0};
     std::exception_ptr failure;
     std::mutex failure_mutex;
     auto work = [&] {
-        for (std::size_t i = next++; i < todo.size(); i = next++) {
+        for (std::size_t i = next++; i < missing.size(); i = next++) {
             try {
-                device_->pipelines->compute(todo[i]);
+                device_->pipelines->compute(missing[i]);
             } catch (...) {
                 const std::lock_guard<std::mutex> lock(failure_mutex);
                 if (!failure) failure = std::current_exception();
             }
         }
     };
-    const std::size_t threads = std::min<std::size_t>(todo.size(), std::max(1u, std::thread::hardware_concurrency()));
+    const std::size_t threads = std::min<std::size_t>(missing.size(), std::max(1u, std::thread::hardware_concurrency()));
     std::vector<std::thread> helpers;
     for (std::size_t t = 1; t < threads; ++t) helpers.emplace_back(work);
     work();
