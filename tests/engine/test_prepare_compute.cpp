@@ -11,7 +11,7 @@
 #include "engine/pixel_triangle_vert.h"
 #include "engine/scale_add_comp.h"
 
-#include <cstdlib>
+#include <memory>
 #include <string>
 #include <vector>
 
