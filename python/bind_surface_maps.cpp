@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstring>
 #include <map>
+#include <optional>
 
 namespace gimg::python {
 
@@ -21,17 +22,20 @@ void bind_surface_maps(py::module_& m) {
     m.def(
         "gim",
         [](Device* device, const Positions& positions, const Faces& faces, std::uint32_t size,
-           const std::string& variant, std::size_t iterations, bool select) {
-            const geo::Mesh mesh = to_mesh(positions, faces);
+           const std::string& variant, std::size_t iterations, bool select, bool cut) {
+            const geo::Mesh input = to_mesh(positions, faces);
             const auto v = passes::parse_variant(variant);
             if (!v) throw geo::InputError("variant must be tutte, floater, stretch, density, uniform3d or curvature");
-            size = passes::geometry_image_size(size, mesh.vertex_count());
+            size = passes::geometry_image_size(size, input.vertex_count());
+            std::optional<passes::DiskCut> disk;
             passes::Parameterization map;
             passes::PositionImage image;
             geo::Mesh back;
             {
                 py::gil_scoped_release release;
                 Context* ctx = device ? &device->context() : nullptr;
+                if (cut) disk = passes::cut_to_disk(ctx, input);
+                const geo::Mesh& mesh = disk ? disk->disk : input;
                 passes::ParameterizeOptions options{.variant = *v, .max_iterations = iterations};
                 if (select) options.select_size = size;
                 map = passes::parameterize_square(ctx, mesh, options);
@@ -57,14 +61,30 @@ void bind_surface_maps(py::module_& m) {
             d["faces"] = faces_array(back.triangles);
             d["iterations"] = map.iterations.size() - 1;
             d["selected_iteration"] = map.selected;
-            d["flipped"] = passes::count_flipped(mesh, map.uv);
+            d["flipped"] = passes::count_flipped(disk ? disk->disk : input, map.uv);
+            if (disk) {
+                // uv belongs to the opened mesh's vertices; source names the input vertex each copies
+                // (-1 for one added on an edge).
+                d["disk_positions"] = positions_array(disk->disk.positions);
+                d["disk_faces"] = faces_array(disk->disk.triangles);
+                py::array_t<std::int64_t> source(py::ssize_t(disk->source.size()));
+                auto s = source.mutable_unchecked<1>();
+                for (std::size_t i = 0; i < disk->source.size(); ++i)
+                    s(py::ssize_t(i)) = disk->source[i] == geo::kInvalidIndex ? -1 : std::int64_t(disk->source[i]);
+                d["source"] = source;
+                d["cut_edges"] = disk->cut_edges;
+                d["cut_paths"] = disk->paths;
+            }
             return d;
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 0,
-        py::arg("variant") = "curvature", py::arg("iterations") = 50, py::arg("select") = false,
+        py::arg("variant") = "curvature", py::arg("iterations") = 50, py::arg("select") = false, py::arg("cut") = false,
         "A disk mesh's square map and N x N geometry image (gimg gim); device None runs the CPU twins; select "
-        "returns the iterate whose image rebuilds the mesh best (gimg gim --select). Returns a dict: uv, image "
-        "(N x N x 3), covered, positions and faces of the reconstruction, iterations, selected_iteration, flipped");
+        "returns the iterate whose image rebuilds the mesh best (gimg gim --select); cut opens any mesh into a "
+        "disk first (gimg gim --cut). Returns a dict: uv, image (N x N x 3), covered, positions and faces of the "
+        "reconstruction, iterations, selected_iteration, flipped; with cut also disk_positions, disk_faces (the "
+        "opened mesh uv belongs to), source (the input vertex of each, -1 for one added on an edge), cut_edges, "
+        "cut_paths");
     m.def(
         "quadmap",
         [](Device* device, const Positions& positions, const Faces& faces, std::vector<std::uint32_t> corners,

@@ -11,15 +11,14 @@
 
 namespace gimg::passes {
 
-void check_disk_mesh(const geo::Mesh& mesh) {
+namespace {
+
+// One component, finite, manifold, oriented, without isolated vertices or faces of no area; refused
+// with `needs` and the reason otherwise.
+geo::MeshInfo check_one_surface(const geo::Mesh& mesh, const std::string& needs) {
     if (mesh.face_count() == 0) throw geo::InputError("the mesh has no faces to parameterize");
     const geo::MeshInfo info = geo::analyze_topology(mesh);
-    auto refuse = [](const std::string& why) {
-        throw geo::InputError(
-            "a square parameterization needs a disk (one component, manifold, oriented, one "
-            "boundary loop); " +
-            why);
-    };
+    auto refuse = [&](const std::string& why) { throw geo::InputError(needs + why); };
     if (info.nonfinite_vertices) refuse(std::to_string(info.nonfinite_vertices) + " vertices are not finite");
     if (info.components != 1) refuse("this mesh has " + std::to_string(info.components) + " components");
     if (info.isolated_vertices)
@@ -29,10 +28,26 @@ void check_disk_mesh(const geo::Mesh& mesh) {
                std::to_string(info.non_manifold_vertices) + " non-manifold vertices");
     if (info.degenerate_faces) refuse(std::to_string(info.degenerate_faces) + " faces have no area");
     if (!info.oriented) refuse(std::to_string(info.inconsistent_edges) + " edges join faces of opposite orientation");
-    if (info.boundary_loops == 0) refuse("this mesh is closed (cut it open to a disk first)");
+    return info;
+}
+
+}  // namespace
+
+void check_disk_mesh(const geo::Mesh& mesh) {
+    const std::string needs =
+        "a square parameterization needs a disk (one component, manifold, oriented, one boundary loop); ";
+    const geo::MeshInfo info = check_one_surface(mesh, needs);
+    if (info.boundary_loops == 0)
+        throw geo::InputError(needs + "this mesh is closed (cut it open to a disk first: --cut)");
     if (info.boundary_loops != 1)
-        refuse("this mesh has " + std::to_string(info.boundary_loops) + " boundary loops (fill the holes first)");
-    if (info.boundary_edges < 4) refuse("its boundary has fewer than 4 vertices, one for each corner of the square");
+        throw geo::InputError(needs + "this mesh has " + std::to_string(info.boundary_loops) +
+                              " boundary loops (fill the holes, or cut them open into one: --cut)");
+    if (info.boundary_edges < 4)
+        throw geo::InputError(needs + "its boundary has fewer than 4 vertices, one for each corner of the square");
+}
+
+void check_cuttable_mesh(const geo::Mesh& mesh) {
+    check_one_surface(mesh, "cutting a mesh open to a disk needs one component, manifold and oriented; ");
 }
 
 namespace {

@@ -132,18 +132,21 @@ double l2_stretch(const std::vector<double>& stretch_squared, const std::vector<
     return std::sqrt(sum / area);
 }
 
-double reweigh_by_stretch(const ReweightingInput& in, const std::vector<double>& stretch_squared,
-                          std::vector<double>& weights) {
-    const geo::MeshAdjacency& adj = *in.adjacency;
-    // Vertex stretch: the 3D-area-weighted root mean square of its faces' stretch.
+std::vector<double> vertex_stretch(const geo::MeshAdjacency& adj, const std::vector<double>& stretch_squared,
+                                   const std::vector<double>& face_area_3d) {
     std::vector<double> vertex(adj.vertex_count(), 0.0);
     for (std::size_t v = 0; v < vertex.size(); ++v) {
         double sum = 0.0, area = 0.0;
         for (std::uint32_t f : adj.faces_of_vertex(v))
-            if (!std::isnan(stretch_squared[f]))
-                sum += in.face_area_3d[f] * stretch_squared[f], area += in.face_area_3d[f];
+            if (!std::isnan(stretch_squared[f])) sum += face_area_3d[f] * stretch_squared[f], area += face_area_3d[f];
         vertex[v] = area > 0.0 ? std::sqrt(sum / area) : 1.0;
     }
+    return vertex;
+}
+
+double reweigh_by_stretch(const ReweightingInput& in, const std::vector<double>& stretch_squared,
+                          std::vector<double>& weights) {
+    const std::vector<double> vertex = vertex_stretch(*in.adjacency, stretch_squared, in.face_area_3d);
     return reweigh_rows(in, weights, [&](std::size_t i, std::uint32_t j, double& w) {
         w /= vertex[j];
         const double factor = vertex[i] / vertex[j];

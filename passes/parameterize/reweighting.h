@@ -38,6 +38,9 @@ double reweigh_by_density(const ReweightingInput& in, const std::vector<double>&
 std::vector<double> face_stretch_squared(const geo::Mesh& mesh, const std::vector<glm::dvec2>& uv,
                                          const std::vector<double>& face_area_3d);
 double l2_stretch(const std::vector<double>& stretch_squared, const std::vector<double>& face_area_3d);
+// Per vertex, its L2 stretch: the 3D-area-weighted root mean square of its faces' (1 where none counts).
+std::vector<double> vertex_stretch(const geo::MeshAdjacency& adj, const std::vector<double>& stretch_squared,
+                                   const std::vector<double>& face_area_3d);
 // Yoshizawa et al.: w_ij /= sigma(v_j), sigma(v) the vertex's L2 stretch. Returns the mean of
 // |sigma(v_i) / sigma(v_j) - 1|^2 over the directed edges of interior rows.
 double reweigh_by_stretch(const ReweightingInput& in, const std::vector<double>& stretch_squared,

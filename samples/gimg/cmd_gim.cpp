@@ -16,6 +16,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 namespace gimg::cli {
 
@@ -25,9 +26,9 @@ struct GimOptions {
     std::string mesh, out, json, view, variant = "curvature";
     std::vector<std::uint32_t> corners;
     std::uint32_t size = 0, picture = 640;
-    std::uint64_t iterations = 50, samples = 0;
+    std::uint64_t iterations = 50, samples = 0, cut_paths = 8;
     double root = 6.0, stop = 0.01;
-    bool cpu = false, factors_on_ratio = false, select = false;
+    bool cpu = false, factors_on_ratio = false, select = false, cut = false;
 };
 
 nlohmann::json iteration_json(const passes::IterationReport& r) {
@@ -40,9 +41,12 @@ nlohmann::json iteration_json(const passes::IterationReport& r) {
 
 void run_gim(const GimOptions& o, const GlobalOptions& global) {
     passes::geometry_image_size(o.size, 4);  // refuses 1 before the mesh is read
-    const geo::Mesh mesh = geo::load_mesh(o.mesh);
-    passes::check_disk_mesh(mesh);
-    const std::uint32_t size = passes::geometry_image_size(o.size, mesh.vertex_count());
+    const geo::Mesh input = geo::load_mesh(o.mesh);
+    if (o.cut)
+        passes::check_cuttable_mesh(input);
+    else
+        passes::check_disk_mesh(input);
+    const std::uint32_t size = passes::geometry_image_size(o.size, input.vertex_count());
     passes::ParameterizeOptions po;
     po.variant = *passes::parse_variant(o.variant);
     po.max_iterations = o.iterations;
@@ -51,10 +55,30 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     po.boundary_factors_on_ratio = o.factors_on_ratio;
     if (o.select) po.select_size = size;
     if (!o.corners.empty()) {
+        if (o.cut)
+            throw geo::InputError("--corners and --cut: the cut makes the boundary, so it has no corners to name");
         if (o.corners.size() != 4) throw geo::InputError("--corners takes four boundary vertex indices");
         po.corners = std::array<std::uint32_t, 4>{o.corners[0], o.corners[1], o.corners[2], o.corners[3]};
     }
     std::shared_ptr<Context> ctx = open_context(global);  // the pictures need it even with --cpu
+    if (!global.quiet)
+        std::printf("%s: %zu vertices, %zu faces; %s map on the %s\n", o.mesh.c_str(), input.vertex_count(),
+                    input.face_count(), o.variant.c_str(), o.cpu ? "CPU" : "GPU");
+    std::optional<passes::DiskCut> cut;
+    double cut_seconds = 0.0;
+    if (o.cut) {
+        cut_seconds =
+            1e-3 * time_ms([&] {
+                cut = passes::cut_to_disk(o.cpu ? nullptr : ctx.get(), input, {.max_paths = std::size_t(o.cut_paths)});
+            });
+        if (!global.quiet)
+            std::printf(
+                "cut: %zu edges (%.3f diagonals long), %zu stretch paths kept; Floater's L2 stretch %.4f -> "
+                "%.4f; the disk has %zu vertices (%.2f s)\n",
+                cut->cut_edges, cut->cut_length / input.bounds().diagonal(), cut->paths, cut->l2_stretch.front(),
+                cut->l2_stretch[cut->paths], cut->disk.vertex_count(), cut_seconds);
+    }
+    const geo::Mesh& mesh = cut ? cut->disk : input;  // what the map takes
     auto report = [&](const passes::IterationReport& r) {
         if (global.quiet) return;
         std::printf(
@@ -64,9 +88,6 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
         if (o.select) std::printf(", image RMS %.3e", r.image_rms);
         std::printf("\n");
     };
-    if (!global.quiet)
-        std::printf("%s: %zu vertices, %zu faces; %s map on the %s\n", o.mesh.c_str(), mesh.vertex_count(),
-                    mesh.face_count(), o.variant.c_str(), o.cpu ? "CPU" : "GPU");
     const passes::Parameterization map = passes::parameterize_square(o.cpu ? nullptr : ctx.get(), mesh, po, report);
 
     passes::PositionImage image;
@@ -91,7 +112,7 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     passes::RenderOptions view;
     view.width = view.height = o.picture;
     view.view = parse_view(o.view);
-    geo::RgbaImage picture = passes::render_side_by_side(*ctx, mesh, back, view);
+    geo::RgbaImage picture = passes::render_side_by_side(*ctx, input, back, view);
     check_picture_shows_something(picture, o.mesh);
     for (std::size_t i = 3; i < picture.pixels.size(); i += 4) picture.pixels[i] = 255;
     geo::write_png(picture, dir / "compare.png");
@@ -100,7 +121,7 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     if (o.samples) so.sampling.sample_count = o.samples;
     ProgressLine line(global.quiet);
     if (line.on()) so.progress = [&line](double done) { line.percent("surface distance", done); };
-    const GimError e = gim_error(mesh, back, so);
+    const GimError e = gim_error(input, back, so);
     line.finish();
     std::size_t covered = 0;
     for (auto c : image.covered) covered += c;
@@ -121,8 +142,8 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     nlohmann::json iterations = nlohmann::json::array();
     for (const auto& r : map.iterations) iterations.push_back(iteration_json(r));
     nlohmann::json j{{"mesh", o.mesh},
-                     {"vertices", mesh.vertex_count()},
-                     {"faces", mesh.face_count()},
+                     {"vertices", input.vertex_count()},
+                     {"faces", input.face_count()},
                      {"variant", o.variant},
                      {"method", o.cpu ? "cpu" : "gpu"},
                      {"size", size},
@@ -140,6 +161,14 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                      {"reconstruct_ms", reconstruct_ms},
                      {"reconstruction_faces", back.face_count()},
                      {"error", gim_error_json(e)}};
+    if (cut)
+        j["cut"] = {{"edges", cut->cut_edges},
+                    {"length", cut->cut_length / input.bounds().diagonal()},
+                    {"paths", cut->paths},
+                    {"l2_stretch", cut->l2_stretch},
+                    {"split_edges", cut->split_edges},
+                    {"disk_vertices", cut->disk.vertex_count()},
+                    {"seconds", cut_seconds}};
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);
 }
@@ -149,7 +178,8 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
 void add_gim_command(CLI::App& app, const GlobalOptions& global) {
     auto o = std::make_shared<GimOptions>();
     auto* cmd = app.add_subcommand("gim", "Disk mesh -> square parameterization -> geometry image -> mesh, measured");
-    cmd->add_option("mesh", o->mesh, "Input mesh: one component, manifold, one boundary loop")->required();
+    cmd->add_option("mesh", o->mesh, "Input mesh: one component, manifold, one boundary loop (any, with --cut)")
+        ->required();
     cmd->add_option("--out", o->out, "Output folder (gim.exr, reconstruction.ply, param.obj, param.png, compare.png)")
         ->required();
     add_count_option(cmd, "--size", o->size, 0, 16384, "Image size N (N x N; 0, the default: round(sqrt(vertices)))");
@@ -174,6 +204,11 @@ void add_gim_command(CLI::App& app, const GlobalOptions& global) {
     cmd->add_flag("--select", o->select,
                   "Return the iterate whose N x N image rebuilds the mesh best (measured on the CPU, 50,000 "
                   "samples each way), not the last");
+    cmd->add_flag("--cut", o->cut,
+                  "Cut the mesh open into a disk first (any genus, any number of holes): Gu et al.'s cut graph or "
+                  "a seam, and paths toward the stretch of Floater's map");
+    add_count_option(cmd, "--cut-paths", o->cut_paths, 0, 1000,
+                     "With --cut: most paths added toward the stretch (default 8)");
     cmd->add_flag("--cpu", o->cpu, "Solve and sample with the CPU twins instead of the GPU");
     add_count_option(cmd, "--samples", o->samples, 1, 100'000'000,
                      "Surface samples per mesh for the distance (default max(1M, 10 per face))");

@@ -130,6 +130,19 @@ def test_bad_arrays_raise_value_error(positions, faces, message):
         gimg.info(np.asarray(positions, dtype=float), np.asarray(faces))
 
 
+def test_gim_cuts_a_closed_mesh_open_as_the_command_line_does(device, tmp_path):
+    positions, faces = gimg.load_mesh(TETRA)
+    result = gimg.gim(device, positions, faces, cut=True)
+    cli = cli_json("gim", TETRA, "--cut", "--out", str(tmp_path / "gim"))
+    assert (result["cut_edges"], result["cut_paths"]) == (cli["cut"]["edges"], cli["cut"]["paths"])
+    assert len(result["disk_positions"]) == len(result["uv"]) == cli["cut"]["disk_vertices"]
+    assert result["flipped"] == cli["flipped"] == 0
+    copied = result["source"] >= 0
+    assert np.array_equal(result["disk_positions"][copied], positions[result["source"][copied]])
+    v, vt = obj_vertices(tmp_path / "gim" / "param.obj")  # the opened mesh and its map
+    assert np.array_equal(vt, result["uv"])
+
+
 def test_refusals_and_the_device_error_type(device):
     positions, faces = gimg.load_mesh(TETRA)
     with pytest.raises(ValueError, match="this mesh is closed"):

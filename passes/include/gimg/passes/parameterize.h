@@ -62,6 +62,37 @@ std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjace
 std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
                                     const std::vector<std::uint8_t>& interior, std::size_t* fallbacks = nullptr);
 
+// Throws geo::InputError with the reason unless the mesh is one component, manifold and oriented
+// (any genus, any number of boundary loops), as cut_to_disk needs.
+void check_cuttable_mesh(const geo::Mesh& mesh);
+
+// A surface cut open into a disk for the square map (Gu, Gortler and Hoppe, "Geometry images",
+// SIGGRAPH 2002, sec. 3; geo::initial_cut and docs/gim.md): the initial cut graph, or on a closed
+// genus-0 surface a seam between two far vertices, then `max_paths` paths, each from the vertex of
+// largest L2 stretch in Floater's map of the surface opened so far to the cut. Of the cuts with the
+// first k paths the one kept has the fewest turned triangles in its map, then the least L2 stretch;
+// a path must lower it by `stop_fall` to count.
+struct DiskCutOptions {
+    std::size_t max_paths = 8;
+    double stop_fall = 0.01;
+};
+struct DiskCut {
+    geo::Mesh disk;  // the mesh opened along the cut: one boundary loop
+    // disk vertex -> the mesh's vertex it copies; kInvalidIndex for a vertex added at the midpoint of
+    // an edge joining two boundary vertices (geo::split_dividing_edges)
+    std::vector<std::uint32_t> source;
+    std::size_t split_edges = 0;
+    std::size_t cut_edges = 0;  // the mesh's edges on the cut (each two boundary edges of the disk)
+    double cut_length = 0.0;    // their summed length
+    std::size_t paths = 0;      // stretch paths kept: the first `paths` of those tried
+    // Floater's map's L2 stretch: of the initial cut, then with each path tried (infinite where a
+    // triangle turned over)
+    std::vector<double> l2_stretch;
+};
+// Floater's maps on the GPU, or with ctx == nullptr the CPU twin. Throws geo::InputError for a mesh
+// check_cuttable_mesh refuses.
+DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& options = {});
+
 enum class ParameterizeVariant { Tutte, Floater, Stretch, Density, Uniform3d, Curvature };
 const char* variant_name(ParameterizeVariant variant);  // "tutte", "floater", ...
 std::optional<ParameterizeVariant> parse_variant(const std::string& name);

@@ -1,0 +1,108 @@
+// Surfaces cut open for the square map (cut_to_disk): a sphere, a torus and an annulus become disks
+// whose maps turn no triangle and whose geometry images keep the shape; the paths lower the
+// stretch they are chosen by; the GPU's maps choose the cut the CPU twin's do.
+#include "gpu_test.h"
+#include "test_data.h"
+
+#include "gimg/geometry/error.h"
+#include "gimg/geometry/io.h"
+#include "gimg/geometry/shapes.h"
+#include "gimg/geometry/topology.h"
+#include "gimg/passes/parameterize.h"
+
+#include <cmath>
+
+using namespace gimg;
+
+namespace {
+
+class DiskCutMap : public gimg::test::GpuTest {};
+
+geo::Mesh annulus() {
+    geo::Mesh m = geo::make_grid(7, 7);  // without its middle cell
+    std::erase_if(m.triangles, [&](const glm::uvec3& t) {
+        const glm::dvec3 c = (m.positions[t.x] + m.positions[t.y] + m.positions[t.z]) / 3.0;
+        return std::abs(c.x - 0.5) < 0.07 && std::abs(c.y - 0.5) < 0.07;
+    });
+    m.texcoords.clear();
+    return m;
+}
+
+// The cut is a disk the square map takes, its map turns nothing, and the stretch series is what
+// `paths` says: the kept cut's map is the first of the least stretch.
+void expect_usable_cut(const geo::Mesh& mesh, const passes::DiskCut& cut, const char* what) {
+    EXPECT_NO_THROW(passes::check_disk_mesh(cut.disk)) << what;
+    EXPECT_EQ(cut.disk.face_count(), mesh.face_count() + 2 * cut.split_edges) << what;
+    ASSERT_EQ(cut.source.size(), cut.disk.vertex_count()) << what;
+    for (std::size_t v = 0; v < cut.source.size(); ++v)
+        if (cut.source[v] != geo::kInvalidIndex) {
+            EXPECT_EQ(cut.disk.positions[v], mesh.positions[cut.source[v]]);
+        }
+    ASSERT_LT(cut.paths, cut.l2_stretch.size()) << what;
+    for (std::size_t k = 0; k < cut.l2_stretch.size(); ++k)
+        if (k != cut.paths) {
+            EXPECT_GE(cut.l2_stretch[k], 0.99 * cut.l2_stretch[cut.paths]) << what << " path " << k;
+        }
+    const passes::Parameterization map = passes::parameterize_square(nullptr, cut.disk);
+    for (const auto& r : map.iterations) EXPECT_EQ(r.flipped, 0u) << what << " iteration " << r.iteration;
+}
+
+}  // namespace
+
+TEST_F(DiskCutMap, ASphereOpensIntoADiskWhoseImageKeepsTheSphere) {
+    const geo::Mesh sphere = geo::make_icosphere(1.0, 3);
+    const passes::DiskCut gpu = passes::cut_to_disk(&ctx(), sphere);
+    const passes::DiskCut cpu = passes::cut_to_disk(nullptr, sphere);
+    expect_usable_cut(sphere, cpu, "sphere");
+    // The GPU's Floater maps agree with the CPU twin's to the solver's tolerance: the same cut.
+    EXPECT_EQ(gpu.cut_edges, cpu.cut_edges);
+    EXPECT_EQ(gpu.paths, cpu.paths);
+    ASSERT_EQ(gpu.l2_stretch.size(), cpu.l2_stretch.size());
+    for (std::size_t k = 0; k < cpu.l2_stretch.size(); ++k)
+        EXPECT_NEAR(gpu.l2_stretch[k], cpu.l2_stretch[k], 1e-6 * cpu.l2_stretch[k]);
+    EXPECT_EQ(gpu.disk.triangles, cpu.disk.triangles);
+    // Its 33 x 33 image rebuilds the sphere: the seam's two sides sampled, no region crushed away.
+    const passes::Parameterization map = passes::parameterize_square(nullptr, cpu.disk);
+    EXPECT_EQ(passes::count_flipped(cpu.disk, map.uv), 0u);
+    EXPECT_LT(passes::geometry_image_rms(cpu.disk, map.uv, 33, 20'000), 2e-3);  // 8.6e-4 when written
+}
+
+TEST(DiskCutMapCpu, ATorusAndAnAnnulusOpenIntoDisks) {
+    const geo::Mesh torus = geo::make_torus(2.0, 0.6, 32, 12);
+    expect_usable_cut(torus, passes::cut_to_disk(nullptr, torus), "torus");
+    const geo::Mesh ring = annulus();
+    ASSERT_EQ(geo::analyze_topology(ring).boundary_loops, 2u);
+    expect_usable_cut(ring, passes::cut_to_disk(nullptr, ring), "annulus");
+}
+
+TEST(DiskCutMapCpu, PathsFreeTheCamelsLegs) {
+    GIMG_REQUIRE_SHARED_MESH(path, "camel.off");
+    const geo::Mesh camel = geo::load_mesh(path);
+    const passes::DiskCut cut = passes::cut_to_disk(nullptr, camel);
+    expect_usable_cut(camel, cut, "camel");
+    // A seam from one far point to another leaves the other legs crushed; paths out to them undo it.
+    EXPECT_GE(cut.paths, 2u);
+    EXPECT_LT(cut.l2_stretch[cut.paths], 1e-3 * cut.l2_stretch.front());
+}
+
+TEST(DiskCutMapCpu, RefusesWhatNoCutMakesADisk) {
+    auto refusal = [](const geo::Mesh& m) {
+        try {
+            passes::cut_to_disk(nullptr, m);
+        } catch (const geo::InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("accepted");
+    };
+    geo::Mesh two = geo::make_icosphere(1.0, 1);
+    const geo::Mesh other = geo::make_icosphere(1.0, 1, {3, 0, 0});
+    const auto offset = std::uint32_t(two.positions.size());
+    for (auto p : other.positions) two.positions.push_back(p);
+    for (auto t : other.triangles) two.triangles.push_back(t + offset);
+    EXPECT_NE(refusal(two).find("2 components"), std::string::npos) << refusal(two);
+    geo::Mesh fin = geo::make_icosphere(1.0, 1);  // a third face on one edge
+    const glm::uvec3 t = fin.triangles[0];
+    fin.positions.push_back({2, 2, 2});
+    fin.triangles.push_back({t.x, t.y, std::uint32_t(fin.positions.size() - 1)});
+    EXPECT_NE(refusal(fin).find("non-manifold"), std::string::npos) << refusal(fin);
+}
