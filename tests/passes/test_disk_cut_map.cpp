@@ -45,6 +45,13 @@ void expect_usable_cut(const geo::Mesh& mesh, const passes::DiskCut& cut, const 
         }
     const passes::Parameterization map = passes::parameterize_square(nullptr, cut.disk);
     for (const auto& r : map.iterations) EXPECT_EQ(r.flipped, 0u) << what << " iteration " << r.iteration;
+    // No face left flat on a side of the square, where no pixel would sample it.
+    std::size_t flat = 0;
+    for (const glm::uvec3& t : cut.disk.triangles) {
+        const glm::dvec2 a = map.uv[t.x], b = map.uv[t.y], c = map.uv[t.z];
+        flat += !((b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y) > 0.0);
+    }
+    EXPECT_EQ(flat, 0u) << what;
 }
 
 }  // namespace
