@@ -106,6 +106,8 @@ check() {
   # on the H200 against ~45 ms on lavapipe) is round trips, the device's work or the host's.
   step gim 90 "$gimg" bench gim --mesh "$m/mannequin_devil.off" --size 0 --samples 100000 --no-cpu \
     --json "$out/bench-gim.json"
+  # A closed mesh cut open: the cut's nine Floater maps and the curvature map, each many small solves.
+  step gim-cut 45 "$gimg" gim "$m/camel.off" --cut --samples 100000 --out "$work/gim-cut" --json "$out/gim-cut-camel.json"
   step retrieval 60 "$gimg" bench retrieval --models 2000 --json "$out/bench-retrieval.json"
   step polycube-gpu 45 "$gimg" polycube "$m/elk.off" --axis z --out "$work/polycube-gpu" --json "$out/polycube-elk-gpu.json"
   step polycube-cpu 45 "$gimg" polycube "$m/elk.off" --axis z --cpu --out "$work/polycube-cpu" --json "$out/polycube-elk-cpu.json"
