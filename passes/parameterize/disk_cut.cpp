@@ -97,9 +97,10 @@ DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& o
     }
     cut = std::move(best_cut);
     if (best.flipped)
-        throw geo::InputError("cutting the mesh open left a disk that Floater's map still crushes below rounding (" +
-                              std::to_string(best.flipped) + " triangles turned over in the best of " +
-                              std::to_string(out.l2_stretch.size()) + " cuts tried; more --cut-paths may help)");
+        throw geo::InputError("cutting the mesh open: the best of " + std::to_string(out.l2_stretch.size()) +
+                              " cuts tried still turns " + std::to_string(best.flipped) +
+                              " triangles over in Floater's map (parts crushed below rounding, which more "
+                              "--cut-paths can free, or closed in by the cut against one side of the square)");
     out.disk = std::move(best.mesh.disk);
     out.source = std::move(best.mesh.source);
     out.split_edges = best.split_edges;
