@@ -28,6 +28,7 @@ void bind_surface_maps(py::module_& m) {
             if (!v) throw geo::InputError("variant must be tutte, floater, stretch, density, uniform3d or curvature");
             size = passes::geometry_image_size(size, input.vertex_count());
             std::optional<passes::DiskCut> disk;
+            std::optional<passes::SeamBoundary> seam;  // both sides of the cut sampled alike, then joined
             passes::Parameterization map;
             passes::PositionImage image;
             geo::Mesh back;
@@ -35,13 +36,17 @@ void bind_surface_maps(py::module_& m) {
                 py::gil_scoped_release release;
                 Context* ctx = device ? &device->context() : nullptr;
                 if (cut) disk = passes::cut_to_disk(ctx, input);
+                if (disk) seam = passes::seam_boundary(*disk, size);
                 const geo::Mesh& mesh = disk ? disk->disk : input;
                 passes::ParameterizeOptions options{.variant = *v, .max_iterations = iterations};
                 if (select) options.select_size = size;
+                if (seam) options.boundary = seam->boundary;
                 map = passes::parameterize_square(ctx, mesh, options);
                 image = ctx ? passes::geometry_image_gpu(*ctx, mesh, map.uv, size)
                             : passes::geometry_image_cpu(mesh, map.uv, size);
+                if (seam) passes::join_seam(image, seam->mate);
                 back = ctx ? passes::reconstruct_gpu(*ctx, image) : passes::reconstruct_cpu(image);
+                if (seam) passes::close_seam(back);
             }
             py::array_t<float> xyz({py::ssize_t(size), py::ssize_t(size), py::ssize_t(3)});
             py::array_t<bool> covered({py::ssize_t(size), py::ssize_t(size)});
@@ -74,6 +79,7 @@ void bind_surface_maps(py::module_& m) {
                 d["source"] = source;
                 d["cut_edges"] = disk->cut_edges;
                 d["cut_paths"] = disk->paths;
+                d["seam_joined"] = seam.has_value();
             }
             return d;
         },
@@ -84,7 +90,7 @@ void bind_surface_maps(py::module_& m) {
         "disk first (gimg gim --cut). Returns a dict: uv, image (N x N x 3), covered, positions and faces of the "
         "reconstruction, iterations, selected_iteration, flipped; with cut also disk_positions, disk_faces (the "
         "opened mesh uv belongs to), source (the input vertex of each, -1 for one added on an edge), cut_edges, "
-        "cut_paths");
+        "cut_paths, seam_joined (the image's border pairs joined and the reconstruction closed over the seam)");
     m.def(
         "quadmap",
         [](Device* device, const Positions& positions, const Faces& faces, std::vector<std::uint32_t> corners,

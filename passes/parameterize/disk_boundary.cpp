@@ -2,6 +2,7 @@
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/topology.h"
 #include "gimg/passes/parameterize.h"
+#include "parameterize/boundary_turning.h"
 
 #include <glm/geometric.hpp>
 
@@ -145,8 +146,7 @@ std::array<std::uint32_t, 4> default_corners(const geo::Mesh& mesh, const geo::M
     const std::size_t n = loop.size();
     const double total = arc[n];
     std::array<std::size_t, 4> at{0, 0, 0, 0};
-    std::vector<double> turn(n);
-    for (std::size_t i = 0; i < n; ++i) turn[i] = turning(mesh, loop, arc, i, total / 32.0);
+    const std::vector<double> turn = detail::boundary_turning(mesh, loop);
     double start = 0.0, most = -1.0;
     for (std::size_t s = 0; s < n; ++s) {
         std::array<std::size_t, 4> candidate{};
@@ -174,6 +174,16 @@ std::array<std::uint32_t, 4> default_corners(const geo::Mesh& mesh, const geo::M
 }
 
 }  // namespace
+
+std::vector<double> detail::boundary_turning(const geo::Mesh& mesh, const std::vector<std::uint32_t>& loop) {
+    const std::size_t n = loop.size();
+    std::vector<double> arc(n + 1, 0.0);
+    for (std::size_t i = 0; i < n; ++i)
+        arc[i + 1] = arc[i] + glm::distance(mesh.positions[loop[i]], mesh.positions[loop[(i + 1) % n]]);
+    std::vector<double> turn(n);
+    for (std::size_t i = 0; i < n; ++i) turn[i] = turning(mesh, loop, arc, i, arc[n] / 32.0);
+    return turn;
+}
 
 SquareBoundary square_boundary(const geo::Mesh& mesh, const geo::MeshAdjacency& adjacency,
                                const std::optional<std::array<std::uint32_t, 4>>& corners) {

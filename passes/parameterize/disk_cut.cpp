@@ -104,6 +104,10 @@ DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& o
     out.disk = std::move(best.mesh.disk);
     out.source = std::move(best.mesh.source);
     out.split_edges = best.split_edges;
+    out.cut_degree.assign(mesh.vertex_count(), 0);
+    for (std::size_t e = 0; e < cut.size(); ++e)
+        if (cut[e] || adj.edge_face_count(e) == 1)
+            ++out.cut_degree[adj.edges[2 * e]], ++out.cut_degree[adj.edges[2 * e + 1]];
     for (std::size_t e = 0; e < cut.size(); ++e)
         if (cut[e]) {
             ++out.cut_edges;

@@ -48,7 +48,9 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
     check_disk_mesh(mesh);
     const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
     Parameterization out;
-    out.boundary = square_boundary(mesh, adj, options.corners);
+    out.boundary = options.boundary ? *options.boundary : square_boundary(mesh, adj, options.corners);
+    for (std::uint32_t v : out.boundary.loop)
+        if (v >= mesh.vertex_count()) throw geo::InputError("the given boundary names a vertex the mesh lacks");
     const std::size_t n = mesh.vertex_count();
 
     detail::ReweightingInput in;

@@ -78,6 +78,12 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                 cut->cut_edges, cut->cut_length / input.bounds().diagonal(), cut->paths, cut->l2_stretch.front(),
                 cut->l2_stretch[cut->paths], cut->disk.vertex_count(), cut_seconds);
     }
+    // Both sides of every cut path sampled alike, so the reconstruction closes over the seam.
+    std::optional<passes::SeamBoundary> seam;
+    if (cut) {
+        seam = passes::seam_boundary(*cut, size);
+        if (seam) po.boundary = seam->boundary;
+    }
     const geo::Mesh& mesh = cut ? cut->disk : input;  // what the map takes
     auto report = [&](const passes::IterationReport& r) {
         if (global.quiet) return;
@@ -96,8 +102,11 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
         image = o.cpu ? passes::geometry_image_cpu(mesh, map.uv, size)
                       : passes::geometry_image_gpu(*ctx, mesh, map.uv, size);
     });
+    std::size_t joined_pixels = 0, merged_vertices = 0;
+    if (seam) joined_pixels = passes::join_seam(image, seam->mate);
     const double reconstruct_ms =
         time_ms([&] { back = o.cpu ? passes::reconstruct_cpu(image, {}) : passes::reconstruct_gpu(*ctx, image, {}); });
+    if (seam) merged_vertices = passes::close_seam(back);
     if (back.face_count() == 0) throw geo::InputError(o.mesh + ": the geometry image rebuilds no face");
     const std::filesystem::path dir(o.out);
     passes::write_position_exr(image, dir / "gim.exr");
@@ -167,6 +176,9 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                     {"paths", cut->paths},
                     {"l2_stretch", cut->l2_stretch},
                     {"split_edges", cut->split_edges},
+                    {"seam_joined", seam.has_value()},
+                    {"joined_pixels", joined_pixels},
+                    {"merged_vertices", merged_vertices},
                     {"disk_vertices", cut->disk.vertex_count()},
                     {"seconds", cut_seconds}};
     add_machine_figures(j, ctx.get());

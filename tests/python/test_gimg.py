@@ -132,9 +132,11 @@ def test_bad_arrays_raise_value_error(positions, faces, message):
 
 def test_gim_cuts_a_closed_mesh_open_as_the_command_line_does(device, tmp_path):
     positions, faces = gimg.load_mesh(TETRA)
-    result = gimg.gim(device, positions, faces, cut=True)
-    cli = cli_json("gim", TETRA, "--cut", "--out", str(tmp_path / "gim"))
+    result = gimg.gim(device, positions, faces, size=5, cut=True)
+    cli = cli_json("gim", TETRA, "--cut", "--size", "5", "--out", str(tmp_path / "gim"))
     assert (result["cut_edges"], result["cut_paths"]) == (cli["cut"]["edges"], cli["cut"]["paths"])
+    assert result["seam_joined"] and cli["cut"]["seam_joined"]
+    assert len(result["faces"]) == cli["reconstruction_faces"]
     assert len(result["disk_positions"]) == len(result["uv"]) == cli["cut"]["disk_vertices"]
     assert result["flipped"] == cli["flipped"] == 0
     copied = result["source"] >= 0

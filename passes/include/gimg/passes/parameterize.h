@@ -85,6 +85,9 @@ struct DiskCut {
     std::size_t cut_edges = 0;  // the mesh's edges on the cut (each two boundary edges of the disk)
     double cut_length = 0.0;    // their summed length
     std::size_t paths = 0;      // stretch paths kept: the first `paths` of those tried
+    // Per input vertex, its cut edges plus its boundary edges: 2 along a cut path or a hole's rim,
+    // 1 at a path's end, 3 or more where paths meet.
+    std::vector<std::uint32_t> cut_degree;
     // Floater's map's L2 stretch: of the initial cut, then with each path tried (infinite where a
     // triangle turned over)
     std::vector<double> l2_stretch;
@@ -93,6 +96,32 @@ struct DiskCut {
 // check_cuttable_mesh refuses.
 DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& options = {});
 
+// The square's boundary for a cut surface that samples both sides of every cut path alike, so
+// that the image's border pixels come in pairs holding the same point and the reconstruction closes
+// over the seam (Gu, Gortler and Hoppe 2002, sec. 4): the boundary loop's nodes (copies of vertices
+// where paths end or meet, and where they meet a hole) go to whole pixel steps of the square's
+// perimeter, both sides of a path get the same number of steps in proportion to its length, the
+// vertices between by chord length; a vertex is added where a corner of the square falls inside a
+// boundary edge (cut.disk and cut.source grow). `mate` has a perimeter step per border pixel,
+// counter-clockwise from (0, 0), 4 (size - 1) in all: the step of the pixel sampling the same point
+// (itself on a hole's rim). std::nullopt where the loop has no node (nothing to join), for a size
+// under 4 (joined, no face would be left) or where the loop has more segments than the perimeter has
+// steps at this size.
+struct SeamBoundary {
+    SquareBoundary boundary;
+    std::vector<std::uint32_t> mate;
+};
+std::optional<SeamBoundary> seam_boundary(DiskCut& cut, std::uint32_t size);
+// Gives every border pixel of a size x size image of a map on seam_boundary the mean position of
+// its pixel and those joined with it through `mate`; returns the border pixels changed.
+std::size_t join_seam(PositionImage& image, const std::vector<std::uint32_t>& mate);
+// The mesh rebuilt from such an image, closed over the seam: its vertices at identical positions
+// (the joined border pixels) merged, faces left with a repeated vertex dropped, normals recomputed.
+// Returns the vertices merged away.
+std::size_t close_seam(geo::Mesh& reconstruction);
+// The border pixel of perimeter step s, as (column, row from the top).
+glm::uvec2 border_pixel(std::uint32_t step, std::uint32_t size);
+
 enum class ParameterizeVariant { Tutte, Floater, Stretch, Density, Uniform3d, Curvature };
 const char* variant_name(ParameterizeVariant variant);  // "tutte", "floater", ...
 std::optional<ParameterizeVariant> parse_variant(const std::string& name);
@@ -100,6 +129,7 @@ std::optional<ParameterizeVariant> parse_variant(const std::string& name);
 struct ParameterizeOptions {
     ParameterizeVariant variant = ParameterizeVariant::Curvature;
     std::optional<std::array<std::uint32_t, 4>> corners;  // boundary vertices for the square's corners
+    std::optional<SquareBoundary> boundary;               // the whole boundary's place (seam_boundary)
     std::size_t max_iterations = 50;
     // Stop when E_sigma (the mean of |sigma_ij - 1|^2 over the directed edges of interior rows)
     // falls by less than this fraction in one iteration; for `stretch`, when the L2 stretch does.
