@@ -71,18 +71,19 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
             1e-3 * time_ms([&] {
                 cut = passes::cut_to_disk(o.cpu ? nullptr : ctx.get(), input, {.max_paths = std::size_t(o.cut_paths)});
             });
-        if (!global.quiet)
-            std::printf(
-                "cut: %zu edges (%.3f diagonals long), %zu stretch paths kept; Floater's L2 stretch %.4f -> "
-                "%.4f; the disk has %zu vertices (%.2f s)\n",
-                cut->cut_edges, cut->cut_length / input.bounds().diagonal(), cut->paths, cut->l2_stretch.front(),
-                cut->l2_stretch[cut->paths], cut->disk.vertex_count(), cut_seconds);
     }
     // Both sides of every cut path sampled alike, so the reconstruction closes over the seam.
     std::optional<passes::SeamBoundary> seam;
     if (cut) {
         seam = passes::seam_boundary(*cut, size);
         if (seam) po.boundary = seam->boundary;
+        if (!global.quiet)
+            std::printf(
+                "cut: %zu edges (%.3f diagonals long), %zu stretch paths kept; Floater's L2 stretch %.4f -> "
+                "%.4f; the disk has %zu vertices (%.2f s); the seam %s\n",
+                cut->cut_edges, cut->cut_length / input.bounds().diagonal(), cut->paths, cut->l2_stretch.front(),
+                cut->l2_stretch[cut->paths], cut->disk.vertex_count(), cut_seconds,
+                seam ? "is joined" : "stays open");
     }
     const geo::Mesh& mesh = cut ? cut->disk : input;  // what the map takes
     auto report = [&](const passes::IterationReport& r) {
