@@ -13,7 +13,10 @@
 #include <ImfIO.h>
 
 #include <cstdint>
+#include <algorithm>
 #include <cstring>
+#include <filesystem>
+#include <mutex>
 #include <string>
 
 namespace gimg::geo {
@@ -65,11 +68,20 @@ void write_exr(const FloatImage& image, const std::filesystem::path& path) {
     write_file_atomically(path, encoded.bytes);
 }
 
+namespace {
+constexpr int kMaxSide = 65536;  // the widest and tallest image read
+}  // namespace
+
 FloatImage read_exr(const std::filesystem::path& path) {
     if (std::filesystem::is_directory(path))
         throw InputError("cannot read " + path.string() + ": is a folder, not an image");
     if (!std::filesystem::is_regular_file(path)) throw InputError("cannot read " + path.string() + ": no such file");
     try {
+        // OpenEXR sizes its line buffers from the header as the file opens: a 392-byte file claiming
+        // 16.7 million columns asks for 2.2 GB. Its own check refuses wider first (one limit for the
+        // whole process, which gimg's writes stay under).
+        static std::once_flag limit;
+        std::call_once(limit, [] { Imf::Header::setMaxImageSize(kMaxSide, kMaxSide); });
         Imf::InputFile file(path.c_str());
         const Imath::Box2i window = file.header().dataWindow();
         const Imath::Box2i display = file.header().displayWindow();
@@ -78,8 +90,18 @@ FloatImage read_exr(const std::filesystem::path& path) {
                              ": its data window does not cover its display window (gimg reads whole images)");
         FloatImage image;
         const long w = long(window.max.x) - window.min.x + 1, h = long(window.max.y) - window.min.y + 1;
-        if (w <= 0 || h <= 0 || w > 65536 || h > 65536)
+        if (w <= 0 || h <= 0 || w > kMaxSide || h > kMaxSide)
             throw InputError("cannot read " + path.string() + ": implausible size");
+        // Nor more pixels than its bytes can hold: deflate packs at most about 1,000 to 1.
+        std::size_t channels = 0;
+        for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it) ++channels;
+        const double claimed = double(w) * double(h) * double(channels) * sizeof(float);
+        const double bytes = double(std::filesystem::file_size(path));
+        if (claimed > std::max(64.0 * 1024 * 1024, 2048.0 * bytes))
+            throw InputError("cannot read " + path.string() + ": its header claims " + std::to_string(w) + " x " +
+                             std::to_string(h) + " pixels of " + std::to_string(channels) +
+                             (channels == 1 ? " channel" : " channels") + ", more than its " +
+                             std::to_string(std::size_t(bytes)) + " bytes can hold");
         image.width = std::uint32_t(w);
         image.height = std::uint32_t(h);
         Imf::FrameBuffer frame;

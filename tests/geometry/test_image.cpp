@@ -5,7 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <cstring>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 using namespace gimg::geo;
@@ -72,4 +75,44 @@ TEST(Exr, FloatChannelsRoundTripBitExactly) {
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("is a folder, not an image"), std::string::npos) << e.what();
     }
+}
+
+// A header claiming more than its file holds is refused by name before anything that large is made:
+// OpenEXR's line buffers past 65,536 columns (the fuzzer's 392-byte file claiming 16.7 million asked
+// for 2.2 GB), gimg's channels past what the bytes can hold.
+TEST(Exr, AHeaderClaimingMoreThanItsFileHoldsIsRefused) {
+    FloatImage img;
+    img.width = 7;
+    img.height = 5;
+    img.channels["d"].assign(35, 0.5f);
+    const auto path = gimg::test::output_dir("image") / "claims.exr";
+    write_exr(img, path);
+    std::ifstream in(path, std::ios::binary);
+    const std::string original((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    // Both windows' box2i (min x, min y, max x, max y, little-endian) made to claim max_x x max_y.
+    // `padding` zero bytes appended, so that OpenEXR finds a whole table of line offsets.
+    auto claiming = [&](std::int32_t max_x, std::int32_t max_y, std::size_t padding = 0) {
+        std::string bytes = original + std::string(padding, '\0');
+        for (const char* window : {"dataWindow", "displayWindow"}) {
+            const std::string key = std::string(window) + '\0' + "box2i" + '\0';
+            const std::size_t at = bytes.find(key);
+            EXPECT_NE(at, std::string::npos) << window;
+            if (at == std::string::npos) continue;
+            const std::int32_t box[4] = {0, 0, max_x, max_y};
+            std::memcpy(&bytes[at + key.size() + 4], box, sizeof box);  // after the attribute's size
+        }
+        const auto out = gimg::test::output_dir("image") / "claims_patched.exr";
+        std::ofstream(out, std::ios::binary) << bytes;
+        try {
+            read_exr(out);
+        } catch (const InputError& e) {
+            return std::string(e.what());
+        }
+        return std::string("read");
+    };
+    EXPECT_EQ(claiming(6, 4), "read");  // the patch itself leaves a good file good
+    EXPECT_NE(claiming(0x00ffff1f, 4).find("exceeds the maximum width"), std::string::npos) << claiming(0x00ffff1f, 4);
+    // 65,536 x 2,048 floats (512 MB) in 2 KB: OpenEXR opens it, gimg refuses before allocating.
+    const std::string big = claiming(65535, 2047, 2048);
+    EXPECT_NE(big.find("claims 65536 x 2048 pixels of 1 channel, more than its"), std::string::npos) << big;
 }
