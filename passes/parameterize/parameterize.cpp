@@ -49,6 +49,9 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
     const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
     Parameterization out;
     out.boundary = options.boundary ? *options.boundary : square_boundary(mesh, adj, options.corners);
+    if (out.boundary.uv.size() != out.boundary.loop.size())
+        throw geo::InputError("the given boundary has " + std::to_string(out.boundary.uv.size()) + " places for " +
+                              std::to_string(out.boundary.loop.size()) + " vertices");
     for (std::uint32_t v : out.boundary.loop)
         if (v >= mesh.vertex_count()) throw geo::InputError("the given boundary names a vertex the mesh lacks");
     const std::size_t n = mesh.vertex_count();

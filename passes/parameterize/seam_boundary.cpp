@@ -9,7 +9,9 @@
 #include <glm/geometric.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <map>
 #include <numeric>
 #include <unordered_map>
 
@@ -287,41 +289,31 @@ std::size_t close_seam(geo::Mesh& reconstruction) {
     // Where both sides of a path turn a corner of the square, each corner pixel's quad gives a
     // triangle of three border pixels, and joined they are one triangle twice, facing both ways, on
     // an edge of four faces: the pair goes.
-    std::unordered_map<std::uint64_t, std::vector<std::size_t>> by_corners;  // sorted corners -> faces
+    std::map<std::array<std::uint32_t, 3>, std::vector<std::size_t>> by_corners;  // sorted corners -> faces
     for (std::size_t f = 0; f < m.triangles.size(); ++f) {
-        glm::uvec3 t = m.triangles[f];
-        std::sort(&t[0], &t[0] + 3);
-        by_corners[(std::uint64_t(t[0]) * 2654435761u) ^ (std::uint64_t(t[1]) << 21) ^ (std::uint64_t(t[2]) << 42)]
-            .push_back(f);
+        std::array<std::uint32_t, 3> key{m.triangles[f].x, m.triangles[f].y, m.triangles[f].z};
+        std::sort(key.begin(), key.end());
+        by_corners[key].push_back(f);
     }
     std::vector<std::uint8_t> drop(m.triangles.size(), 0);
-    auto same = [&](std::size_t a, std::size_t b) {
-        glm::uvec3 x = m.triangles[a], y = m.triangles[b];
-        std::sort(&x[0], &x[0] + 3);
-        std::sort(&y[0], &y[0] + 3);
-        return x == y;
-    };
-    for (const auto& [key, faces] : by_corners)
-        for (std::size_t i = 0; i < faces.size(); ++i)
-            for (std::size_t j = i + 1; j < faces.size(); ++j)
-                if (!drop[faces[i]] && !drop[faces[j]] && same(faces[i], faces[j])) drop[faces[i]] = drop[faces[j]] = 1;
+    for (const auto& [corners, faces] : by_corners)
+        for (std::size_t i = 0; i + 1 < faces.size(); i += 2) drop[faces[i]] = drop[faces[i + 1]] = 1;
     std::vector<glm::uvec3> kept;
     for (std::size_t f = 0; f < m.triangles.size(); ++f)
         if (!drop[f]) kept.push_back(m.triangles[f]);
     m.triangles = std::move(kept);
     // Vertices left in no face (such a corner pixel) go.
+    std::vector<std::uint8_t> used(m.vertex_count(), 0);
+    for (const glm::uvec3& t : m.triangles) used[t.x] = used[t.y] = used[t.z] = 1;
     std::vector<std::uint32_t> index(m.vertex_count(), geo::kInvalidIndex);
-    for (const glm::uvec3& t : m.triangles)
-        for (int k = 0; k < 3; ++k) index[t[k]] = 0;
     std::uint32_t next = 0;
-    for (std::size_t v = 0; v < index.size(); ++v)
-        if (index[v] == 0) {
+    for (std::size_t v = 0; v < used.size(); ++v)
+        if (used[v]) {
             index[v] = next;
             m.positions[next++] = m.positions[v];
         }
     m.positions.resize(next);
-    for (glm::uvec3& t : m.triangles)
-        for (int k = 0; k < 3; ++k) t[k] = index[t[k]];
+    for (glm::uvec3& t : m.triangles) t = {index[t.x], index[t.y], index[t.z]};
     m.texcoords.clear();
     m.normals = geo::vertex_normals(m);
     return before - m.vertex_count();
