@@ -190,6 +190,8 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         out.selected = t;
     };
     for (std::size_t t = 1; t <= options.max_iterations; ++t) {
+        // A folded iterate (crushed below what its solve resolves) has no areas to reweight by.
+        if (out.iterations.back().flipped > 0) break;
         started = Clock::now();
         IterationReport report;
         report.iteration = t;
@@ -211,7 +213,7 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
                 best_stretch = report.l2_stretch;
                 keep(uv, t);
             }
-        } else {
+        } else if (report.flipped == 0 || out.iterations[out.selected].flipped > 0) {
             keep(uv, t);
         }
         if (options.variant == ParameterizeVariant::Stretch) {

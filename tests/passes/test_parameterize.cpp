@@ -334,6 +334,25 @@ TEST_F(Parameterize, StretchReweightingLowersTheL2Stretch) {
     EXPECT_GT(map.iterations[0].l2_stretch, 1.0);  // the Floater start stretches this surface
 }
 
+TEST(ParameterizeFolds, AFoldedIterateEndsTheRunInsteadOfBreakingTheReweighting) {
+    // Solved so loosely that Floater's map of a wavy 32 x 32 grid folds: its negative areas leave the
+    // density reweighting no weights ("a matrix entry is not finite" before the run stopped there).
+    geo::Mesh wavy = geo::make_grid(32, 32);
+    for (auto& p : wavy.positions) p.z = 0.3 * std::sin(6.0 * p.x) * std::cos(5.0 * p.y);
+    passes::ParameterizeOptions loose;
+    loose.variant = passes::ParameterizeVariant::Density;
+    loose.solve_tolerance = loose.iterate_tolerance = 0.5;
+    const passes::Parameterization map = passes::parameterize_square(nullptr, wavy, loose);
+    ASSERT_EQ(map.iterations.size(), 1u);
+    EXPECT_GT(map.iterations[0].flipped, 0u);
+    // Solved as by default, it folds nowhere and the run goes on.
+    passes::ParameterizeOptions tight;
+    tight.variant = passes::ParameterizeVariant::Density;
+    const passes::Parameterization good = passes::parameterize_square(nullptr, wavy, tight);
+    EXPECT_GT(good.iterations.size(), 2u);
+    for (const auto& r : good.iterations) EXPECT_EQ(r.flipped, 0u) << r.iteration;
+}
+
 TEST(ParameterizeCurvature, FlatIsOneAndABumpStandsOut) {
     const geo::Mesh flat = geo::make_grid(10, 10);
     for (double c : passes::curvature_feature(flat, geo::build_adjacency(flat))) EXPECT_EQ(c, 1.0);
