@@ -79,6 +79,7 @@ void bind_surface_maps(py::module_& m) {
                 d["source"] = source;
                 d["cut_edges"] = disk->cut_edges;
                 d["cut_paths"] = disk->paths;
+                d["cut_graph"] = geo::cut_graph_name(disk->graph);
                 d["seam_joined"] = seam.has_value();
             }
             return d;
@@ -90,7 +91,8 @@ void bind_surface_maps(py::module_& m) {
         "disk first (gimg gim --cut). Returns a dict: uv, image (N x N x 3), covered, positions and faces of the "
         "reconstruction, iterations, selected_iteration, flipped; with cut also disk_positions, disk_faces (the "
         "opened mesh uv belongs to), source (the input vertex of each, -1 for one added on an edge), cut_edges, "
-        "cut_paths, seam_joined (the image's border pairs joined and the reconstruction closed over the seam)");
+        "cut_paths, cut_graph (the initial cut graph kept: face tree or shortest loops), seam_joined (the image's "
+        "border pairs joined and the reconstruction closed over the seam)");
     m.def(
         "quadmap",
         [](Device* device, const Positions& positions, const Faces& faces, std::vector<std::uint32_t> corners,

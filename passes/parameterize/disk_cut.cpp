@@ -50,26 +50,19 @@ Opened open_and_map(Context* ctx, const geo::Mesh& mesh, const geo::MeshAdjacenc
     return o;
 }
 
-}  // namespace
+// A cut with the paths toward the stretch that serve it best: every path is tried; the cut kept is
+// the one of the first k paths whose map is best.
+struct Augmented {
+    std::vector<std::uint8_t> cut;
+    Opened opened;
+    std::size_t paths = 0;
+    std::vector<double> l2_stretch;  // of the start, then with each path tried
+};
 
-DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& options) {
-    check_cuttable_mesh(mesh);
-    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
-    std::vector<std::uint8_t> cut = geo::initial_cut(mesh, adj);
-    const auto on_cut = [&](const std::vector<std::uint8_t>& c) {
-        for (std::size_t e = 0; e < c.size(); ++e)
-            if (c[e] || adj.edge_face_count(e) == 1) return true;
-        return false;
-    };
-    // A closed genus-0 surface: the tree of faces crosses every edge it leaves.
-    if (!on_cut(cut)) geo::add_seam(mesh, adj, cut);
-
-    // Every path is tried; the cut kept is the one of the first k paths whose map is best.
+Augmented augment(Context* ctx, const geo::Mesh& mesh, const geo::MeshAdjacency& adj, std::vector<std::uint8_t> cut,
+                  const DiskCutOptions& options) {
     Opened last = open_and_map(ctx, mesh, adj, cut);
-    Opened best = last;
-    std::vector<std::uint8_t> best_cut = cut;
-    DiskCut out;
-    out.l2_stretch.push_back(last.l2_stretch);
+    Augmented best{cut, last, 0, {last.l2_stretch}};
     for (std::size_t k = 1; k <= options.max_paths; ++k) {
         // The vertex of largest stretch, where Floater's map crushes the surface most, and of those
         // (turned triangles have infinite stretch) the farthest from the cut.
@@ -87,23 +80,60 @@ DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& o
                 worst = v;
         if (worst == stretch.size()) break;  // every vertex on the cut
         geo::add_path(adj, tree, source(worst), cut);
+        geo::zip_closed_in(mesh, adj, cut);
         last = open_and_map(ctx, mesh, adj, cut);
-        out.l2_stretch.push_back(last.l2_stretch);
-        if (better(last, best, options.stop_fall)) {
-            best = last;
-            best_cut = cut;
-            out.paths = k;
+        best.l2_stretch.push_back(last.l2_stretch);
+        if (better(last, best.opened, options.stop_fall)) {
+            best.opened = last;
+            best.cut = cut;
+            best.paths = k;
         }
     }
-    cut = std::move(best_cut);
-    if (best.flipped)
-        throw geo::InputError("cutting the mesh open: the best of " + std::to_string(out.l2_stretch.size()) +
-                              " cuts tried still turns " + std::to_string(best.flipped) +
+    return best;
+}
+
+}  // namespace
+
+DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& options) {
+    check_cuttable_mesh(mesh);
+    const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
+    const auto start = [&](geo::CutGraph kind) {
+        std::vector<std::uint8_t> cut = geo::initial_cut(mesh, adj, kind);
+        // A closed genus-0 surface: the tree of faces crosses every edge it leaves.
+        bool open = false;
+        for (std::size_t e = 0; e < cut.size() && !open; ++e) open = cut[e] || adj.edge_face_count(e) == 1;
+        if (!open) geo::add_seam(mesh, adj, cut);
+        geo::zip_closed_in(mesh, adj, cut);
+        return cut;
+    };
+    // Both initial cuts where they differ (a surface of higher genus or with several holes), kept by
+    // the same rule as the paths. Neither the shorter cut nor the lower stretch wins on every mesh.
+    DiskCut out;
+    out.graph = options.graph.value_or(geo::CutGraph::FaceTree);
+    const std::vector<std::uint8_t> first = start(out.graph);
+    Augmented best = augment(ctx, mesh, adj, first, options);
+    out.tried = best.l2_stretch.size();
+    const std::vector<std::uint8_t> loops = options.graph ? first : start(geo::CutGraph::ShortestLoops);
+    if (loops != first) {
+        Augmented other = augment(ctx, mesh, adj, loops, options);
+        out.tried += other.l2_stretch.size();
+        out.graph_l2_stretch = {best.opened.l2_stretch, other.opened.l2_stretch};
+        if (better(other.opened, best.opened, 0.0)) {
+            best = std::move(other);
+            out.graph = geo::CutGraph::ShortestLoops;
+        }
+    }
+    if (best.opened.flipped)
+        throw geo::InputError("cutting the mesh open: the best of " + std::to_string(out.tried) +
+                              " cuts tried still turns " + std::to_string(best.opened.flipped) +
                               " triangles over in Floater's map (parts crushed below rounding, which more "
                               "--cut-paths can free, or closed in by the cut against one side of the square)");
-    out.disk = std::move(best.mesh.disk);
-    out.source = std::move(best.mesh.source);
-    out.split_edges = best.split_edges;
+    const std::vector<std::uint8_t>& cut = best.cut;
+    out.paths = best.paths;
+    out.l2_stretch = std::move(best.l2_stretch);
+    out.disk = std::move(best.opened.mesh.disk);
+    out.source = std::move(best.opened.mesh.source);
+    out.split_edges = best.opened.split_edges;
     out.cut_degree.assign(mesh.vertex_count(), 0);
     for (std::size_t e = 0; e < cut.size(); ++e)
         if (cut[e] || adj.edge_face_count(e) == 1)

@@ -23,7 +23,7 @@ namespace gimg::cli {
 namespace {
 
 struct GimOptions {
-    std::string mesh, out, json, view, variant = "curvature";
+    std::string mesh, out, json, view, variant = "curvature", cut_graph = "best";
     std::vector<std::uint32_t> corners;
     std::uint32_t size = 0, picture = 640;
     std::uint64_t iterations = 50, samples = 0, cut_paths = 8;
@@ -67,23 +67,31 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     std::optional<passes::DiskCut> cut;
     double cut_seconds = 0.0;
     if (o.cut) {
-        cut_seconds =
-            1e-3 * time_ms([&] {
-                cut = passes::cut_to_disk(o.cpu ? nullptr : ctx.get(), input, {.max_paths = std::size_t(o.cut_paths)});
-            });
+        passes::DiskCutOptions co{.max_paths = std::size_t(o.cut_paths)};
+        if (o.cut_graph != "best")
+            co.graph = o.cut_graph == "face-tree" ? geo::CutGraph::FaceTree : geo::CutGraph::ShortestLoops;
+        cut_seconds = 1e-3 * time_ms([&] { cut = passes::cut_to_disk(o.cpu ? nullptr : ctx.get(), input, co); });
     }
     // Both sides of every cut path sampled alike, so the reconstruction closes over the seam.
     std::optional<passes::SeamBoundary> seam;
     if (cut) {
         seam = passes::seam_boundary(*cut, size);
         if (seam) po.boundary = seam->boundary;
-        if (!global.quiet)
+        if (!global.quiet) {
+            std::printf("cut: %zu edges (%.3f diagonals long) from the %s", cut->cut_edges,
+                        cut->cut_length / input.bounds().diagonal(), geo::cut_graph_name(cut->graph));
+            if (cut->graph_l2_stretch.size() == 2)
+                std::printf(" (Floater's L2 stretch %.4g, against %.4g from the %s)",
+                            cut->graph_l2_stretch[cut->graph == geo::CutGraph::ShortestLoops],
+                            cut->graph_l2_stretch[cut->graph == geo::CutGraph::FaceTree],
+                            geo::cut_graph_name(cut->graph == geo::CutGraph::FaceTree ? geo::CutGraph::ShortestLoops
+                                                                                      : geo::CutGraph::FaceTree));
             std::printf(
-                "cut: %zu edges (%.3f diagonals long), %zu stretch paths kept; Floater's L2 stretch %.4f -> "
-                "%.4f; the disk has %zu vertices (%.2f s); the seam %s\n",
-                cut->cut_edges, cut->cut_length / input.bounds().diagonal(), cut->paths, cut->l2_stretch.front(),
-                cut->l2_stretch[cut->paths], cut->disk.vertex_count(), cut_seconds,
+                ", %zu stretch paths kept; Floater's L2 stretch %.4f -> %.4f; the disk has %zu vertices (%.2f s); "
+                "the seam %s\n",
+                cut->paths, cut->l2_stretch.front(), cut->l2_stretch[cut->paths], cut->disk.vertex_count(), cut_seconds,
                 seam ? "is joined" : "stays open");
+        }
     }
     const geo::Mesh& mesh = cut ? cut->disk : input;  // what the map takes
     auto report = [&](const passes::IterationReport& r) {
@@ -174,6 +182,9 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     if (cut)
         j["cut"] = {{"edges", cut->cut_edges},
                     {"length", cut->cut_length / input.bounds().diagonal()},
+                    {"graph", geo::cut_graph_name(cut->graph)},
+                    {"tried", cut->tried},
+                    {"graph_l2_stretch", cut->graph_l2_stretch},
                     {"paths", cut->paths},
                     {"l2_stretch", cut->l2_stretch},
                     {"split_edges", cut->split_edges},
@@ -218,8 +229,12 @@ void add_gim_command(CLI::App& app, const GlobalOptions& global) {
                   "Return the iterate whose N x N image rebuilds the mesh best (measured on the CPU, 50,000 "
                   "samples each way), not the last");
     cmd->add_flag("--cut", o->cut,
-                  "Cut the mesh open into a disk first (any genus, any number of holes): Gu et al.'s cut graph or "
-                  "a seam, and paths toward the stretch of Floater's map");
+                  "Cut the mesh open into a disk first (any genus, any number of holes): a cut graph or a seam, and "
+                  "paths toward the stretch of Floater's map");
+    cmd->add_option("--cut-graph", o->cut_graph,
+                    "With --cut: the initial cut graph, face-tree (Gu et al.'s), shortest-loops (Erickson and "
+                    "Whittlesey's) or best (the default: both tried, the one of lower stretch kept)")
+        ->check(CLI::IsMember({"best", "face-tree", "shortest-loops"}));
     add_count_option(cmd, "--cut-paths", o->cut_paths, 0, 1000,
                      "With --cut: most paths added toward the stretch (default 8)");
     cmd->add_flag("--cpu", o->cpu, "Solve and sample with the CPU twins instead of the GPU");

@@ -11,6 +11,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <numbers>
 #include <set>
 
 using namespace gimg;
@@ -50,13 +52,37 @@ void expect_same_surface(const geo::Mesh& mesh, const geo::OpenedMesh& o) {
         }
 }
 
-geo::Mesh annulus() {
-    geo::Mesh m = geo::make_grid(7, 7);  // without its middle cell
+// A unit grid of n x n cells without the cells at the given centres: one hole each.
+geo::Mesh holed_grid(int n, const std::vector<glm::dvec2>& holes) {
+    geo::Mesh m = geo::make_grid(n, n);
     std::erase_if(m.triangles, [&](const glm::uvec3& t) {
         const glm::dvec3 c = (m.positions[t.x] + m.positions[t.y] + m.positions[t.z]) / 3.0;
-        return std::abs(c.x - 0.5) < 0.07 && std::abs(c.y - 0.5) < 0.07;
+        return std::any_of(holes.begin(), holes.end(), [&](const glm::dvec2& h) {
+            return std::abs(c.x - h.x) < 0.5 / n && std::abs(c.y - h.y) < 0.5 / n;
+        });
     });
     return m;
+}
+
+geo::Mesh annulus() { return holed_grid(7, {{0.5, 0.5}}); }
+
+double cut_length(const geo::Mesh& mesh, const geo::MeshAdjacency& adj, const std::vector<std::uint8_t>& cut) {
+    double length = 0.0;
+    for (std::size_t e = 0; e < cut.size(); ++e)
+        if (cut[e]) length += glm::distance(mesh.positions[adj.edges[2 * e]], mesh.positions[adj.edges[2 * e + 1]]);
+    return length;
+}
+
+// Faces of the mesh opened along the cut with every corner on its boundary.
+std::size_t closed_in_faces(const geo::Mesh& mesh, const geo::MeshAdjacency& adj,
+                            const std::vector<std::uint8_t>& cut) {
+    const geo::OpenedMesh o = geo::open_along(mesh, adj, cut);
+    const geo::MeshAdjacency opened = geo::build_adjacency(o.disk);
+    std::vector<std::uint8_t> rim(o.disk.vertex_count(), 0);
+    for (std::size_t e = 0; e < opened.edge_count(); ++e)
+        if (opened.edge_face_count(e) == 1) rim[opened.edges[2 * e]] = rim[opened.edges[2 * e + 1]] = 1;
+    return std::size_t(std::count_if(o.disk.triangles.begin(), o.disk.triangles.end(),
+                                     [&](const glm::uvec3& t) { return rim[t.x] && rim[t.y] && rim[t.z]; }));
 }
 
 }  // namespace
@@ -106,6 +132,9 @@ TEST(DiskCut, ATetrahedronsSeamHasTwoEdges) {
     auto cut = geo::initial_cut(tetra, adj);
     EXPECT_EQ(geo::add_seam(tetra, adj, cut), 2u);  // one edge would open nothing
     expect_disk(geo::open_along(tetra, adj, cut).disk, "tetrahedron");
+    // Its face between the two edges is closed in, but zipping would leave the one edge.
+    EXPECT_EQ(geo::zip_closed_in(tetra, adj, cut), 0u);
+    EXPECT_EQ(count(cut), 2u);
 }
 
 TEST(DiskCut, ATorusIsCutAlongTwoLoops) {
@@ -117,6 +146,107 @@ TEST(DiskCut, ATorusIsCutAlongTwoLoops) {
     const geo::OpenedMesh o = geo::open_along(torus, adj, cut);
     expect_disk(o.disk, "torus");
     expect_same_surface(torus, o);
+}
+
+TEST(DiskCut, ATorusesShortestLoopsAreAMeridianAndALongitude) {
+    const double R = 2.0, r = 0.6;
+    const int ring = 24, tube = 10;
+    const geo::Mesh torus = geo::make_torus(R, r, ring, tube);
+    const geo::MeshAdjacency adj = geo::build_adjacency(torus);
+    const auto loops = geo::initial_cut(torus, adj, geo::CutGraph::ShortestLoops);
+    EXPECT_EQ(double(count(loops)) - double(cut_vertex_count(adj, loops)), 1.0);  // genus 1, as above
+    const geo::OpenedMesh o = geo::open_along(torus, adj, loops);
+    expect_disk(o.disk, "torus, shortest loops");
+    expect_same_surface(torus, o);
+    // No longer than the tube's polygon and the outer equator's through one vertex, and shorter than
+    // the face tree's loops.
+    const double meridian = tube * 2.0 * r * std::sin(std::numbers::pi / tube);
+    const double equator = ring * 2.0 * (R + r) * std::sin(std::numbers::pi / ring);
+    EXPECT_LE(cut_length(torus, adj, loops), meridian + equator + 1e-9);
+    EXPECT_LT(cut_length(torus, adj, loops), cut_length(torus, adj, geo::initial_cut(torus, adj)));
+}
+
+TEST(DiskCut, FreeRimsEnterEveryHoleOnce) {
+    const geo::Mesh grid = holed_grid(9, {{0.3, 0.5}, {0.7, 0.5}});
+    const geo::MeshAdjacency adj = geo::build_adjacency(grid);
+    std::vector<std::uint8_t> rim(grid.vertex_count(), 0), sources(grid.vertex_count(), 0);
+    for (std::size_t e = 0; e < adj.edge_count(); ++e)
+        if (adj.edge_face_count(e) == 1) rim[adj.edges[2 * e]] = rim[adj.edges[2 * e + 1]] = 1;
+    sources[0] = 1;  // a corner, on the outer rim
+    const geo::PathTree t = geo::shortest_paths(grid, adj, sources, true);
+    // Each of the three rims: every vertex at one distance (the outer rim's 0, the holes' the two
+    // cells to the nearest border), and one vertex reached from off the rim.
+    auto which = [&](const glm::dvec3& p) {
+        return p.x == 0.0 || p.y == 0.0 || p.x == 1.0 || p.y == 1.0 ? 0 : p.x < 0.5 ? 1 : 2;
+    };
+    std::map<int, std::set<double>> distances;
+    std::map<int, int> vertices, entries;
+    for (std::uint32_t v = 0; v < grid.vertex_count(); ++v)
+        if (rim[v]) {
+            const int k = which(grid.positions[v]);
+            distances[k].insert(t.distance[v]);
+            ++vertices[k];
+            entries[k] +=
+                t.previous[v] == geo::kInvalidIndex || adj.edge_face_count(adj.find_edge(v, t.previous[v])) != 1;
+        }
+    EXPECT_EQ(vertices[0], 4 * 9);
+    EXPECT_EQ(vertices[1], 4);  // a hole of one cell
+    EXPECT_EQ(vertices[2], 4);
+    for (int k : {0, 1, 2}) {
+        ASSERT_EQ(distances[k].size(), 1u) << k;
+        EXPECT_NEAR(*distances[k].begin(), k == 0 ? 0.0 : 2.0 / 9.0, 1e-12) << k;
+        EXPECT_EQ(entries[k], 1) << k;
+    }
+    // Without free rims a rim's vertices are reached at different distances.
+    const geo::PathTree plain = geo::shortest_paths(grid, adj, sources);
+    EXPECT_GT(plain.distance[9], 0.0);  // the outer rim's next corner
+}
+
+TEST(DiskCut, TheShortestLoopsCutJoinsTheHolesByShortestPaths) {
+    const geo::Mesh grid = holed_grid(9, {{0.3, 0.5}, {0.7, 0.5}});
+    const geo::MeshAdjacency adj = geo::build_adjacency(grid);
+    const auto cut = geo::initial_cut(grid, adj, geo::CutGraph::ShortestLoops);
+    // Two paths joining three rims: a forest of two trees, each edge a path's.
+    EXPECT_EQ(cut_vertex_count(adj, cut), count(cut) + 2);
+    expect_disk(geo::open_along(grid, adj, cut).disk, "two holes, shortest loops");
+    // The holes are 3 cells from the border and 3 from each other (cells 0.111 wide): no more than
+    // the two straight paths from the border to one hole and between the holes.
+    EXPECT_LE(cut_length(grid, adj, cut), 2 * 3 / 9.0 + 1e-12);
+}
+
+TEST(DiskCut, ZippingGluesAStripBetweenTwoPathsToOneOfThem) {
+    // Two slits from the left border along rows 5 and 6 to column 6: the cells between them have
+    // every corner on the cut and meet the rest of the grid at the edge (6, 5)-(6, 6).
+    const int n = 10;
+    const geo::Mesh grid = geo::make_grid(n, n);
+    const geo::MeshAdjacency adj = geo::build_adjacency(grid);
+    auto id = [&](int i, int j) { return std::uint32_t(j * (n + 1) + i); };
+    std::vector<std::uint8_t> cut(adj.edge_count(), 0);
+    for (int j : {5, 6})
+        for (int i = 0; i < 6; ++i) cut[adj.find_edge(id(i, j), id(i + 1, j))] = 1;
+    expect_disk(geo::open_along(grid, adj, cut).disk, "two slits");
+    // The 12 between the slits, one at their root on the border and two of the grid's corners.
+    EXPECT_EQ(closed_in_faces(grid, adj, cut), 15u);
+    EXPECT_EQ(geo::zip_closed_in(grid, adj, cut), 1u);
+    // One slit stays, bent up (or down) to the other's end: 7 edges, 0.7 long.
+    EXPECT_EQ(count(cut), 7u);
+    EXPECT_NEAR(cut_length(grid, adj, cut), 0.7, 1e-12);
+    EXPECT_EQ(cut[adj.find_edge(id(6, 5), id(6, 6))], 1);
+    EXPECT_EQ(closed_in_faces(grid, adj, cut), 3u);  // single faces at one edge: nothing to gain
+    expect_disk(geo::open_along(grid, adj, cut).disk, "zipped");
+    EXPECT_EQ(geo::zip_closed_in(grid, adj, cut), 0u);  // nothing left to zip
+}
+
+TEST(DiskCut, ZippingLeavesACutWithoutStripsAlone) {
+    const geo::Mesh torus = geo::make_torus(2.0, 0.6, 24, 10);
+    const geo::MeshAdjacency adj = geo::build_adjacency(torus);
+    auto cut = geo::initial_cut(torus, adj, geo::CutGraph::ShortestLoops);
+    // Two single faces where the loops cross, each between two of their edges: moving the cut
+    // across one would not shorten it.
+    ASSERT_EQ(closed_in_faces(torus, adj, cut), 2u);
+    const auto before = cut;
+    EXPECT_EQ(geo::zip_closed_in(torus, adj, cut), 0u);
+    EXPECT_EQ(cut, before);
 }
 
 TEST(DiskCut, TheHolesOfAnAnnulusAreJoinedByAPath) {

@@ -148,6 +148,31 @@ TEST(DiskCutMapCpu, PathsFreeTheCamelsLegs) {
     EXPECT_LT(cut.l2_stretch[cut.paths], 1e-3 * cut.l2_stretch.front());
 }
 
+// Where the two initial cut graphs differ both are mapped, and the cut kept is the one whose Floater
+// map has the lower stretch; a sphere's are the same seam.
+TEST(DiskCutMapCpu, TheInitialCutKeptHasTheLowerStretch) {
+    const geo::Mesh torus = geo::make_torus(2.0, 0.6, 32, 12);
+    const passes::DiskCut cut = passes::cut_to_disk(nullptr, torus);
+    expect_usable_cut(torus, cut, "torus");
+    ASSERT_EQ(cut.graph_l2_stretch.size(), 2u);
+    const bool loops = cut.graph == geo::CutGraph::ShortestLoops;
+    EXPECT_EQ(cut.graph_l2_stretch[loops], cut.l2_stretch[cut.paths]);
+    EXPECT_LE(cut.graph_l2_stretch[loops], cut.graph_l2_stretch[!loops]);
+    EXPECT_GT(cut.tried, cut.l2_stretch.size());
+    const passes::DiskCut sphere = passes::cut_to_disk(nullptr, geo::make_icosphere(1.0, 2));
+    EXPECT_TRUE(sphere.graph_l2_stretch.empty());
+    EXPECT_EQ(sphere.tried, sphere.l2_stretch.size());
+}
+
+// holes (7 boundary loops): the face tree's paths ran along the rims and one another, and the strips
+// between them were crushed until 6 triangles turned over in every cut tried; zipped, or with the
+// shortest loops, none does.
+TEST(DiskCutMapCpu, HolesOpensIntoADiskWithoutCrushedStrips) {
+    GIMG_REQUIRE_SHARED_MESH(path, "holes.off");
+    const geo::Mesh holes = geo::load_mesh(path);
+    expect_usable_cut(holes, passes::cut_to_disk(nullptr, holes), "holes");
+}
+
 TEST(DiskCutMapCpu, RefusesWhatNoCutMakesADisk) {
     auto refusal = [](const geo::Mesh& m) {
         try {

@@ -17,6 +17,7 @@
 #include "gimg/engine/graph.h"
 #include "gimg/geometry/adjacency.h"
 #include "gimg/geometry/bvh.h"
+#include "gimg/geometry/disk_cut.h"
 #include "gimg/geometry/mesh.h"
 #include "gimg/passes/reconstruct.h"
 
@@ -67,14 +68,18 @@ std::vector<double> floater_weights(const geo::Mesh& mesh, const geo::MeshAdjace
 void check_cuttable_mesh(const geo::Mesh& mesh);
 
 // A surface cut open into a disk for the square map (Gu, Gortler and Hoppe, "Geometry images",
-// SIGGRAPH 2002, sec. 3; geo::initial_cut and docs/gim.md): the initial cut graph, or on a closed
-// genus-0 surface a seam between two far vertices, then `max_paths` paths, each from the vertex of
-// largest L2 stretch in Floater's map of the surface opened so far to the cut. Of the cuts with the
-// first k paths the one kept has the fewest turned triangles in its map, then the least L2 stretch;
-// a path must lower it by `stop_fall` to count.
+// SIGGRAPH 2002, sec. 3; geo::initial_cut and docs/gim.md): an initial cut graph, or on a closed
+// genus-0 surface a seam between two far vertices, moved off the strips it closes in
+// (geo::zip_closed_in), then `max_paths` paths, each from the vertex of largest L2 stretch in
+// Floater's map of the surface opened so far to the cut. Of the cuts with the first k paths the one
+// kept has the fewest turned triangles in its map, then the least L2 stretch; a path must lower it by
+// `stop_fall` to count. Where the two initial cut graphs differ (higher genus, several holes), both
+// are tried so, unless `graph` names one, and of their two cuts the one kept again turns fewer
+// triangles, then has the lower L2 stretch.
 struct DiskCutOptions {
     std::size_t max_paths = 8;
     double stop_fall = 0.01;
+    std::optional<geo::CutGraph> graph;
 };
 struct DiskCut {
     geo::Mesh disk;  // the mesh opened along the cut: one boundary loop
@@ -91,6 +96,11 @@ struct DiskCut {
     // Floater's map's L2 stretch: of the initial cut, then with each path tried (infinite where a
     // triangle turned over)
     std::vector<double> l2_stretch;
+    geo::CutGraph graph = geo::CutGraph::FaceTree;  // the initial cut graph kept
+    std::size_t tried = 0;                          // cuts mapped, of both initial graphs
+    // Where both initial graphs were tried: the L2 stretch of each one's cut (FaceTree,
+    // ShortestLoops; infinite where it turns triangles over)
+    std::vector<double> graph_l2_stretch;
 };
 // Floater's maps on the GPU, or with ctx == nullptr the CPU twin. Throws geo::InputError for a mesh
 // check_cuttable_mesh refuses.
