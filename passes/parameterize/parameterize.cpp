@@ -138,12 +138,15 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
     const double iterate_tolerance = reweighting && !options.keep_iterates
                                          ? std::max(options.iterate_tolerance, options.solve_tolerance)
                                          : options.solve_tolerance;
-    // An iterate: loosely solved, and solved on to full accuracy if that one folds.
+    // An iterate: loosely solved, and solved on to full accuracy if that one folds, and on to
+    // fold_tolerance if it still does.
     auto solve = [&](const std::vector<glm::dvec2>& start, IterationReport& report) {
         const double before = solving;
         std::vector<glm::dvec2> uv = solve_to(start, iterate_tolerance, report.solver_iterations, !past.empty());
         if (iterate_tolerance > options.solve_tolerance && count_flipped(mesh, uv) > 0)
             uv = solve_to(uv, options.solve_tolerance, report.solver_iterations);
+        if (options.fold_tolerance < options.solve_tolerance && count_flipped(mesh, uv) > 0)
+            uv = solve_to(uv, options.fold_tolerance, report.solver_iterations);
         report.solve_seconds = solving - before;
         return uv;
     };

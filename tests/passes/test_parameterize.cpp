@@ -341,10 +341,15 @@ TEST(ParameterizeFolds, AFoldedIterateEndsTheRunInsteadOfBreakingTheReweighting)
     for (auto& p : wavy.positions) p.z = 0.3 * std::sin(6.0 * p.x) * std::cos(5.0 * p.y);
     passes::ParameterizeOptions loose;
     loose.variant = passes::ParameterizeVariant::Density;
-    loose.solve_tolerance = loose.iterate_tolerance = 0.5;
+    loose.solve_tolerance = loose.iterate_tolerance = loose.fold_tolerance = 0.5;
     const passes::Parameterization map = passes::parameterize_square(nullptr, wavy, loose);
     ASSERT_EQ(map.iterations.size(), 1u);
     EXPECT_GT(map.iterations[0].flipped, 0u);
+    // Solved on to the default fold tolerance when it folds, it does not, and the run goes on.
+    loose.fold_tolerance = passes::ParameterizeOptions{}.fold_tolerance;
+    const passes::Parameterization rescued = passes::parameterize_square(nullptr, wavy, loose);
+    EXPECT_GT(rescued.iterations.size(), 1u);
+    EXPECT_EQ(rescued.iterations[0].flipped, 0u);
     // Solved as by default, it folds nowhere and the run goes on.
     passes::ParameterizeOptions tight;
     tight.variant = passes::ParameterizeVariant::Density;

@@ -154,10 +154,13 @@ struct ParameterizeOptions {
     double solve_tolerance = 1e-8;  // relative residual of the map returned
     // Relative residual of the reweighting's iterates: the returned map's weights are then solved
     // again to solve_tolerance, from the iterate. An iterate that folds at this tolerance is solved
-    // to solve_tolerance at once (its negative areas would break the next reweighting). One that
-    // still folds (parts crushed below what the solve resolves) ends the run, and the last iterate
-    // that does not fold is returned (for stretch, the one of least L2 stretch, which never folds).
+    // to solve_tolerance at once (its negative areas would break the next reweighting), and on to
+    // fold_tolerance if it still folds (parts crushed below what solve_tolerance resolves: turbine
+    // cut open turns 2 triangles over at 1e-8, none at 1e-10). One that folds even there ends the
+    // run, and the last iterate that does not fold is returned (for stretch, the one of least L2
+    // stretch, which never folds).
     double iterate_tolerance = 1e-5;
+    double fold_tolerance = 1e-11;
     // Keep every iterate's map (Parameterization::iterates), for choosing one by another measure;
     // every iterate is then solved to solve_tolerance.
     bool keep_iterates = false;
