@@ -133,6 +133,21 @@ TEST_F(DiskCutMap, ASphereTorusAndAnnulusCloseOverTheSeam) {
     EXPECT_LT(expect_closed_over_the_seam(nullptr, annulus(), 17, "annulus"), 0.1);
 }
 
+// A hole of one cell in a 16 x 16 grid, and a torus whose tube is a tenth of its ring: at 12 x 12 the
+// hole's rim and the tube's loop are too short for more than a step or two of the perimeter by length,
+// and joined, such a loop closed to a point or an edge. Four steps each keep them open.
+TEST(DiskCutMapCpu, SmallHolesAndHandlesStayOpenInSmallImages) {
+    geo::Mesh grid = geo::make_grid(16, 16);
+    std::erase_if(grid.triangles, [&](const glm::uvec3& t) {
+        const glm::dvec3 c = (grid.positions[t.x] + grid.positions[t.y] + grid.positions[t.z]) / 3.0;
+        return std::abs(c.x - 0.53) < 0.03 && std::abs(c.y - 0.53) < 0.03;
+    });
+    grid.texcoords.clear();
+    ASSERT_EQ(geo::analyze_topology(grid).boundary_loops, 2u);
+    expect_closed_over_the_seam(nullptr, grid, 12, "a one-cell hole");
+    expect_closed_over_the_seam(nullptr, geo::make_torus(2.0, 0.2, 48, 6), 12, "a thin torus");
+}
+
 TEST(DiskCutMapCpu, TheCamelClosesOverItsSeam) {
     GIMG_REQUIRE_SHARED_MESH(path, "camel.off");
     EXPECT_LT(expect_closed_over_the_seam(nullptr, geo::load_mesh(path), 99, "camel"), 0.1);

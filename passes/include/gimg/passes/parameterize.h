@@ -155,8 +155,9 @@ struct ParameterizeOptions {
     // Relative residual of the reweighting's iterates: the returned map's weights are then solved
     // again to solve_tolerance, from the iterate. An iterate that folds at this tolerance is solved
     // to solve_tolerance at once (its negative areas would break the next reweighting), and on to
-    // fold_tolerance if it still folds (parts crushed below what solve_tolerance resolves: turbine
-    // cut open turns 2 triangles over at 1e-8, none at 1e-10). One that folds even there ends the
+    // fold_tolerance if it still folds (parts crushed below what solve_tolerance resolves: Floater's
+    // map of dino opened along a seam turns 168 triangles over at 1e-8, none at 1e-11). One that
+    // folds even there ends the
     // run, and the last iterate that does not fold is returned (for stretch, the one of least L2
     // stretch, which never folds).
     double iterate_tolerance = 1e-5;
