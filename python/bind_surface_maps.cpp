@@ -22,10 +22,17 @@ void bind_surface_maps(py::module_& m) {
     m.def(
         "gim",
         [](Device* device, const Positions& positions, const Faces& faces, std::uint32_t size,
-           const std::string& variant, std::size_t iterations, bool select, bool cut) {
+           const std::string& variant, std::size_t iterations, bool select, bool cut, const std::string& cut_graph) {
             const geo::Mesh input = to_mesh(positions, faces);
             const auto v = passes::parse_variant(variant);
             if (!v) throw geo::InputError("variant must be tutte, floater, stretch, density, uniform3d or curvature");
+            passes::DiskCutOptions cut_options;
+            if (cut_graph == "face-tree")
+                cut_options.graph = geo::CutGraph::FaceTree;
+            else if (cut_graph == "shortest-loops")
+                cut_options.graph = geo::CutGraph::ShortestLoops;
+            else if (cut_graph != "best")
+                throw geo::InputError("cut_graph must be best, face-tree or shortest-loops");
             size = passes::geometry_image_size(size, input.vertex_count());
             std::optional<passes::DiskCut> disk;
             std::optional<passes::SeamBoundary> seam;  // both sides of the cut sampled alike, then joined
@@ -35,7 +42,7 @@ void bind_surface_maps(py::module_& m) {
             {
                 py::gil_scoped_release release;
                 Context* ctx = device ? &device->context() : nullptr;
-                if (cut) disk = passes::cut_to_disk(ctx, input);
+                if (cut) disk = passes::cut_to_disk(ctx, input, cut_options);
                 if (disk) seam = passes::seam_boundary(*disk, size);
                 const geo::Mesh& mesh = disk ? disk->disk : input;
                 passes::ParameterizeOptions options{.variant = *v, .max_iterations = iterations};
@@ -86,9 +93,11 @@ void bind_surface_maps(py::module_& m) {
         },
         py::arg("device"), py::arg("positions"), py::arg("faces"), py::arg("size") = 0,
         py::arg("variant") = "curvature", py::arg("iterations") = 50, py::arg("select") = false, py::arg("cut") = false,
+        py::arg("cut_graph") = "best",
         "A disk mesh's square map and N x N geometry image (gimg gim); device None runs the CPU twins; select "
         "returns the iterate whose image rebuilds the mesh best (gimg gim --select); cut opens any mesh into a "
-        "disk first (gimg gim --cut). Returns a dict: uv, image (N x N x 3), covered, positions and faces of the "
+        "disk first (gimg gim --cut), cut_graph is --cut-graph (best, face-tree or shortest-loops). Returns a dict: "
+        "uv, image (N x N x 3), covered, positions and faces of the "
         "reconstruction, iterations, selected_iteration, flipped; with cut also disk_positions, disk_faces (the "
         "opened mesh uv belongs to), source (the input vertex of each, -1 for one added on an edge), cut_edges, "
         "cut_paths, cut_graph (the initial cut graph kept: face tree or shortest loops), seam_joined (the image's "

@@ -145,6 +145,34 @@ def test_gim_cuts_a_closed_mesh_open_as_the_command_line_does(device, tmp_path):
     assert np.array_equal(vt, result["uv"])
 
 
+def torus(ring=24, tube=8, R=2.0, r=0.6):
+    """A torus of ring x tube vertices."""
+    a, b = np.meshgrid(np.arange(ring) * 2 * np.pi / ring, np.arange(tube) * 2 * np.pi / tube, indexing="ij")
+    d = R + r * np.cos(b)
+    positions = np.stack([d * np.cos(a), r * np.sin(b), -d * np.sin(a)], axis=2).reshape(-1, 3)
+    faces = []
+    for i in range(ring):
+        for j in range(tube):
+            v = lambda di, dj: ((i + di) % ring) * tube + (j + dj) % tube
+            faces += [[v(0, 0), v(1, 0), v(1, 1)], [v(0, 0), v(1, 1), v(0, 1)]]
+    return positions, np.array(faces)
+
+
+@pytest.mark.parametrize("graph", ["face-tree", "shortest-loops", "best"])
+def test_gim_takes_the_cut_graph_the_command_line_does(device, tmp_path, graph):
+    path = tmp_path / "torus.ply"
+    gimg.save_mesh(str(path), *torus())
+    positions, faces = gimg.load_mesh(str(path))  # as the command line reads it
+    result = gimg.gim(device, positions, faces, size=17, cut=True, cut_graph=graph)
+    cli = cli_json("gim", str(path), "--cut", "--cut-graph", graph, "--size", "17", "--out", str(tmp_path / "gim"))
+    assert result["cut_graph"] == cli["cut"]["graph"]
+    if graph != "best":
+        assert result["cut_graph"] == graph.replace("-", " ")
+    assert (result["cut_edges"], result["cut_paths"]) == (cli["cut"]["edges"], cli["cut"]["paths"])
+    with pytest.raises(ValueError, match="cut_graph must be"):
+        gimg.gim(device, positions, faces, size=17, cut=True, cut_graph="spiral")
+
+
 def test_refusals_and_the_device_error_type(device):
     positions, faces = gimg.load_mesh(TETRA)
     with pytest.raises(ValueError, match="this mesh is closed"):
