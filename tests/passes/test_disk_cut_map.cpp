@@ -148,6 +148,24 @@ TEST(DiskCutMapCpu, SmallHolesAndHandlesStayOpenInSmallImages) {
     expect_closed_over_the_seam(nullptr, geo::make_torus(2.0, 0.2, 48, 6), 12, "a thin torus");
 }
 
+// The smallest tori: every loop of their cuts a few edges long. At 5 x 5 their loops' 5 and 3 steps
+// do not fit the 16 of the perimeter and the seam stays open; from 6 x 6 on they close, a torus each
+// (with at least 4 and 2 steps the 4 x 3 torus pinched up to 9 x 9, where a corner of the square fell
+// inside two short paths between the same nodes).
+TEST_F(DiskCutMap, TheSmallestToriCloseOverTheSeamAtEverySize) {
+    for (Context* c : {&ctx(), static_cast<Context*>(nullptr)})
+        for (int ring : {3, 4}) {
+            geo::Mesh torus = geo::make_torus(2.0, 0.6, ring, 3);
+            for (glm::dvec3& p : torus.positions) p = glm::dvec3(glm::vec3(p));  // as read from a file
+            const std::string what =
+                "a torus of " + std::to_string(ring) + " x 3 vertices (" + (c ? "GPU" : "CPU") + ")";
+            passes::DiskCut cut = passes::cut_to_disk(c, torus);
+            EXPECT_FALSE(passes::seam_boundary(cut, 5).has_value()) << what;
+            for (std::uint32_t size = 6; size <= 12; ++size)
+                expect_closed_over_the_seam(c, torus, size, (what + " at " + std::to_string(size)).c_str());
+        }
+}
+
 TEST(DiskCutMapCpu, TheCamelClosesOverItsSeam) {
     GIMG_REQUIRE_SHARED_MESH(path, "camel.off");
     EXPECT_LT(expect_closed_over_the_seam(nullptr, geo::load_mesh(path), 99, "camel"), 0.1);

@@ -114,9 +114,10 @@ DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& o
 // vertices between by chord length; a vertex is added where a corner of the square falls inside a
 // boundary edge (cut.disk and cut.source grow). `mate` has a perimeter step per border pixel,
 // counter-clockwise from (0, 0), 4 (size - 1) in all: the step of the pixel sampling the same point
-// (itself on a hole's rim). std::nullopt where the loop has no node (nothing to join), for a size
-// under 4 (joined, no face would be left) or where the loop has more segments than the perimeter has
-// steps at this size.
+// (itself on a hole's rim). A loop from a node back to itself (a hole's rim, a small handle) gets at
+// least 5 steps and each of two paths between the same two nodes 3, or joined they would pinch.
+// std::nullopt where the loop has no node (nothing to join), for a size under 4 (joined, no face
+// would be left) or where the perimeter has too few steps at this size for those minimums.
 struct SeamBoundary {
     SquareBoundary boundary;
     std::vector<std::uint32_t> mate;
