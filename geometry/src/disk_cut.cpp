@@ -260,7 +260,7 @@ std::size_t zip_closed_in(const Mesh& mesh, const MeshAdjacency& adj, std::vecto
             const auto both = dadj.faces_of_edge(e);
             return both[0] == f ? both[1] : both[0];
         };
-        std::vector<std::uint8_t> touched(edges, 0);  // edges a move of this round changed or relies on
+        std::vector<std::uint8_t> touched(edges, 0);  // edges a move of this pass changed or relies on
         for (std::uint32_t seed = 0; seed < faces; ++seed) {
             if (region[seed] != kInvalidIndex || !closed_in(seed)) continue;
             std::vector<std::uint32_t> members{seed}, arc, exits;
