@@ -42,13 +42,17 @@ void bind_surface_maps(py::module_& m) {
             {
                 py::gil_scoped_release release;
                 Context* ctx = device ? &device->context() : nullptr;
-                if (cut) disk = passes::cut_to_disk(ctx, input, cut_options);
-                if (disk) seam = passes::seam_boundary(*disk, size);
-                const geo::Mesh& mesh = disk ? disk->disk : input;
                 passes::ParameterizeOptions options{.variant = *v, .max_iterations = iterations};
                 if (select) options.select_size = size;
-                if (seam) options.boundary = seam->boundary;
-                map = passes::parameterize_square(ctx, mesh, options);
+                if (cut) {
+                    passes::CutMap c = passes::cut_and_map(ctx, input, size, options, cut_options);
+                    disk = std::move(c.cut);
+                    seam = std::move(c.seam);
+                    map = std::move(c.map);
+                } else {
+                    map = passes::parameterize_square(ctx, input, options);
+                }
+                const geo::Mesh& mesh = disk ? disk->disk : input;
                 image = ctx ? passes::geometry_image_gpu(*ctx, mesh, map.uv, size)
                             : passes::geometry_image_cpu(mesh, map.uv, size);
                 if (seam) passes::join_seam(image, seam->mate);
@@ -96,7 +100,9 @@ void bind_surface_maps(py::module_& m) {
         py::arg("cut_graph") = "best",
         "A disk mesh's square map and N x N geometry image (gimg gim); device None runs the CPU twins; select "
         "returns the iterate whose image rebuilds the mesh best (gimg gim --select); cut opens any mesh into a "
-        "disk first (gimg gim --cut), cut_graph is --cut-graph (best, face-tree or shortest-loops). Returns a dict: "
+        "disk first (gimg gim --cut), cut_graph is --cut-graph (best, face-tree or shortest-loops; with select, best "
+        "maps "
+        "both graphs and keeps the better image). Returns a dict: "
         "uv, image (N x N x 3), covered, positions and faces of the "
         "reconstruction, iterations, selected_iteration, flipped; with cut also disk_positions, disk_faces (the "
         "opened mesh uv belongs to), source (the input vertex of each, -1 for one added on an edge), cut_edges, "

@@ -9,6 +9,8 @@
 
 #include <glm/geometric.hpp>
 
+#include <chrono>
+
 namespace gimg::passes {
 
 namespace {
@@ -144,6 +146,45 @@ DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& o
             out.cut_length += glm::distance(mesh.positions[adj.edges[2 * e]], mesh.positions[adj.edges[2 * e + 1]]);
         }
     return out;
+}
+
+CutMap cut_and_map(Context* ctx, const geo::Mesh& mesh, std::uint32_t size, const ParameterizeOptions& options,
+                   const DiskCutOptions& cut_options) {
+    auto run = [&](const DiskCutOptions& co) {
+        CutMap r;
+        const auto start = std::chrono::steady_clock::now();
+        r.cut = cut_to_disk(ctx, mesh, co);
+        r.cut_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        r.seam = seam_boundary(r.cut, size);
+        ParameterizeOptions po = options;
+        if (r.seam) po.boundary = r.seam->boundary;
+        r.map = parameterize_square(ctx, r.cut.disk, po);
+        return r;
+    };
+    CutMap kept = run(cut_options);
+    if (options.select_size == 0 || cut_options.graph || kept.cut.graph_l2_stretch.size() != 2) return kept;
+    DiskCutOptions other_options = cut_options;
+    other_options.graph =
+        kept.cut.graph == geo::CutGraph::FaceTree ? geo::CutGraph::ShortestLoops : geo::CutGraph::FaceTree;
+    CutMap other;
+    try {
+        other = run(other_options);
+    } catch (const geo::InputError&) {
+        return kept;  // its cut turns triangles over
+    }
+    const double rms_kept = kept.map.iterations[kept.map.selected].image_rms;
+    const double rms_other = other.map.iterations[other.map.selected].image_rms;
+    const double seconds = kept.cut_seconds + other.cut_seconds;
+    const bool loops_kept = kept.cut.graph == geo::CutGraph::ShortestLoops;
+    std::vector<double> graph_rms = loops_kept ? std::vector{rms_other, rms_kept} : std::vector{rms_kept, rms_other};
+    const std::vector<double> stretch = kept.cut.graph_l2_stretch;
+    const std::size_t tried = kept.cut.tried;
+    if (rms_other < rms_kept) kept = std::move(other);
+    kept.cut_seconds = seconds;
+    kept.graph_image_rms = std::move(graph_rms);
+    kept.cut.graph_l2_stretch = stretch;
+    kept.cut.tried = tried;
+    return kept;
 }
 
 }  // namespace gimg::passes

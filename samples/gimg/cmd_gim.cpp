@@ -39,6 +39,25 @@ nlohmann::json iteration_json(const passes::IterationReport& r) {
             {"image_rms", r.image_rms}};
 }
 
+void print_cut(const passes::CutMap& c, const geo::Mesh& input) {
+    const passes::DiskCut& cut = c.cut;
+    const auto other = cut.graph == geo::CutGraph::FaceTree ? geo::CutGraph::ShortestLoops : geo::CutGraph::FaceTree;
+    const bool loops = cut.graph == geo::CutGraph::ShortestLoops;
+    std::printf("cut: %zu edges (%.3f diagonals long) from the %s", cut.cut_edges,
+                cut.cut_length / input.bounds().diagonal(), geo::cut_graph_name(cut.graph));
+    if (c.graph_image_rms.size() == 2)
+        std::printf(" (its map's image RMS %.3e, against %.3e from the %s)", c.graph_image_rms[loops],
+                    c.graph_image_rms[!loops], geo::cut_graph_name(other));
+    else if (cut.graph_l2_stretch.size() == 2)
+        std::printf(" (Floater's L2 stretch %.4g, against %.4g from the %s)", cut.graph_l2_stretch[loops],
+                    cut.graph_l2_stretch[!loops], geo::cut_graph_name(other));
+    std::printf(
+        ", %zu stretch paths kept; Floater's L2 stretch %.4f -> %.4f; the disk has %zu vertices (%.2f s); the "
+        "seam %s\n",
+        cut.paths, cut.l2_stretch.front(), cut.l2_stretch[cut.paths], cut.disk.vertex_count(), c.cut_seconds,
+        c.seam ? "is joined" : "stays open");
+}
+
 void run_gim(const GimOptions& o, const GlobalOptions& global) {
     passes::geometry_image_size(o.size, 4);  // refuses 1 before the mesh is read
     const geo::Mesh input = geo::load_mesh(o.mesh);
@@ -64,36 +83,6 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
     if (!global.quiet)
         std::printf("%s: %zu vertices, %zu faces; %s map on the %s\n", o.mesh.c_str(), input.vertex_count(),
                     input.face_count(), o.variant.c_str(), o.cpu ? "CPU" : "GPU");
-    std::optional<passes::DiskCut> cut;
-    double cut_seconds = 0.0;
-    if (o.cut) {
-        passes::DiskCutOptions co{.max_paths = std::size_t(o.cut_paths)};
-        if (o.cut_graph != "best")
-            co.graph = o.cut_graph == "face-tree" ? geo::CutGraph::FaceTree : geo::CutGraph::ShortestLoops;
-        cut_seconds = 1e-3 * time_ms([&] { cut = passes::cut_to_disk(o.cpu ? nullptr : ctx.get(), input, co); });
-    }
-    // Both sides of every cut path sampled alike, so the reconstruction closes over the seam.
-    std::optional<passes::SeamBoundary> seam;
-    if (cut) {
-        seam = passes::seam_boundary(*cut, size);
-        if (seam) po.boundary = seam->boundary;
-        if (!global.quiet) {
-            std::printf("cut: %zu edges (%.3f diagonals long) from the %s", cut->cut_edges,
-                        cut->cut_length / input.bounds().diagonal(), geo::cut_graph_name(cut->graph));
-            if (cut->graph_l2_stretch.size() == 2)
-                std::printf(" (Floater's L2 stretch %.4g, against %.4g from the %s)",
-                            cut->graph_l2_stretch[cut->graph == geo::CutGraph::ShortestLoops],
-                            cut->graph_l2_stretch[cut->graph == geo::CutGraph::FaceTree],
-                            geo::cut_graph_name(cut->graph == geo::CutGraph::FaceTree ? geo::CutGraph::ShortestLoops
-                                                                                      : geo::CutGraph::FaceTree));
-            std::printf(
-                ", %zu stretch paths kept; Floater's L2 stretch %.4f -> %.4f; the disk has %zu vertices (%.2f s); "
-                "the seam %s\n",
-                cut->paths, cut->l2_stretch.front(), cut->l2_stretch[cut->paths], cut->disk.vertex_count(), cut_seconds,
-                seam ? "is joined" : "stays open");
-        }
-    }
-    const geo::Mesh& mesh = cut ? cut->disk : input;  // what the map takes
     auto report = [&](const passes::IterationReport& r) {
         if (global.quiet) return;
         std::printf(
@@ -103,7 +92,21 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
         if (o.select) std::printf(", image RMS %.3e", r.image_rms);
         std::printf("\n");
     };
-    const passes::Parameterization map = passes::parameterize_square(o.cpu ? nullptr : ctx.get(), mesh, po, report);
+    Context* device = o.cpu ? nullptr : ctx.get();
+    std::optional<passes::CutMap> cut;  // with --cut: the cut, its seam's boundary and the map
+    if (o.cut) {
+        passes::DiskCutOptions co{.max_paths = std::size_t(o.cut_paths)};
+        if (o.cut_graph != "best")
+            co.graph = o.cut_graph == "face-tree" ? geo::CutGraph::FaceTree : geo::CutGraph::ShortestLoops;
+        cut = passes::cut_and_map(device, input, size, po, co);
+        if (!global.quiet) print_cut(*cut, input);
+        for (const auto& r : cut->map.iterations) report(r);
+    }
+    // Both sides of every cut path sampled alike, so the reconstruction closes over the seam.
+    const std::optional<passes::SeamBoundary>& seam = cut ? cut->seam : std::nullopt;
+    const geo::Mesh& mesh = cut ? cut->cut.disk : input;  // what the map takes
+    const passes::Parameterization map = cut ? cut->map : passes::parameterize_square(device, mesh, po, report);
+    const double cut_seconds = cut ? cut->cut_seconds : 0.0;
 
     passes::PositionImage image;
     geo::Mesh back;
@@ -180,18 +183,19 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                      {"reconstruction_faces", back.face_count()},
                      {"error", gim_error_json(e)}};
     if (cut)
-        j["cut"] = {{"edges", cut->cut_edges},
-                    {"length", cut->cut_length / input.bounds().diagonal()},
-                    {"graph", geo::cut_graph_name(cut->graph)},
-                    {"tried", cut->tried},
-                    {"graph_l2_stretch", cut->graph_l2_stretch},
-                    {"paths", cut->paths},
-                    {"l2_stretch", cut->l2_stretch},
-                    {"split_edges", cut->split_edges},
+        j["cut"] = {{"edges", cut->cut.cut_edges},
+                    {"length", cut->cut.cut_length / input.bounds().diagonal()},
+                    {"graph", geo::cut_graph_name(cut->cut.graph)},
+                    {"tried", cut->cut.tried},
+                    {"graph_l2_stretch", cut->cut.graph_l2_stretch},
+                    {"graph_image_rms", cut->graph_image_rms},
+                    {"paths", cut->cut.paths},
+                    {"l2_stretch", cut->cut.l2_stretch},
+                    {"split_edges", cut->cut.split_edges},
                     {"seam_joined", seam.has_value()},
                     {"joined_pixels", joined_pixels},
                     {"merged_vertices", merged_vertices},
-                    {"disk_vertices", cut->disk.vertex_count()},
+                    {"disk_vertices", cut->cut.disk.vertex_count()},
                     {"seconds", cut_seconds}};
     add_machine_figures(j, ctx.get());
     write_json(o.json, j);

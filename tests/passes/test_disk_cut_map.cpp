@@ -197,6 +197,32 @@ TEST(DiskCutMapCpu, TheInitialCutKeptHasTheLowerStretch) {
     EXPECT_EQ(sphere.tried, sphere.l2_stretch.size());
 }
 
+// With select_size, a mesh with two cut graphs is mapped with both and the map kept is the one whose
+// selected iterate's image rebuilds it better; without, the lower stretch decides alone.
+TEST(DiskCutMapCpu, SelectingMapsBothCutGraphsAndKeepsTheBetterImage) {
+    const geo::Mesh torus = geo::make_torus(2.0, 0.6, 32, 12);
+    passes::ParameterizeOptions options;
+    options.select_size = 21;
+    options.select_samples = 5'000;
+    const passes::CutMap both = passes::cut_and_map(nullptr, torus, 21, options);
+    ASSERT_EQ(both.graph_image_rms.size(), 2u);
+    const bool loops = both.cut.graph == geo::CutGraph::ShortestLoops;
+    EXPECT_EQ(both.graph_image_rms[loops], both.map.iterations[both.map.selected].image_rms);
+    EXPECT_LE(both.graph_image_rms[loops], both.graph_image_rms[!loops]);
+    ASSERT_TRUE(both.seam.has_value());
+    EXPECT_EQ(both.seam->boundary.loop.size(),
+              passes::square_boundary(both.cut.disk, geo::build_adjacency(both.cut.disk)).loop.size());
+    // Each graph alone gives its own figure.
+    for (geo::CutGraph g : {geo::CutGraph::FaceTree, geo::CutGraph::ShortestLoops}) {
+        const passes::CutMap one = passes::cut_and_map(nullptr, torus, 21, options, {.graph = g});
+        EXPECT_TRUE(one.graph_image_rms.empty());
+        EXPECT_EQ(one.map.iterations[one.map.selected].image_rms,
+                  both.graph_image_rms[g == geo::CutGraph::ShortestLoops]);
+    }
+    options.select_size = 0;
+    EXPECT_TRUE(passes::cut_and_map(nullptr, torus, 21, options).graph_image_rms.empty());
+}
+
 // holes (7 boundary loops): the face tree's paths ran along the rims and one another, and the strips
 // between them were crushed until 6 triangles turned over in every cut tried; zipped, or with the
 // shortest loops, none does.

@@ -207,6 +207,22 @@ struct Parameterization {
 Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const ParameterizeOptions& options = {},
                                      const std::function<void(const IterationReport&)>& on_iteration = {});
 
+// A mesh cut open (cut_to_disk), its boundary placed for joining the seam (seam_boundary; the map's
+// corners and boundary come from there) and mapped (parameterize_square). With
+// options.select_size and no graph named in cut_options, where cut_to_disk tried both initial cut
+// graphs, the other graph's cut is mapped too and the one kept is the one whose selected iterate's
+// image rebuilds the mesh better (image_rms); the lower stretch alone picks the better map on 9 of
+// the 14 shared meshes with two graphs.
+struct CutMap {
+    DiskCut cut;
+    std::optional<SeamBoundary> seam;
+    Parameterization map;
+    double cut_seconds = 0.0;             // in cut_to_disk (both calls where both graphs were mapped)
+    std::vector<double> graph_image_rms;  // where both were mapped: FaceTree's, ShortestLoops'
+};
+CutMap cut_and_map(Context* ctx, const geo::Mesh& mesh, std::uint32_t size, const ParameterizeOptions& options,
+                   const DiskCutOptions& cut_options = {});
+
 // Per vertex, the feature measure of the curvature variant: C_i = (k1^2 + k2^2)^(1/root) on the
 // mesh scaled to a unit bounding-box diagonal, smoothed twice by the bilateral filter of (6.14) with
 // the sign corrected (sigma_L = 0.1, sigma_D = 2).
