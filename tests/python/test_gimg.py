@@ -158,13 +158,16 @@ def torus(ring=24, tube=8, R=2.0, r=0.6):
     return positions, np.array(faces)
 
 
-@pytest.mark.parametrize("graph", ["face-tree", "shortest-loops", "best"])
-def test_gim_takes_the_cut_graph_the_command_line_does(device, tmp_path, graph):
+@pytest.mark.parametrize("graph, select", [("face-tree", False), ("shortest-loops", False), ("best", False),
+                                           ("best", True)])
+def test_gim_takes_the_cut_graph_the_command_line_does(device, tmp_path, graph, select):
     path = tmp_path / "torus.ply"
     gimg.save_mesh(str(path), *torus())
     positions, faces = gimg.load_mesh(str(path))  # as the command line reads it
-    result = gimg.gim(device, positions, faces, size=17, cut=True, cut_graph=graph)
-    cli = cli_json("gim", str(path), "--cut", "--cut-graph", graph, "--size", "17", "--out", str(tmp_path / "gim"))
+    result = gimg.gim(device, positions, faces, size=17, cut=True, cut_graph=graph, select=select)
+    cli = cli_json("gim", str(path), "--cut", "--cut-graph", graph, "--size", "17", "--out", str(tmp_path / "gim"),
+                   *(["--select"] if select else []))
+    assert len(cli["cut"]["graph_image_rms"]) == (2 if select else 0)
     assert result["cut_graph"] == cli["cut"]["graph"]
     if graph != "best":
         assert result["cut_graph"] == graph.replace("-", " ")
