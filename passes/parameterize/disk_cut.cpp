@@ -19,7 +19,7 @@ struct Opened {
     geo::OpenedMesh mesh;
     std::size_t split_edges = 0;
     std::vector<glm::dvec2> uv;  // Floater's map
-    std::size_t flipped = 0;     // its triangles turned over: regions crushed below rounding
+    std::size_t flipped = 0;     // its triangles turned over: regions crushed below what doubles resolve
     double l2_stretch = 0.0;     // infinite with any turned triangle
 };
 
@@ -128,8 +128,8 @@ DiskCut cut_to_disk(Context* ctx, const geo::Mesh& mesh, const DiskCutOptions& o
     if (best.opened.flipped)
         throw geo::InputError("cutting the mesh open: the best of " + std::to_string(out.tried) +
                               " cuts tried still turns " + std::to_string(best.opened.flipped) +
-                              " triangles over in Floater's map (parts crushed below rounding, which more "
-                              "--cut-paths can free, or closed in by the cut against one side of the square)");
+                              " triangles over in Floater's map (parts crushed below what doubles resolve, "
+                              "even solved to 1e-11; more --cut-paths may free them)");
     const std::vector<std::uint8_t>& cut = best.cut;
     out.paths = best.paths;
     out.l2_stretch = std::move(best.l2_stretch);
