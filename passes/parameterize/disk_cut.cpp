@@ -10,6 +10,7 @@
 #include <glm/geometric.hpp>
 
 #include <chrono>
+#include <exception>
 
 namespace gimg::passes {
 
@@ -161,30 +162,36 @@ CutMap cut_and_map(Context* ctx, const geo::Mesh& mesh, std::uint32_t size, cons
         r.map = parameterize_square(ctx, r.cut.disk, po);
         return r;
     };
-    CutMap kept = run(cut_options);
-    if (options.select_size == 0 || cut_options.graph || kept.cut.graph_l2_stretch.size() != 2) return kept;
-    DiskCutOptions other_options = cut_options;
-    other_options.graph =
-        kept.cut.graph == geo::CutGraph::FaceTree ? geo::CutGraph::ShortestLoops : geo::CutGraph::FaceTree;
-    CutMap other;
-    try {
-        other = run(other_options);
-    } catch (const geo::InputError&) {
-        return kept;  // its cut turns triangles over
+    check_cuttable_mesh(mesh);
+    // The two initial graphs differ where the surface is neither a sphere nor a disk (Euler
+    // characteristic 0 or less): with select, each is cut and mapped once, and the better image kept.
+    if (options.select_size == 0 || cut_options.graph ||
+        geo::analyze_topology(mesh).component_info.at(0).euler_characteristic > 0)
+        return run(cut_options);
+    std::vector<CutMap> maps;
+    std::exception_ptr refused;
+    for (geo::CutGraph graph : {geo::CutGraph::FaceTree, geo::CutGraph::ShortestLoops}) {
+        DiskCutOptions co = cut_options;
+        co.graph = graph;
+        try {
+            maps.push_back(run(co));
+        } catch (const geo::InputError&) {
+            refused = std::current_exception();  // this graph's cut turns triangles over
+        }
     }
-    const double rms_kept = kept.map.iterations[kept.map.selected].image_rms;
-    const double rms_other = other.map.iterations[other.map.selected].image_rms;
-    const double seconds = kept.cut_seconds + other.cut_seconds;
-    const bool loops_kept = kept.cut.graph == geo::CutGraph::ShortestLoops;
-    std::vector<double> graph_rms = loops_kept ? std::vector{rms_other, rms_kept} : std::vector{rms_kept, rms_other};
-    const std::vector<double> stretch = kept.cut.graph_l2_stretch;
-    const std::size_t tried = kept.cut.tried;
-    if (rms_other < rms_kept) kept = std::move(other);
-    kept.cut_seconds = seconds;
-    kept.graph_image_rms = std::move(graph_rms);
-    kept.cut.graph_l2_stretch = stretch;
+    if (maps.empty()) std::rethrow_exception(refused);
+    if (maps.size() == 1) return std::move(maps.front());
+    auto rms = [](const CutMap& c) { return c.map.iterations[c.map.selected].image_rms; };
+    auto stretch = [](const CutMap& c) { return c.cut.l2_stretch[c.cut.paths]; };
+    std::vector<double> image_rms{rms(maps[0]), rms(maps[1])}, graph_stretch{stretch(maps[0]), stretch(maps[1])};
+    const std::size_t tried = maps[0].cut.tried + maps[1].cut.tried;
+    const double seconds = maps[0].cut_seconds + maps[1].cut_seconds;
+    CutMap& kept = maps[image_rms[1] < image_rms[0] ? 1 : 0];
+    kept.graph_image_rms = std::move(image_rms);
+    kept.cut.graph_l2_stretch = std::move(graph_stretch);
     kept.cut.tried = tried;
-    return kept;
+    kept.cut_seconds = seconds;
+    return std::move(kept);
 }
 
 }  // namespace gimg::passes
