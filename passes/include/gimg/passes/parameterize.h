@@ -209,10 +209,10 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
 
 // A mesh cut open (cut_to_disk), its boundary placed for joining the seam (seam_boundary; the map's
 // corners and boundary come from there) and mapped (parameterize_square). With
-// options.select_size and no graph named in cut_options, where cut_to_disk tried both initial cut
-// graphs, the other graph's cut is mapped too and the one kept is the one whose selected iterate's
-// image rebuilds the mesh better (image_rms); the lower stretch alone picks the better map on 9 of
-// the 14 shared meshes with two graphs.
+// options.select_size and no graph named in cut_options, on a surface where the two initial cut
+// graphs differ (neither a sphere nor a disk) each is cut and mapped, and the one kept is the one
+// whose selected iterate's image rebuilds the mesh better (image_rms); the lower stretch alone
+// picks the better map on 9 of the 14 shared meshes with two graphs.
 struct CutMap {
     DiskCut cut;
     std::optional<SeamBoundary> seam;
