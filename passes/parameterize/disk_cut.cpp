@@ -159,6 +159,7 @@ CutMap cut_and_map(Context* ctx, const geo::Mesh& mesh, std::uint32_t size, cons
         r.seam = seam_boundary(r.cut, size);
         ParameterizeOptions po = options;
         if (r.seam) po.boundary = r.seam->boundary;
+        if (r.cut.cut_edges > 0) po.rise_ends_run = false;
         r.map = parameterize_square(ctx, r.cut.disk, po);
         return r;
     };

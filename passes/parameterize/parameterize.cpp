@@ -222,8 +222,10 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         if (options.variant == ParameterizeVariant::Stretch) {
             // Yoshizawa et al. stop when the L2 stretch stops falling.
             if (!(report.l2_stretch < out.iterations[t - 1].l2_stretch * (1.0 - options.stop_fall))) break;
-        } else if (t >= 2 && !(report.sigma_error < out.iterations[t - 1].sigma_error * (1.0 - options.stop_fall))) {
-            break;
+        } else if (t >= 2) {
+            const double before = out.iterations[t - 1].sigma_error;
+            const bool rose = report.sigma_error > before;
+            if (rose ? options.rise_ends_run : !(report.sigma_error < before * (1.0 - options.stop_fall))) break;
         }
     }
     if (iterate_tolerance > options.solve_tolerance) {
