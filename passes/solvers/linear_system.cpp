@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -228,6 +229,17 @@ double pair_residual(glm::dvec2 rr, glm::dvec2 bb, bool second) {
     return second ? std::max(rel(rr.x, bb.x), rel(rr.y, bb.y)) : rel(rr.x, bb.x);
 }
 
+// BiCGSTAB near breakdown: on a right-hand side not yet converged, r0 . r under 1e-12 of |r0| |r|
+// (the solves that converge stay above 1e-10; a stalled one fell to 1e-15 and below).
+constexpr std::size_t kMaxRestarts = 5;
+bool shadow_orthogonal(glm::dvec2 r0r0, glm::dvec2 r0r, glm::dvec2 rr, glm::dvec2 bb, double tolerance, bool second) {
+    auto stalled = [&](double r0_r0, double r0_r, double r_r, double b_b) {
+        const double rel = b_b > 0.0 ? std::sqrt(r_r / b_b) : std::sqrt(r_r);
+        return rel > tolerance && std::abs(r0_r) <= 1e-12 * std::sqrt(r0_r0 * r_r);
+    };
+    return stalled(r0r0.x, r0r.x, rr.x, bb.x) || (second && stalled(r0r0.y, r0r.y, rr.y, bb.y));
+}
+
 template <class Solver>
 SolveResult solve_general_with(const LinearSystem& s, const SolveOptions& o, Solver make_solver) {
     const FreeSystem f = free_system(s);
@@ -266,26 +278,34 @@ SolveResult solve_general_with(const LinearSystem& s, const SolveOptions& o, Sol
             x0[i] = {f.start[c0][i], second ? f.start[c0 + 1][i] : 0.0};
             bb += b[i] * b[i];
         }
-        const detail::BicgState start = detail::start_bicgstab(a, b, x0);
-        auto solver = make_solver(a, start, mg);
+        detail::BicgState start = detail::start_bicgstab(a, b, x0);
+        using Run = decltype(make_solver(a, start, mg));
+        auto solver = std::make_unique<Run>(make_solver(a, start, mg));
         double res = pair_residual(start.rr, bb, second);
-        std::size_t it = 0;
+        std::size_t it = 0, restarts = 0;
         // Checked after per_check iterations, then after as many as the last check's rate needs.
         const std::uint32_t per_check = std::max<std::uint32_t>(o.iterations_per_check, 1);
         std::uint32_t next = per_check;
         while (it < o.max_iterations && res > o.tolerance) {
             const std::uint32_t chunk = std::uint32_t(std::min<std::size_t>(next, o.max_iterations - it));
-            const auto [r0r, rr] = solver.run(chunk);
+            const auto [r0r, rr] = solver->run(chunk);
             it += chunk;
             const double before = res;
             res = pair_residual(rr, bb, second);
             next = detail::iterations_to_reach(o.tolerance, before, res, chunk, per_check);
             if (!std::isfinite(res)) breakdown("BiCGSTAB", "the residual is not finite");
-            if (res > o.tolerance && (r0r.x == 0.0 || (second && r0r.y == 0.0)))
-                breakdown("BiCGSTAB",
-                          "r0 . r = 0 before convergence: restart from another guess or use a direct solver");
+            if (res > o.tolerance && shadow_orthogonal(start.rr, r0r, rr, bb, o.tolerance, second)) {
+                // r has turned orthogonal to the shadow residual r0 and BiCGSTAB stalls (a cut plant's
+                // reweighted system on lavapipe: 2,100 iterations at 5e-5): start again from here.
+                if (++restarts > kMaxRestarts)
+                    breakdown("BiCGSTAB", "r0 . r = 0 before convergence, after " + std::to_string(kMaxRestarts) +
+                                              " restarts: use a direct solver");
+                start = detail::start_bicgstab(a, b, solver->solution());
+                solver = std::make_unique<Run>(make_solver(a, start, mg));
+                next = per_check;
+            }
         }
-        const std::vector<glm::dvec2> sol = solver.solution();
+        const std::vector<glm::dvec2> sol = solver->solution();
         for (std::size_t i = 0; i < m; ++i) {
             x[c0][i] = sol[i].x;
             if (second) x[c0 + 1][i] = sol[i].y;

@@ -421,6 +421,23 @@ TEST_F(Solvers, ClearErrorsForUnfitSystems) {
     EXPECT_THROW(passes::solve_general(ctx(), zero_diagonal), geo::InputError);
 }
 
+// A = [[1, 3/2, 0], [0, 1, 2], [-2, 0, 1]], b = (0, -2, 0): BiCGSTAB's first step leaves the
+// residual (2.4, 0, 1.2) exactly orthogonal to the shadow residual r0 = b, where it cannot go on
+// (this threw "broke down"); started again from there it reaches x = (-0.6, 0.4, -1.2).
+TEST_F(Solvers, GeneralStartsAgainWhereTheResidualTurnsOrthogonalToTheShadow) {
+    LinearSystem s;
+    s.a = {3, {0, 2, 4, 6}, {0, 1, 1, 2, 0, 2}, {1.0, 1.5, 1.0, 2.0, -2.0, 1.0}};
+    s.b = {0.0, -2.0, 0.0};
+    const std::vector<double> truth{-0.6, 0.4, -1.2};
+    passes::SolveOptions o;
+    o.iterations_per_check = 1;
+    for (bool gpu : {false, true}) {
+        const passes::SolveResult r = gpu ? passes::solve_general(ctx(), s, o) : passes::solve_general_cpu(s, o);
+        EXPECT_TRUE(r.converged) << (gpu ? "GPU" : "CPU");
+        for (std::size_t i = 0; i < 3; ++i) EXPECT_NEAR(r.x[i], truth[i], 1e-9) << (gpu ? "GPU " : "CPU ") << i;
+    }
+}
+
 TEST_F(Solvers, GeneralWithTheMultigridCycleSolvesAShiftedSystemWithoutFixedRows) {
     // I - W + a shift on every row, nothing fixed: the Laplacian of the symmetric part alone would
     // be singular; the cycle's Laplacian keeps each row's excess over diagonal dominance.
