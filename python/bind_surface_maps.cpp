@@ -36,6 +36,7 @@ void bind_surface_maps(py::module_& m) {
             size = passes::geometry_image_size(size, input.vertex_count());
             std::optional<passes::DiskCut> disk;
             std::optional<passes::SeamBoundary> seam;  // both sides of the cut sampled alike, then joined
+            bool seam_joined = false;
             passes::Parameterization map;
             passes::PositionImage image;
             geo::Mesh back;
@@ -55,9 +56,11 @@ void bind_surface_maps(py::module_& m) {
                 const geo::Mesh& mesh = disk ? disk->disk : input;
                 image = ctx ? passes::geometry_image_gpu(*ctx, mesh, map.uv, size)
                             : passes::geometry_image_cpu(mesh, map.uv, size);
-                if (seam) passes::join_seam(image, seam->mate);
-                back = ctx ? passes::reconstruct_gpu(*ctx, image) : passes::reconstruct_cpu(image);
-                if (seam) passes::close_seam(back);
+                passes::SeamJoin join = passes::rebuild_over_seam(image, seam, [&](const passes::PositionImage& im) {
+                    return ctx ? passes::reconstruct_gpu(*ctx, im) : passes::reconstruct_cpu(im);
+                });
+                back = std::move(join.mesh);
+                seam_joined = join.joined;
             }
             py::array_t<float> xyz({py::ssize_t(size), py::ssize_t(size), py::ssize_t(3)});
             py::array_t<bool> covered({py::ssize_t(size), py::ssize_t(size)});
@@ -91,7 +94,7 @@ void bind_surface_maps(py::module_& m) {
                 d["cut_edges"] = disk->cut_edges;
                 d["cut_paths"] = disk->paths;
                 d["cut_graph"] = geo::cut_graph_name(disk->graph);
-                d["seam_joined"] = seam.has_value();
+                d["seam_joined"] = seam_joined;
             }
             return d;
         },

@@ -2,6 +2,7 @@
 // at the same points, and the joining of those samples in the image (parameterize.h).
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/normals.h"
+#include "gimg/geometry/topology.h"
 #include "gimg/geometry/weld.h"
 #include "gimg/passes/parameterize.h"
 #include "parameterize/boundary_turning.h"
@@ -337,6 +338,29 @@ std::size_t close_seam(geo::Mesh& reconstruction) {
     m.texcoords.clear();
     m.normals = geo::vertex_normals(m);
     return before - m.vertex_count();
+}
+
+SeamJoin rebuild_over_seam(PositionImage& image, const std::optional<SeamBoundary>& seam,
+                           const std::function<geo::Mesh(const PositionImage&)>& rebuild) {
+    SeamJoin out;
+    if (!seam) {
+        out.mesh = rebuild(image);
+        return out;
+    }
+    PositionImage joined = image;
+    out.joined_pixels = join_seam(joined, seam->mate);
+    out.mesh = rebuild(joined);
+    out.merged_vertices = close_seam(out.mesh);
+    const geo::MeshInfo info = geo::analyze_topology(out.mesh);
+    if (info.components == 1 && info.non_manifold_edges == 0 && info.non_manifold_vertices == 0 &&
+        info.inconsistent_edges == 0) {
+        image = std::move(joined);
+        out.joined = true;
+        return out;
+    }
+    out.mesh = rebuild(image);
+    out.joined_pixels = out.merged_vertices = 0;
+    return out;
 }
 
 }  // namespace gimg::passes

@@ -55,7 +55,7 @@ void print_cut(const passes::CutMap& c, const geo::Mesh& input) {
         ", %zu stretch paths kept; Floater's L2 stretch %.4f -> %.4f; the disk has %zu vertices (%.2f s); the "
         "seam %s\n",
         cut.paths, cut.l2_stretch.front(), cut.l2_stretch[cut.paths], cut.disk.vertex_count(), c.cut_seconds,
-        c.seam ? "is joined" : "stays open");
+        c.seam ? "is placed for joining" : "stays open");
 }
 
 void run_gim(const GimOptions& o, const GlobalOptions& global) {
@@ -114,11 +114,18 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
         image = o.cpu ? passes::geometry_image_cpu(mesh, map.uv, size)
                       : passes::geometry_image_gpu(*ctx, mesh, map.uv, size);
     });
-    std::size_t joined_pixels = 0, merged_vertices = 0;
-    if (seam) joined_pixels = passes::join_seam(image, seam->mate);
-    const double reconstruct_ms =
-        time_ms([&] { back = o.cpu ? passes::reconstruct_cpu(image, {}) : passes::reconstruct_gpu(*ctx, image, {}); });
-    if (seam) merged_vertices = passes::close_seam(back);
+    passes::SeamJoin join;
+    const double reconstruct_ms = time_ms([&] {
+        join = passes::rebuild_over_seam(image, seam, [&](const passes::PositionImage& im) {
+            return o.cpu ? passes::reconstruct_cpu(im, {}) : passes::reconstruct_gpu(*ctx, im, {});
+        });
+    });
+    back = std::move(join.mesh);
+    if (seam && !join.joined && !global.quiet)
+        std::printf(
+            "the seam stays open: joined at %ux%u, the mesh would not be one manifold piece (copies of a cut "
+            "vertex on pixels one quad touches)\n",
+            size, size);
     if (back.face_count() == 0) throw geo::InputError(o.mesh + ": the geometry image rebuilds no face");
     const std::filesystem::path dir(o.out);
     passes::write_position_exr(image, dir / "gim.exr");
@@ -192,9 +199,9 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                     {"paths", cut->cut.paths},
                     {"l2_stretch", cut->cut.l2_stretch},
                     {"split_edges", cut->cut.split_edges},
-                    {"seam_joined", seam.has_value()},
-                    {"joined_pixels", joined_pixels},
-                    {"merged_vertices", merged_vertices},
+                    {"seam_joined", join.joined},
+                    {"joined_pixels", join.joined_pixels},
+                    {"merged_vertices", join.merged_vertices},
                     {"disk_vertices", cut->cut.disk.vertex_count()},
                     {"seconds", cut_seconds}};
     add_machine_figures(j, ctx.get());

@@ -232,6 +232,67 @@ TEST(DiskCutMapCpu, HolesOpensIntoADiskWithoutCrushedStrips) {
     expect_usable_cut(holes, passes::cut_to_disk(nullptr, holes), "holes");
 }
 
+// Three border pixels around a corner of a 6 x 6 image joined into one vertex (two one-step leaves
+// of a cut node, as on a part of the retrieval collection's dog): the corner's inner pixel touches all
+// three, and closed over the seam the mesh has an edge of more than two faces. rebuild_over_seam
+// then leaves the image and the mesh open; a seam that closes well it joins.
+TEST(DiskCutMapCpu, ASeamThatWouldPinchStaysOpen) {
+    const std::uint32_t n = 6, steps = 4 * (n - 1);
+    passes::PositionImage image(n, n);
+    for (std::uint32_t b = 0; b < n; ++b)
+        for (std::uint32_t a = 0; a < n; ++a) {
+            const std::size_t i = image.index(a, b);
+            image.xyz[3 * i] = float(a), image.xyz[3 * i + 1] = float(b);
+            image.xyz[3 * i + 2] = float(0.1 * std::sin(1.7 * a + 2.3 * b));
+            image.covered[i] = 1;
+        }
+    passes::SeamBoundary seam;
+    seam.mate.resize(steps);
+    for (std::uint32_t s = 0; s < steps; ++s) seam.mate[s] = s;
+    // Step 0 is the corner (0, n - 1); steps - 2 and 2 lie two pixels up and two to the right: one
+    // vertex near the corner, the leaves' tips between its copies close to each other, so that the
+    // corner's quad is split between the tips and the quads beside it through the vertex.
+    ASSERT_EQ(passes::border_pixel(0, n), glm::uvec2(0, n - 1));
+    seam.mate[steps - 2] = 0, seam.mate[0] = 2, seam.mate[2] = steps - 2;
+    const float y = float(n - 1);
+    auto place = [&](std::uint32_t a, std::uint32_t b, glm::vec3 p) {
+        const std::size_t i = image.index(a, b);
+        image.xyz[3 * i] = p.x, image.xyz[3 * i + 1] = p.y, image.xyz[3 * i + 2] = p.z;
+    };
+    for (std::uint32_t s : {steps - 2, 0u, 2u})
+        place(passes::border_pixel(s, n).x, passes::border_pixel(s, n).y, {0.2f, y - 0.8f, 0.0f});
+    place(0, n - 2, {0.1f, y - 0.6f, 0.0f});
+    place(1, n - 1, {0.3f, y - 0.5f, 0.0f});
+    const passes::PositionImage before = image;
+
+    passes::PositionImage joined = image;
+    passes::join_seam(joined, seam.mate);
+    geo::Mesh pinched = passes::reconstruct_cpu(joined);
+    passes::close_seam(pinched);
+    EXPECT_GT(geo::analyze_topology(pinched).non_manifold_edges, 0u);
+
+    const passes::SeamJoin open = passes::rebuild_over_seam(
+        image, seam, [](const passes::PositionImage& im) { return passes::reconstruct_cpu(im); });
+    EXPECT_FALSE(open.joined);
+    EXPECT_EQ(image.xyz, before.xyz);
+    const geo::MeshInfo info = geo::analyze_topology(open.mesh);
+    EXPECT_EQ(info.non_manifold_edges + info.non_manifold_vertices, 0u);
+    EXPECT_EQ(open.mesh.face_count(), passes::reconstruct_cpu(before).face_count());
+
+    // A torus's seam closes: joined, one closed manifold piece of genus 1.
+    const geo::Mesh torus = geo::make_torus(2.0, 0.6, 32, 12);
+    const passes::CutMap cut = passes::cut_and_map(nullptr, torus, 21, {});
+    passes::PositionImage torus_image = passes::geometry_image_cpu(cut.cut.disk, cut.map.uv, 21);
+    const passes::SeamJoin closed = passes::rebuild_over_seam(
+        torus_image, cut.seam, [](const passes::PositionImage& im) { return passes::reconstruct_cpu(im); });
+    EXPECT_TRUE(closed.joined);
+    EXPECT_GT(closed.merged_vertices, 0u);
+    const geo::MeshInfo torus_info = geo::analyze_topology(closed.mesh);
+    EXPECT_TRUE(torus_info.closed);
+    ASSERT_EQ(torus_info.component_info.size(), 1u);
+    EXPECT_EQ(torus_info.component_info[0].genus, 1);
+}
+
 // femur (genus 2) cut along its shortest loops: the curvature run's E_sigma rises from the fourth
 // iteration on while the reweighting opens the parts the cut crushed. The thesis's rule stops at
 // that rise; cut_and_map runs on through it, and its image rebuilds the femur several times better.

@@ -132,6 +132,18 @@ std::size_t join_seam(PositionImage& image, const std::vector<std::uint32_t>& ma
 std::size_t close_seam(geo::Mesh& reconstruction);
 // The border pixel of perimeter step s, as (column, row from the top).
 glm::uvec2 border_pixel(std::uint32_t step, std::uint32_t size);
+// The mesh `rebuild` makes of an image of a map on seam_boundary, joined over the seam (join_seam on
+// the image, close_seam on the mesh) where the closed mesh is one manifold, oriented piece. With a
+// pixel or two a path, copies of one cut vertex can fall on pixels that one quad touches, and the
+// closed mesh would pinch there: then the image and the mesh stay open (`joined` false). Without a
+// seam, the image's mesh as it is.
+struct SeamJoin {
+    geo::Mesh mesh;
+    bool joined = false;
+    std::size_t joined_pixels = 0, merged_vertices = 0;
+};
+SeamJoin rebuild_over_seam(PositionImage& image, const std::optional<SeamBoundary>& seam,
+                           const std::function<geo::Mesh(const PositionImage&)>& rebuild);
 
 enum class ParameterizeVariant { Tutte, Floater, Stretch, Density, Uniform3d, Curvature };
 const char* variant_name(ParameterizeVariant variant);  // "tutte", "floater", ...
