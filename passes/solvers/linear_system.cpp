@@ -230,7 +230,7 @@ double pair_residual(glm::dvec2 rr, glm::dvec2 bb, bool second) {
 }
 
 // BiCGSTAB near breakdown: on a right-hand side not yet converged, r0 . r under 1e-12 of |r0| |r|
-// (the solves that converge stay above 1e-10; a stalled one fell to 1e-15 and below).
+// (the solves that converge stay above 5e-10; a stalled one fell to 1e-15 and below).
 constexpr std::size_t kMaxRestarts = 5;
 bool shadow_orthogonal(glm::dvec2 r0r0, glm::dvec2 r0r, glm::dvec2 rr, glm::dvec2 bb, double tolerance, bool second) {
     auto stalled = [&](double r0_r0, double r0_r, double r_r, double b_b) {
