@@ -120,7 +120,7 @@ void bind_cylinders(py::module_& m) {
                 passes::CylinderFrame frame;
                 const passes::CylinderImage image = project_cylinder(device.context(), mesh, width, height, frame);
                 back = passes::reconstruct_gpu(device.context(), image, frame);
-                if (back.face_count() == 0) throw geo::InputError("the cylindrical image rebuilds no face");
+                passes::check_rebuilt_surface(back, "the cylindrical image", "give it more pixels (width, height)");
                 geo::SurfaceDistanceOptions o;
                 if (samples) o.sampling.sample_count = samples;
                 d = geo::surface_distance(mesh, back, o);

@@ -84,3 +84,16 @@ void finish_mesh(geo::Mesh& mesh) {
 }
 
 }  // namespace gimg::passes::detail
+
+namespace gimg::passes {
+
+void check_rebuilt_surface(const geo::Mesh& rebuilt, const std::string& image, const std::string& more_pixels) {
+    if (rebuilt.face_count() == 0) throw geo::InputError(image + " rebuilds no face; " + more_pixels);
+    double area = 0.0;
+    for (double a : geo::face_areas(rebuilt)) area += a;
+    if (!(area > 0.0))
+        throw geo::InputError(
+            image + " rebuilds only faces of no area: the model is flat, and the cylinder's rays only graze it");
+}
+
+}  // namespace gimg::passes

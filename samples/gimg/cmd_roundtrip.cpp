@@ -73,9 +73,9 @@ void run_roundtrip(const RoundtripOptions& o, const GlobalOptions& global) {
         reconstruct_ms = time_ms([&] { back = passes::reconstruct_gpu(*ctx, image, frame, {}, &stats); });
         gpu_ms = zbuffer.last_gpu_ms() + stats.gpu_ms;
     }
-    if (back.face_count() == 0)
-        throw geo::InputError(o.mesh + ": the " + std::to_string(wh[0]) + "x" + std::to_string(wh[1]) +
-                              " image rebuilds no face; try a larger --size");
+    passes::check_rebuilt_surface(back,
+                                  o.mesh + ": the " + std::to_string(wh[0]) + "x" + std::to_string(wh[1]) + " image",
+                                  "try a larger --size");
     geo::save_mesh(back, std::filesystem::path(o.out) / "reconstruction.ply");
     geo::SurfaceDistanceOptions so;
     if (o.samples) so.sampling.sample_count = o.samples;

@@ -296,6 +296,10 @@ def test_roundtrip_batches_and_retrieval_match_the_command_line(device, tmp_path
     assert len(r["faces"]) == cli["reconstruction_faces"]
     assert r["rms_to_reconstruction"] == pytest.approx(cli["a_to_b"]["rms"] / cli["bbox_diagonal"], rel=1e-12)
     assert r["rms_back"] == pytest.approx(cli["b_to_a"]["rms"] / cli["bbox_diagonal"], rel=1e-12)
+    # A flat square: the cylinder's rays only graze it, and what the image rebuilds has no area.
+    flat_positions, flat_faces = gimg.load_mesh(os.path.join(DATA, "meshes", "quad_uv.obj"))
+    with pytest.raises(ValueError, match="rebuilds only faces of no area"):
+        gimg.roundtrip(device, flat_positions, flat_faces, width=64, height=32)
 
     # A list in one call gives what one call per mesh gives, bit for bit.
     names = ["cube_quads.obj", "quad_uv.obj", "tetra.off", "tetra_colors.off"]

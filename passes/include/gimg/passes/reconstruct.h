@@ -64,6 +64,11 @@ struct ReconstructStats {
     double gpu_ms = 0.0;    // GPU path only
 };
 
+// Throws geo::InputError unless a mesh rebuilt from a cylindrical image has a face of some area:
+// "<image> rebuilds no face; <more_pixels>", or, for a flat model whose rays only graze it,
+// "<image> rebuilds only faces of no area: ...".
+void check_rebuilt_surface(const geo::Mesh& rebuilt, const std::string& image, const std::string& more_pixels);
+
 // CPU references.
 geo::Mesh reconstruct_cpu(const CylinderImage& image, const CylinderFrame& frame,
                           const ReconstructOptions& options = {}, ReconstructStats* stats = nullptr);
