@@ -73,6 +73,11 @@ Polycube build_along_z(Context* ctx, const geo::Mesh& input, const PolycubeOptio
     double volume = 0.0;
     for (const auto& t : mesh.triangles)
         volume += glm::dot(mesh.positions[t[0]], glm::cross(mesh.positions[t[1]], mesh.positions[t[2]]));
+    // A flat mesh, its holes capped, is two coincident sheets: every plane cuts it in loops of no
+    // area, which no slicing axis can turn into a polyhedron.
+    const double diagonal = mesh.bounds().diagonal();
+    if (!(std::abs(volume) > 1e-9 * diagonal * diagonal * diagonal))
+        throw geo::InputError("the mesh is flat: closed off, it encloses no volume, and a polycube needs some");
     if (volume < 0.0)  // the construction assumes outward faces
         for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
 

@@ -217,8 +217,9 @@ RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>&
     RectilinearRegion r;
     r.root = root;
     // Nesting: a loop inside an even number of others bounds a piece, inside an odd number a hole
-    // of the innermost loop around it. A piece and its holes are one component.
-    std::size_t holes = 0;
+    // of the innermost loop around it. A piece and its holes are one component. Loops that cross
+    // (a surface through itself) can each lie inside the other: a "hole" whose innermost loop is no
+    // piece bounds a piece of its own, and the region's topology check then fails.
     std::vector<std::size_t> nesting(loops.size(), 0), parent(loops.size(), loops.size());
     for (std::size_t i = 0; i < loops.size(); ++i) {
         if (loops[i].size() < 3) continue;
@@ -229,20 +230,26 @@ RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>&
                     std::abs(polycube::signed_area(loops[j])) < std::abs(polycube::signed_area(loops[parent[i]])))
                     parent[i] = j;
             }
-        if (nesting[i] % 2) ++holes;
-        r.region_area += (nesting[i] % 2 ? -1.0 : 1.0) * std::abs(polycube::signed_area(loops[i]));
+    }
+    std::size_t holes = 0;
+    std::vector<std::uint8_t> hole(loops.size(), 0);
+    for (std::size_t i = 0; i < loops.size(); ++i) {
+        if (loops[i].size() < 3) continue;
+        hole[i] = nesting[i] % 2 == 1 && parent[i] < loops.size() && nesting[parent[i]] % 2 == 0;
+        holes += hole[i];
+        r.region_area += (hole[i] ? -1.0 : 1.0) * std::abs(polycube::signed_area(loops[i]));
     }
     std::vector<Loops> parts;  // per component: its outer loop, then its holes
     std::vector<double> part_area;
     std::vector<std::size_t> part_of(loops.size(), 0);
     for (std::size_t i = 0; i < loops.size(); ++i)
-        if (loops[i].size() >= 3 && nesting[i] % 2 == 0) {
+        if (loops[i].size() >= 3 && !hole[i]) {
             part_of[i] = parts.size();
             parts.push_back({&loops[i]});
             part_area.push_back(std::abs(polycube::signed_area(loops[i])));
         }
     for (std::size_t i = 0; i < loops.size(); ++i)
-        if (loops[i].size() >= 3 && nesting[i] % 2 == 1 && parent[i] < loops.size()) {
+        if (hole[i]) {
             parts[part_of[parent[i]]].push_back(&loops[i]);
             part_area[part_of[parent[i]]] -= std::abs(polycube::signed_area(loops[i]));
         }
@@ -363,7 +370,7 @@ RectilinearRegion rectilinear_region(const std::vector<std::vector<glm::dvec2>>&
         r.component_depth.assign(depth.begin(), depth.end());
         r.component_of_loop.assign(loops.size(), -1);
         for (std::size_t i = 0; i < loops.size(); ++i)
-            if (loops[i].size() >= 3) r.component_of_loop[i] = std::int32_t(part_of[nesting[i] % 2 ? parent[i] : i]);
+            if (loops[i].size() >= 3) r.component_of_loop[i] = std::int32_t(part_of[hole[i] ? parent[i] : i]);
         r.area = double(std::count(r.cells.begin(), r.cells.end(), 1)) * cell.x * cell.y;
         r.carved = carved + contested.size();
         Window all;

@@ -190,7 +190,7 @@ polycube_refusals)
   run 2 "--dz takes a number" "$GIMG" polycube "$W/tetra.off" --out "$W/p" --dz -1
   run 2 "--axis" "$GIMG" polycube "$W/tetra.off" --out "$W/p" --axis w
   run 2 "--slice-smoothing takes a whole number from 0 to 1000" "$GIMG" polycube "$W/tetra.off" --out "$W/p" --slice-smoothing 1001
-  run 2 "the mesh is flat in z" "$GIMG" polycube "$DATA/quad_uv.obj" --out "$W/p"
+  run 2 "the mesh is flat: closed off, it encloses no volume" "$GIMG" polycube "$DATA/quad_uv.obj" --out "$W/p"
   absent "$W/p/polycube.obj" "$W/p/mapped.ply"
   run 0 "" "$GIMG" polycube "$W/tetra.off" --out "$W/t" --axis y
   exists "$W/t/polycube.obj" "$W/t/mapped.ply" "$W/t/checker.png" "$W/t/polycube.png"

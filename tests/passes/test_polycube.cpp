@@ -252,6 +252,20 @@ TEST(PolycubeQuadtree, StopRuleAndMonotoneInDa) {
     EXPECT_EQ(annulus.cells[std::size_t(n / 2) * n + n / 2], 0);  // the centre is in the hole
 }
 
+// Two bars crossing (the section of a surface through itself), each loop starting inside the other:
+// by nesting each is the other's hole and no loop bounded a piece, and the region indexed an empty
+// list (a crash on a part of the retrieval collection's figures). Now both are pieces, and the
+// region, which no arrangement of loops that cross can match, reports its topology as wrong.
+TEST(PolycubeQuadtree, LoopsThatCrossAreTwoPiecesNotTwoHoles) {
+    const std::vector<glm::dvec2> across{{2.0, 1.0}, {4.0, 1.0}, {4.0, 2.0}, {0.0, 2.0}, {0.0, 1.0}};
+    const std::vector<glm::dvec2> upright{{1.5, 1.5}, {1.5, -1.0}, {2.5, -1.0}, {2.5, 4.0}, {1.5, 4.0}};
+    const auto r = gp::rectilinear_region({across, upright}, {{-1.0, -2.0}, {5.0, 5.0}}, 0.05, 7);
+    EXPECT_DOUBLE_EQ(r.region_area, 4.0 + 5.0);
+    ASSERT_EQ(r.component_of_loop.size(), 2u);
+    EXPECT_NE(r.component_of_loop[0], r.component_of_loop[1]);
+    EXPECT_FALSE(r.topology_ok);
+}
+
 // Two pairs of columns, the right one of the upper plane leaning left to within 0.03 of the lower
 // plane's left column: each plane alone keeps its two regions apart, but the left region of the
 // lower plane meets the right one of the upper (the polyhedron would join the columns there).
@@ -597,7 +611,17 @@ TEST(PolycubeBuild, RefusesWhatItCannotTake) {
     two.positions.insert(two.positions.end(), other.positions.begin(), other.positions.end());
     for (auto t : other.triangles) two.triangles.push_back(t + glm::uvec3(base));
     EXPECT_THROW(gp::build_polycube(nullptr, two), geo::InputError);
-    EXPECT_THROW(gp::build_polycube(nullptr, geo::make_grid(4, 4)), geo::InputError);  // flat in z
+    // Flat, in z or standing in the xz-plane and tilted (whose slices normal to z were segments, and
+    // failed with "internal: a contour parameter was not found"): closed off, no volume.
+    geo::Mesh standing = geo::make_grid(4, 4), tilted = geo::make_grid(4, 4);
+    for (auto& p : standing.positions) p = {p.x, 0.5, p.y};
+    for (auto& p : tilted.positions) p = {p.x, 0.3 * p.y, p.y};
+    for (const geo::Mesh& flat : {geo::make_grid(4, 4), standing, tilted}) try {
+            gp::build_polycube(nullptr, flat);
+            ADD_FAILURE() << "a flat grid made a polycube";
+        } catch (const geo::InputError& e) {
+            EXPECT_NE(std::string(e.what()).find("the mesh is flat"), std::string::npos) << e.what();
+        }
     gp::PolycubeOptions bad;
     bad.da = 0.0;
     EXPECT_THROW(gp::build_polycube(nullptr, geo::make_icosphere(1.0, 1), bad), geo::InputError);
