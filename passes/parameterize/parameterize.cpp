@@ -209,7 +209,10 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         stretch = measure(uv, report);
         finish(uv, report, started);
         if (options.select_size > 0) {
-            if (out.iterations[t].image_rms < out.iterations[out.selected].image_rms) keep(uv, t);
+            // A map that folds is never chosen over one that does not, whatever its image.
+            const IterationReport &now = out.iterations[t], &held = out.iterations[out.selected];
+            if ((now.flipped == 0) != (held.flipped == 0) ? now.flipped == 0 : now.image_rms < held.image_rms)
+                keep(uv, t);
         } else if (options.variant == ParameterizeVariant::Stretch) {
             // Yoshizawa et al. keep the map of least L2 stretch.
             if (report.l2_stretch < best_stretch) {

@@ -14,6 +14,7 @@
 #include <glm/geometric.hpp>
 
 #include <cmath>
+#include <limits>
 
 using namespace gimg;
 
@@ -317,6 +318,28 @@ TEST(DiskCutMapCpu, ARiseOfESigmaDoesNotEndTheRunOnACutSurface) {
     const double on = passes::geometry_image_rms(cut.cut.disk, cut.map.uv, size, 20'000);
     const double at_rise = passes::geometry_image_rms(cut.cut.disk, stopped.uv, size, 20'000);
     EXPECT_LT(on, 0.3 * at_rise) << "on through the rise " << on << ", stopped at it " << at_rise;
+}
+
+// tests/data/real/table_piece.ply cut along its face tree: at 16 x 16 one iterate of its curvature
+// map folds a triangle and rebuilds the piece better than every iterate that does not. select
+// returns the best of those that do not.
+TEST(DiskCutMapCpu, SelectNeverReturnsAFoldedIterate) {
+    const geo::Mesh part = geo::load_mesh(std::filesystem::path(GIMG_TEST_DATA_DIR) / "real" / "table_piece.ply");
+    passes::ParameterizeOptions options;
+    options.select_size = 16;
+    const passes::CutMap cut = passes::cut_and_map(nullptr, part, 16, options, {.graph = geo::CutGraph::FaceTree});
+    const std::vector<passes::IterationReport>& runs = cut.map.iterations;
+    double folded = std::numeric_limits<double>::infinity();
+    for (const passes::IterationReport& r : runs)
+        if (r.flipped > 0) folded = std::min(folded, r.image_rms);
+    const passes::IterationReport& chosen = runs[cut.map.selected];
+    ASSERT_LT(folded, chosen.image_rms) << "the case this test is for: a folded iterate rebuilds better";
+    EXPECT_EQ(chosen.flipped, 0u);
+    EXPECT_EQ(passes::count_flipped(cut.cut.disk, cut.map.uv), 0u);
+    for (const passes::IterationReport& r : runs)
+        if (r.flipped == 0) {
+            EXPECT_GE(r.image_rms, chosen.image_rms);
+        }
 }
 
 TEST(DiskCutMapCpu, RefusesWhatNoCutMakesADisk) {
