@@ -80,6 +80,7 @@ void bind_surface_maps(py::module_& m) {
             d["faces"] = faces_array(back.triangles);
             d["iterations"] = map.iterations.size() - 1;
             d["selected_iteration"] = map.selected;
+            d["unsolved"] = map.unsolved.empty() ? py::object(py::none()) : py::cast(map.unsolved);
             d["flipped"] = passes::count_flipped(disk ? disk->disk : input, map.uv);
             if (disk) {
                 // uv belongs to the opened mesh's vertices; source names the input vertex each copies

@@ -10,8 +10,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <optional>
+#include <string>
 
 namespace gimg::passes {
 
@@ -19,6 +21,12 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string scientific(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2e", x);
+    return text;
+}
 
 constexpr const char* kVariantNames[] = {"tutte", "floater", "stretch", "density", "uniform3d", "curvature"};
 // The iterates project_start combines for the next reweighted solve.
@@ -117,7 +125,7 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         LinearSystem system = detail::tutte_system(adj, weights, in.interior, fixed_uv, start);
         if (from_past) project_start(system, past);
         const SolveOptions solve_options{.tolerance = tolerance,
-                                         .max_iterations = 20000,
+                                         .max_iterations = options.max_solver_iterations,
                                          .iterations_per_check = iterations_per_check,
                                          .preconditioner = Preconditioner::Multigrid,
                                          .reuse = &hierarchy};
@@ -125,8 +133,7 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
             ctx ? solve_general(*ctx, system, solve_options) : solve_general_cpu(system, solve_options);
         if (!r.converged)
             throw geo::InputError("the parameterization's linear system did not converge (relative residual " +
-                                  std::to_string(r.residual) + " after " + std::to_string(r.iterations) +
-                                  " iterations)");
+                                  scientific(r.residual) + " after " + std::to_string(r.iterations) + " iterations)");
         solver_iterations += r.iterations;
         std::vector<glm::dvec2> uv(n);
         for (std::size_t i = 0; i < n; ++i) uv[i] = {r.x[2 * i], r.x[2 * i + 1]};
@@ -205,7 +212,14 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         for (std::size_t i = 0; i < n; ++i) flat[2 * i] = uv[i].x, flat[2 * i + 1] = uv[i].y;
         past.push_back(std::move(flat));
         if (past.size() > kPastIterates) past.erase(past.begin());
-        uv = solve(uv, report);
+        try {
+            uv = solve(uv, report);
+        } catch (const geo::InputError& e) {
+            // A system reweighted so far that its solve breaks down (a cut door part's, iteration 44,
+            // on lavapipe) ends the run as a fold does: the iterates before it stand.
+            out.unsolved = "iteration " + std::to_string(t) + ": " + e.what();
+            break;
+        }
         stretch = measure(uv, report);
         finish(uv, report, started);
         if (options.select_size > 0) {

@@ -160,6 +160,9 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
             "flipped triangles; %ux%u image (%zu of %zu pixels covered, %.1f ms) -> %zu faces (%.1f ms)\n",
             map.iterations.size() - 1, map.selected, map.final_solver_iterations, map.seconds, flipped, size, size,
             covered, std::size_t(size) * size, sample_ms, back.face_count(), reconstruct_ms);
+        if (!map.unsolved.empty())
+            std::printf("note: the run ended where a reweighted system could not be solved (%s)\n",
+                        map.unsolved.c_str());
         std::printf(
             "relative to the bounding-box diagonal: RMS %.3e (original->reconstruction %.3e, back %.3e), "
             "Hausdorff %.3e, PSNR %.2f dB\n",
@@ -179,6 +182,7 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                      {"iterations", iterations},
                      {"selected_iteration", map.selected},
                      {"final_solver_iterations", map.final_solver_iterations},
+                     {"unsolved", map.unsolved.empty() ? nlohmann::json(nullptr) : nlohmann::json(map.unsolved)},
                      {"map_seconds", map.seconds},
                      {"solve_seconds", map.solve_seconds},
                      {"map_submissions", map.submissions},

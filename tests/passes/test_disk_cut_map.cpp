@@ -342,6 +342,26 @@ TEST(DiskCutMapCpu, SelectNeverReturnsAFoldedIterate) {
         }
 }
 
+// A reweighted iterate whose solve fails ends the run, as a fold does, and the earlier iterates
+// stand. Forced here by a cap of 10 solver iterations a solve: table_piece's iterates 0-9 need at
+// most 10 a solve, its iterate 10 more.
+TEST(DiskCutMapCpu, AnIterateThatCannotBeSolvedEndsTheRun) {
+    const geo::Mesh part = geo::load_mesh(std::filesystem::path(GIMG_TEST_DATA_DIR) / "real" / "table_piece.ply");
+    passes::ParameterizeOptions options;
+    const passes::CutMap full = passes::cut_and_map(nullptr, part, 16, options, {.graph = geo::CutGraph::FaceTree});
+    ASSERT_GT(full.map.iterations.size(), 11u);
+    ASSERT_GT(full.map.iterations[10].solver_iterations, 10u);
+    options.max_solver_iterations = 10;
+    const passes::CutMap cut = passes::cut_and_map(nullptr, part, 16, options, {.graph = geo::CutGraph::FaceTree});
+    EXPECT_NE(cut.map.unsolved.find("iteration 10: "), std::string::npos) << cut.map.unsolved;
+    EXPECT_TRUE(full.map.unsolved.empty());
+    ASSERT_EQ(cut.map.iterations.size(), 10u);  // iterates 0 to 9, as in the full run
+    for (std::size_t t = 0; t < 10; ++t)
+        EXPECT_EQ(cut.map.iterations[t].sigma_error, full.map.iterations[t].sigma_error);
+    EXPECT_EQ(cut.map.selected, 9u);
+    EXPECT_EQ(passes::count_flipped(cut.cut.disk, cut.map.uv), 0u);
+}
+
 TEST(DiskCutMapCpu, RefusesWhatNoCutMakesADisk) {
     auto refusal = [](const geo::Mesh& m) {
         try {

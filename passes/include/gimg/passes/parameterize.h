@@ -181,6 +181,9 @@ struct ParameterizeOptions {
     // stretch, which never folds).
     double iterate_tolerance = 1e-5;
     double fold_tolerance = 1e-11;
+    // Most BiCGSTAB iterations of one solve; a solve that has not reached its tolerance by then
+    // fails (Parameterization::unsolved).
+    std::size_t max_solver_iterations = 20'000;
     // Keep every iterate's map (Parameterization::iterates), for choosing one by another measure;
     // every iterate is then solved to solve_tolerance.
     bool keep_iterates = false;
@@ -211,6 +214,9 @@ struct Parameterization {
     std::vector<std::vector<glm::dvec2>> iterates;  // with keep_iterates: every iterate's uv, 0 first
     std::size_t final_solver_iterations = 0;        // the returned map's solve to solve_tolerance
     std::size_t selected = 0;                       // the iterate returned
+    // Where a reweighted iterate's solve failed ("iteration T: " and the solver's message), which
+    // ended the run; empty otherwise.
+    std::string unsolved;
     double seconds = 0.0;                           // the whole run, set-up included
     double solve_seconds = 0.0;                     // of seconds: every linear solve, the final one's included
     // GPU path: the queue submissions the run made and, of seconds, the host's time waiting for them
@@ -221,7 +227,8 @@ struct Parameterization {
 
 // The map on the GPU (the solver module's BiCGSTAB, each solve warm-started from the last) or, with
 // ctx == nullptr, with the CPU twin of the same solver. Throws geo::InputError for a mesh that is
-// not a disk (check_disk_mesh) and when a solve does not converge.
+// not a disk (check_disk_mesh) and when the start's or the returned map's solve fails; a reweighted
+// iterate whose solve fails ends the run instead (Parameterization::unsolved).
 Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const ParameterizeOptions& options = {},
                                      const std::function<void(const IterationReport&)>& on_iteration = {});
 
@@ -230,7 +237,7 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
 // options.select_size and no graph named in cut_options, on a surface where the two initial cut
 // graphs differ (neither a sphere nor a disk) each is cut and mapped, and the one kept is the one
 // whose selected iterate's image rebuilds the mesh better (image_rms); the lower stretch alone
-// picks the better map on 9 of the 14 shared meshes with two graphs.
+// picks the better map on 10 of the 14 shared meshes with two graphs (docs/gim.md).
 struct CutMap {
     DiskCut cut;
     std::optional<SeamBoundary> seam;
