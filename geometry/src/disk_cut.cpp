@@ -438,4 +438,36 @@ std::size_t split_dividing_edges(OpenedMesh& opened) {
     return split;
 }
 
+std::size_t split_short_boundary(OpenedMesh& opened) {
+    Mesh& disk = opened.disk;
+    std::size_t split = 0;
+    for (;;) {
+        const MeshAdjacency adj = build_adjacency(disk);
+        std::size_t boundary = 0, longest = kInvalidIndex;
+        double length = -1.0;
+        for (std::size_t e = 0; e < adj.edge_count(); ++e) {
+            if (adj.edge_face_count(e) != 1) continue;
+            ++boundary;
+            const double l = glm::distance(disk.positions[adj.edges[2 * e]], disk.positions[adj.edges[2 * e + 1]]);
+            if (l > length) length = l, longest = e;
+        }
+        if (boundary == 0 || boundary >= 4) return split;
+        const std::uint32_t f = adj.faces_of_edge(longest)[0];
+        const glm::uvec3 t = disk.triangles[f];
+        int k = 0;  // the face's side from corner k to corner k + 1 is the edge
+        while (adj.face_edges[3 * f + k] != longest) ++k;
+        const std::uint32_t a = t[k], b = t[(k + 1) % 3], c = t[(k + 2) % 3];
+        const auto m = std::uint32_t(disk.positions.size());
+        disk.positions.push_back(0.5 * (disk.positions[a] + disk.positions[b]));
+        if (disk.normals.size() + 1 == disk.positions.size())
+            disk.normals.push_back(glm::normalize(disk.normals[a] + disk.normals[b]));
+        if (disk.texcoords.size() + 1 == disk.positions.size())
+            disk.texcoords.push_back(0.5 * (disk.texcoords[a] + disk.texcoords[b]));
+        opened.source.push_back(kInvalidIndex);
+        disk.triangles[f] = {a, m, c};
+        disk.triangles.push_back({m, b, c});
+        ++split;
+    }
+}
+
 }  // namespace gimg::geo

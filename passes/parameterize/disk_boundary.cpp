@@ -44,7 +44,9 @@ void check_disk_mesh(const geo::Mesh& mesh) {
         throw geo::InputError(needs + "this mesh has " + std::to_string(info.boundary_loops) +
                               " boundary loops (fill the holes, or cut them open into one: --cut)");
     if (info.boundary_edges < 4)
-        throw geo::InputError(needs + "its boundary has fewer than 4 vertices, one for each corner of the square");
+        throw geo::InputError(needs +
+                              "its boundary has fewer than 4 vertices, one for each corner of the square "
+                              "(--cut adds them)");
 }
 
 void check_cuttable_mesh(const geo::Mesh& mesh) {

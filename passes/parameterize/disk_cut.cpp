@@ -33,7 +33,7 @@ Opened open_and_map(Context* ctx, const geo::Mesh& mesh, const geo::MeshAdjacenc
                     const std::vector<std::uint8_t>& cut) {
     Opened o;
     o.mesh = geo::open_along(mesh, adj, cut);
-    o.split_edges = geo::split_dividing_edges(o.mesh);
+    o.split_edges = geo::split_dividing_edges(o.mesh) + geo::split_short_boundary(o.mesh);
     // A cut that leaves no disk is this code's fault, not the input's: the input was checked.
     const geo::MeshInfo info = geo::analyze_topology(o.mesh.disk);
     if (info.components != 1 || info.boundary_loops != 1 || info.component_info[0].euler_characteristic != 1)

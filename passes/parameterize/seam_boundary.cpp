@@ -106,6 +106,9 @@ std::optional<SeamBoundary> seam_boundary(DiskCut& cut, std::uint32_t size) {
     std::vector<std::uint32_t> loop = square_boundary(disk, geo::build_adjacency(disk)).loop;
     const std::size_t n = loop.size();
     auto source = [&](std::size_t i) { return cut.source[loop[i % n]]; };
+    // A boundary of fewer than 4 vertices, given more (geo::split_short_boundary), has no seam to place.
+    for (std::size_t i = 0; i < n; ++i)
+        if (source(i) == geo::kInvalidIndex) return std::nullopt;
     // Nodes: where a path ends, paths meet, or a path meets a hole.
     std::size_t first = kNone;
     for (std::size_t i = 0; i < n && first == kNone; ++i)

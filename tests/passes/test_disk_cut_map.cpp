@@ -362,6 +362,19 @@ TEST(DiskCutMapCpu, AnIterateThatCannotBeSolvedEndsTheRun) {
     EXPECT_EQ(passes::count_flipped(cut.cut.disk, cut.map.uv), 0u);
 }
 
+// A sphere with one face missing is a disk whose boundary has 3 vertices, one fewer than the
+// square's corners: its longest boundary edge is split for the first map (refused before), and
+// the cut and the map are made.
+TEST(DiskCutMapCpu, ATriangularHoleGetsAVertexForEachCorner) {
+    geo::Mesh m = geo::make_icosphere(1.0, 2);
+    m.triangles.erase(m.triangles.begin());
+    const passes::CutMap cut = passes::cut_and_map(nullptr, m, 12, {});
+    EXPECT_EQ(passes::count_flipped(cut.cut.disk, cut.map.uv), 0u);
+    const geo::MeshInfo info = geo::analyze_topology(cut.cut.disk);
+    EXPECT_EQ(info.boundary_loops, 1u);
+    EXPECT_GE(info.boundary_edges, 4u);
+}
+
 TEST(DiskCutMapCpu, RefusesWhatNoCutMakesADisk) {
     auto refusal = [](const geo::Mesh& m) {
         try {

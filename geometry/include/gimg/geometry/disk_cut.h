@@ -83,4 +83,10 @@ OpenedMesh open_along(const Mesh& mesh, const MeshAdjacency& adjacency, const st
 // new vertex has kInvalidIndex as its source. Returns the number of edges split.
 std::size_t split_dividing_edges(OpenedMesh& opened);
 
+// Splits the longest boundary edges at their midpoints, with their faces, until the boundary has 4
+// vertices, one for each corner of the square: a triangular hole, left by one missing face, is the
+// whole boundary of a disk of genus 0. A new vertex has kInvalidIndex as its source. Returns the
+// number of edges split (0 where the boundary has 4 vertices or more).
+std::size_t split_short_boundary(OpenedMesh& opened);
+
 }  // namespace gimg::geo
