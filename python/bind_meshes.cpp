@@ -2,6 +2,7 @@
 #include "module_support.h"
 
 #include "gimg/geometry/io.h"
+#include "gimg/geometry/repair.h"
 #include "gimg/geometry/error.h"
 #include "gimg/geometry/surface_distance.h"
 #include "gimg/geometry/topology.h"
@@ -44,6 +45,24 @@ void bind_meshes(py::module_& m) {
             return d;
         },
         py::arg("positions"), py::arg("faces"), "Counts, components, boundary loops, genus and defects (gimg info)");
+    m.def(
+        "repair",
+        [](const Positions& positions, const Faces& faces, bool weld, bool largest) {
+            geo::Mesh mesh = to_mesh(positions, faces);
+            const geo::RepairReport r = geo::repair_mesh(mesh, {.weld = weld, .largest = largest});
+            py::dict d;
+            d["welded_vertices"] = r.welded_vertices, d["collapsed_faces"] = r.collapsed_faces;
+            d["duplicate_faces"] = r.duplicate_faces, d["turned_faces"] = r.turned_faces;
+            d["opened_edges"] = r.opened_edges, d["split_vertices"] = r.split_vertices;
+            d["dropped_faces"] = r.dropped_faces, d["zero_area_faces"] = r.zero_area_faces;
+            d["flipped_edges"] = r.flipped_edges, d["collapsed_edges"] = r.collapsed_edges;
+            d["zero_area_left"] = r.zero_area_left, d["dropped_pieces"] = r.dropped_pieces;
+            d["unused_vertices"] = r.unused_vertices, d["changed"] = r.changed();
+            return py::make_tuple(positions_array(mesh.positions), faces_array(mesh.triangles), d);
+        },
+        py::arg("positions"), py::arg("faces"), py::arg("weld") = false, py::arg("largest") = false,
+        "(positions, faces, report): the mesh made manifold and oriented, without collapsed, duplicate or "
+        "zero-area faces (gimg repair)");
     m.def(
         "compare",
         [](const Positions& pa, const Faces& fa, const Positions& pb, const Faces& fb, std::uint64_t samples) {

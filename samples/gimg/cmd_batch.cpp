@@ -34,8 +34,12 @@ struct BatchOptions {
     bool resume = false;
 };
 
-// The per-model commands: they read one mesh and write a folder (info and features: only JSON).
+// The per-model commands: they read one mesh and write a folder, or one file into the model's
+// folder (repair), or only JSON (info, features).
 const std::set<std::string> kFolderCommands{"cylinder", "sphere", "gim", "maps", "quadmap", "deform", "roundtrip"};
+const std::map<std::string, std::string> kFileCommands{{"repair", "repaired.ply"}};
+// The commands that need no Vulkan device.
+const std::set<std::string> kHostCommands{"info", "repair"};
 
 // One JSON line appended with a single write and synced, so a killed run leaves whole lines (a
 // torn last line at worst, which the next --resume drops).
@@ -68,6 +72,8 @@ std::string run_one(const BatchOptions& o, const Model& model, const std::filesy
     add_commands(app, inner);
     std::vector<std::string> args{o.command, model.path.string()};
     if (kFolderCommands.count(o.command)) args.insert(args.end(), {"--out", dir.string()});
+    if (auto file = kFileCommands.find(o.command); file != kFileCommands.end())
+        args.insert(args.end(), {"--out", (dir / file->second).string()});
     args.insert(args.end(), {"--json", (dir / "result.json").string()});
     args.insert(args.end(), o.rest.begin(), o.rest.end());
     std::vector<std::string> reversed(args.rbegin(), args.rend());  // CLI11 takes them last first
@@ -91,9 +97,10 @@ std::string run_one(const BatchOptions& o, const Model& model, const std::filesy
 void run_batch(const BatchOptions& o, const GlobalOptions& global) {
     if (o.inputs.empty() || o.out.empty()) throw geo::InputError("batch needs --inputs and --out");
     if (o.command == "batch") throw geo::InputError("batch cannot run batch");
-    if (!kFolderCommands.count(o.command) && o.command != "info" && o.command != "features")
+    if (!kFolderCommands.count(o.command) && !kFileCommands.count(o.command) && o.command != "info" &&
+        o.command != "features")
         throw geo::InputError(
-            "batch runs the per-model commands: info, features, cylinder, sphere, gim, maps, "
+            "batch runs the per-model commands: info, repair, features, cylinder, sphere, gim, maps, "
             "quadmap, deform, roundtrip; not '" +
             o.command + "'");
     const Shard shard = parse_shard(o.shard);
@@ -133,7 +140,7 @@ void run_batch(const BatchOptions& o, const GlobalOptions& global) {
     }
 
     std::shared_ptr<Context> context;
-    if (o.command != "info") context = open_context(global);  // info needs no device
+    if (!kHostCommands.count(o.command)) context = open_context(global);
     ProgressLine progress(global.quiet);
     const auto start = std::chrono::steady_clock::now();
     std::size_t ran = 0, failed = 0;

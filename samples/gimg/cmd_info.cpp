@@ -29,12 +29,10 @@ nlohmann::json vec3(const glm::dvec3& v) { return {v.x, v.y, v.z}; }
 
 nlohmann::json to_json(const std::string& file, const geo::LoadReport& load, const geo::MeshInfo& info,
                        double seconds) {
-    nlohmann::json genus = nlohmann::json::array(), chi = nlohmann::json::array(), faces = nlohmann::json::array(),
-                   vertices = nlohmann::json::array(), loops = nlohmann::json::array(),
-                   manifold = nlohmann::json::array(), orientable = nlohmann::json::array(),
-                   oriented = nlohmann::json::array();
+    nlohmann::json chi = nlohmann::json::array(), faces = nlohmann::json::array(), vertices = nlohmann::json::array(),
+                   loops = nlohmann::json::array(), manifold = nlohmann::json::array(),
+                   orientable = nlohmann::json::array(), oriented = nlohmann::json::array();
     for (const geo::ComponentInfo& c : info.component_info) {
-        genus.push_back(c.genus ? nlohmann::json(*c.genus) : nlohmann::json(nullptr));
         chi.push_back(c.euler_characteristic);
         faces.push_back(c.faces);
         vertices.push_back(c.vertices);
@@ -43,18 +41,8 @@ nlohmann::json to_json(const std::string& file, const geo::LoadReport& load, con
         orientable.push_back(c.orientable);
         oriented.push_back(c.oriented);
     }
-    return {
-        // The keys DESIGN.md fixes.
-        {"vertices", info.vertices},
-        {"faces", info.faces},
-        {"edges", info.edges},
-        {"components", info.components},
-        {"boundary_loops", info.boundary_loops},
-        {"genus", genus},
-        {"non_manifold_edges", info.non_manifold_edges},
-        {"non_manifold_vertices", info.non_manifold_vertices},
-        {"degenerate_faces", info.degenerate_faces},
-        {"duplicate_faces", info.duplicate_faces},
+    nlohmann::json j = topology_json(info);
+    j.update({
         {"bbox_min", vec3(info.bbox.min)},
         {"bbox_max", vec3(info.bbox.max)},
         // More.
@@ -87,7 +75,8 @@ nlohmann::json to_json(const std::string& file, const geo::LoadReport& load, con
         {"bbox_diagonal", info.bbox.diagonal()},
         {"notes", load.notes},
         {"seconds", seconds},
-    };
+    });
+    return j;
 }
 
 // "0" for one component; "0, 1, -" for a few; "0 x30, 1 x2, - x1" for many ("-": undefined).
@@ -142,6 +131,24 @@ void run_info(const InfoArgs& args, const GlobalOptions& global) {
 }
 
 }  // namespace
+
+nlohmann::json topology_json(const geo::MeshInfo& info) {
+    nlohmann::json genus = nlohmann::json::array();
+    for (const geo::ComponentInfo& c : info.component_info)
+        genus.push_back(c.genus ? nlohmann::json(*c.genus) : nlohmann::json(nullptr));
+    return {{"vertices", info.vertices},
+            {"faces", info.faces},
+            {"edges", info.edges},
+            {"components", info.components},
+            {"boundary_loops", info.boundary_loops},
+            {"genus", genus},
+            {"non_manifold_edges", info.non_manifold_edges},
+            {"non_manifold_vertices", info.non_manifold_vertices},
+            {"degenerate_faces", info.degenerate_faces},
+            {"duplicate_faces", info.duplicate_faces},
+            {"manifold", info.manifold},
+            {"oriented", info.oriented}};
+}
 
 void add_info_command(CLI::App& app, const GlobalOptions& global) {
     auto args = std::make_shared<InfoArgs>();

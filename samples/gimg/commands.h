@@ -5,6 +5,9 @@
 
 #include "gimg/engine/context.h"
 #include "gimg/geometry/mesh.h"
+#include "gimg/geometry/topology.h"
+
+#include <nlohmann/json.hpp>
 
 #include <filesystem>
 #include <memory>
@@ -65,5 +68,10 @@ void add_maps_command(CLI::App& app, const GlobalOptions& global);
 void add_polycube_command(CLI::App& app, const GlobalOptions& global);
 // gimg info MESH [--json FILE] [--weld] (cmd_info.cpp)
 void add_info_command(CLI::App& app, const GlobalOptions& global);
+// The topology keys of info's JSON that DESIGN.md fixes, with `manifold` and `oriented`; repair's
+// `before` and `after` too (cmd_info.cpp).
+nlohmann::json topology_json(const geo::MeshInfo& info);
+// gimg repair MESH --out FILE [--weld] [--largest] [--json FILE] (cmd_repair.cpp)
+void add_repair_command(CLI::App& app, const GlobalOptions& global);
 
 }  // namespace gimg::cli

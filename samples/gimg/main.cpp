@@ -44,6 +44,7 @@ namespace gimg::cli {
 void add_commands(CLI::App& app, GlobalOptions& global) {
     add_demo_command(app, global);
     add_info_command(app, global);
+    add_repair_command(app, global);
     add_compare_command(app, global);
     add_render_command(app, global);
     add_cylinder_command(app, global);

@@ -54,6 +54,7 @@ output_is_input)
   cmp -s "$W/m.off" "$W/m.keep" || fail "the input mesh changed"
   run 2 "must end in .png" "$GIMG" render "$W/m.off" --out "$W/x.jpg"
   absent "$W/x.jpg"
+  run 2 "must end in .ply or .obj" "$GIMG" repair "$W/m.off" --out "$W/m.off"
   run 2 "also written as --out" "$GIMG" cylinder "$W/m.off" --out "$W/d" --json "$W/d/frame.json"
   absent "$W/d/distance.exr"
   run 2 "also written as --out" "$GIMG" sphere "$W/m.off" --out "$W/s" --json "$W/s/metrics.json"
@@ -166,7 +167,8 @@ cpu_methods_without_vulkan)
     exists "$W/$method/sphere.ply" "$W/$method/metrics.json"
   done
   for cmd in "cylinder $W/m.off --out $W/ray --method raycast" "cylinder $W/m.off --out $W/scan --method scanline" \
-             "reconstruct $W/good/distance.exr --out $W/r.ply --cpu" "compare $W/m.off $W/m.off" "info $W/m.off"; do
+             "reconstruct $W/good/distance.exr --out $W/r.ply --cpu" "compare $W/m.off $W/m.off" "info $W/m.off" \
+             "repair $W/m.off --out $W/rep.ply"; do
     # shellcheck disable=SC2086
     VK_DRIVER_FILES=/nonexistent.json VK_ICD_FILENAMES=/nonexistent.json "$GIMG" --quiet $cmd >/dev/null 2>&1 ||
       fail "'gimg $cmd' without a Vulkan driver failed"

@@ -61,6 +61,19 @@ def test_load_mesh_and_info_match_the_command_line():
     assert info["genus"] == [0]
 
 
+def test_repair_matches_the_command_line(tmp_path):
+    part = os.path.join(DATA, "real", "table_part.off")
+    positions, faces = gimg.load_mesh(part)
+    assert not gimg.info(positions, faces)["manifold"]
+    fixed_p, fixed_f, report = gimg.repair(positions, faces, largest=True)
+    info = gimg.info(fixed_p, fixed_f)
+    assert info["manifold"] and info["oriented"] and info["components"] == 1
+    cli = cli_json("repair", part, "--largest", "--out", str(tmp_path / "fixed.ply"))
+    for key, value in report.items():
+        assert cli["repair"][key] == value, key
+    assert cli["after"]["faces"] == len(fixed_f) and cli["after"]["vertices"] == len(fixed_p)
+
+
 def test_save_then_load_round_trips(tmp_path):
     positions, faces = plateau()
     path = str(tmp_path / "plateau.ply")
