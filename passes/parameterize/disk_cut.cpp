@@ -159,7 +159,10 @@ CutMap cut_and_map(Context* ctx, const geo::Mesh& mesh, std::uint32_t size, cons
         r.seam = seam_boundary(r.cut, size);
         ParameterizeOptions po = options;
         if (r.seam) po.boundary = r.seam->boundary;
-        if (r.cut.cut_edges > 0) po.rise_ends_run = false;
+        if (r.cut.cut_edges > 0) {
+            po.rise_ends_run = false;
+            po.keep_start_size = size;
+        }
         r.map = parameterize_square(ctx, r.cut.disk, po);
         return r;
     };

@@ -375,6 +375,27 @@ TEST(DiskCutMapCpu, ATriangularHoleGetsAVertexForEachCorner) {
     EXPECT_GE(info.boundary_edges, 4u);
 }
 
+// On a surface it cut, cut_and_map measures Floater's start against the iterate the rule returns
+// and keeps the better: table_piece cut along its shortest loops rebuilds at 16 x 16 far worse once
+// reweighted (parts crushed), along its face tree better.
+TEST(DiskCutMapCpu, ACutSurfaceKeepsTheStartWhereReweightingRebuildsWorse) {
+    const geo::Mesh part = geo::load_mesh(std::filesystem::path(GIMG_TEST_DATA_DIR) / "real" / "table_piece.ply");
+    const passes::CutMap loops = passes::cut_and_map(nullptr, part, 16, {}, {.graph = geo::CutGraph::ShortestLoops});
+    ASSERT_GT(loops.cut.cut_edges, 0u);
+    EXPECT_EQ(loops.map.selected, 0u);
+    const std::vector<passes::IterationReport>& runs = loops.map.iterations;
+    ASSERT_GT(runs.size(), 2u);
+    double rule = 0.0;  // the image RMS of the iterate the rule chose, measured against the start
+    for (std::size_t t = 1; t < runs.size(); ++t) rule = std::max(rule, runs[t].image_rms);
+    EXPECT_GT(rule, 2.0 * runs[0].image_rms) << "the reweighted map crushes parts of this piece";
+    EXPECT_NEAR(passes::geometry_image_rms(loops.cut.disk, loops.map.uv, 16, 50'000), runs[0].image_rms,
+                0.1 * runs[0].image_rms);
+
+    const passes::CutMap tree = passes::cut_and_map(nullptr, part, 16, {}, {.graph = geo::CutGraph::FaceTree});
+    ASSERT_GT(tree.map.selected, 0u);
+    EXPECT_LT(tree.map.iterations[tree.map.selected].image_rms, tree.map.iterations[0].image_rms);
+}
+
 TEST(DiskCutMapCpu, RefusesWhatNoCutMakesADisk) {
     auto refusal = [](const geo::Mesh& m) {
         try {

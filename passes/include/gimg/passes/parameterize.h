@@ -193,6 +193,11 @@ struct ParameterizeOptions {
     // candidate, so by that measure the map returned is never worse than the start.
     std::uint32_t select_size = 0;
     std::size_t select_samples = 50'000;
+    // Without select_size: measure the start (Floater's map) and the iterate the rule returns as
+    // select does (with 10,000 samples each way), at this size, and return the start where it
+    // rebuilds the mesh better. cut_and_map
+    // sets it on a surface it cut, where reweighting can crush parts that the start keeps.
+    std::uint32_t keep_start_size = 0;
 };
 
 struct IterationReport {
@@ -204,7 +209,8 @@ struct IterationReport {
     std::size_t solver_iterations = 0;  // both solves where an iterate folded at the iterate tolerance
     double seconds = 0.0;               // reweighting and solve of this iteration
     double solve_seconds = 0.0;         // of seconds: the linear solves (system, upload, iterations, result)
-    double image_rms = 0.0;             // with select_size: geometry_image_rms of this iterate
+    double image_rms = 0.0;             // with select_size: geometry_image_rms of this iterate (with
+                                        // keep_start_size: of the start and the returned one; else 0)
 };
 
 struct Parameterization {
