@@ -220,8 +220,8 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         try {
             uv = solve(uv, report);
         } catch (const geo::InputError& e) {
-            // A system reweighted so far that its solve breaks down (a cut door part's, iteration 44,
-            // on lavapipe) ends the run as a fold does: the iterates before it stand.
+            // A system reweighted so far that its solve breaks down (a cut door part's 47th, on
+            // lavapipe) ends the run as a fold does: the iterates before it stand.
             out.unsolved = "iteration " + std::to_string(t) + ": " + e.what();
             break;
         }

@@ -161,9 +161,10 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
             "flipped triangles; %ux%u image (%zu of %zu pixels covered, %.1f ms) -> %zu faces (%.1f ms)\n",
             map.iterations.size() - 1, map.selected, map.final_solver_iterations, map.seconds, flipped, size, size,
             covered, std::size_t(size) * size, sample_ms, back.face_count(), reconstruct_ms);
-        if (cut && !o.select && map.selected == 0 && map.iterations.size() > 1) {
-            double reweighted = 0.0;  // the iterate the rule chose, measured against the start
-            for (const auto& r : map.iterations) reweighted = std::max(reweighted, r.image_rms);
+        double reweighted = 0.0;  // with --cut: the iterate the rule chose, measured against the start
+        for (std::size_t t = 1; t < map.iterations.size(); ++t)
+            reweighted = std::max(reweighted, map.iterations[t].image_rms);
+        if (cut && !o.select && map.selected == 0 && reweighted > 0.0) {
             std::printf(
                 "note: the reweighted map rebuilds the cut surface worse (image RMS %.3e) than Floater's "
                 "start (%.3e), which is returned\n",
