@@ -161,7 +161,7 @@ CutMap cut_and_map(Context* ctx, const geo::Mesh& mesh, std::uint32_t size, cons
         if (r.seam) po.boundary = r.seam->boundary;
         if (r.cut.cut_edges > 0) {
             po.rise_ends_run = false;
-            po.keep_start_size = size;
+            po.candidates_size = size;
         }
         r.map = parameterize_square(ctx, r.cut.disk, po);
         return r;

@@ -31,9 +31,9 @@ std::string scientific(double x) {
 constexpr const char* kVariantNames[] = {"tutte", "floater", "stretch", "density", "uniform3d", "curvature"};
 // The iterates project_start combines for the next reweighted solve.
 constexpr std::size_t kPastIterates = 4;
-// keep_start_size's samples each way: enough to tell a crushed map (table_piece: 10 times the start's
-// RMS) from the start, at a fifth of select's cost.
-constexpr std::size_t kKeepStartSamples = 10'000;
+// candidates_size's samples each way: enough to tell a crushed map (table_piece: 10 times the
+// start's RMS) from the start, at a fifth of select's cost.
+constexpr std::size_t kCandidateSamples = 10'000;
 
 }  // namespace
 
@@ -196,8 +196,14 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
     }
     double best_stretch = first.l2_stretch;
     std::vector<double> returned_weights = weights;  // the weights of out.uv
-    const std::vector<glm::dvec2> start_uv = uv;
-    const std::vector<double> start_weights = weights;
+    // With candidates_size: the start's map and the non-folding iterate of least E_sigma, with their weights.
+    struct Candidate {
+        std::size_t t = 0;
+        std::vector<glm::dvec2> uv;
+        std::vector<double> weights;
+    };
+    Candidate start{0, uv, weights}, least_sigma;
+    const bool candidates = options.candidates_size > 0 && options.select_size == 0;
     // With select_size, the iterate of least image error is returned, whatever the variant's rule.
     auto keep = [&](const std::vector<glm::dvec2>& map, std::size_t t) {
         out.uv = map;
@@ -227,6 +233,9 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
         }
         stretch = measure(uv, report);
         finish(uv, report, started);
+        if (candidates && report.flipped == 0 &&
+            (least_sigma.t == 0 || report.sigma_error < out.iterations[least_sigma.t].sigma_error))
+            least_sigma = {t, uv, weights};
         if (options.select_size > 0) {
             // A map that folds is never chosen over one that does not, whatever its image.
             const IterationReport &now = out.iterations[t], &held = out.iterations[out.selected];
@@ -250,17 +259,20 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
             if (rose ? options.rise_ends_run : !(report.sigma_error < before * (1.0 - options.stop_fall))) break;
         }
     }
-    if (options.keep_start_size > 0 && options.select_size == 0 && out.selected > 0) {
+    if (candidates && out.selected > 0) {
         const geo::TriangleBvh bvh(mesh);
-        auto rms = [&](const std::vector<glm::dvec2>& map) {
-            return geometry_image_rms(mesh, bvh, map, options.keep_start_size, kKeepStartSamples);
+        auto measure_image = [&](std::size_t t, const std::vector<glm::dvec2>& map) {
+            out.iterations[t].image_rms =
+                geometry_image_rms(mesh, bvh, map, options.candidates_size, kCandidateSamples);
+            return out.iterations[t].image_rms;
         };
-        out.iterations.front().image_rms = rms(start_uv);
-        out.iterations[out.selected].image_rms = rms(out.uv);
-        if (out.iterations.front().image_rms < out.iterations[out.selected].image_rms) {
-            out.uv = start_uv;
-            returned_weights = start_weights;
-            out.selected = 0;
+        double best = measure_image(out.selected, out.uv);
+        for (Candidate* c : {&start, &least_sigma}) {
+            if (c->uv.empty() || c->t == out.selected || measure_image(c->t, c->uv) >= best) continue;
+            best = out.iterations[c->t].image_rms;
+            out.uv = c->uv;
+            returned_weights = c->weights;
+            out.selected = c->t;
         }
     }
     if (iterate_tolerance > options.solve_tolerance) {

@@ -161,15 +161,16 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
             "flipped triangles; %ux%u image (%zu of %zu pixels covered, %.1f ms) -> %zu faces (%.1f ms)\n",
             map.iterations.size() - 1, map.selected, map.final_solver_iterations, map.seconds, flipped, size, size,
             covered, std::size_t(size) * size, sample_ms, back.face_count(), reconstruct_ms);
-        double reweighted = 0.0;  // with --cut: the iterate the rule chose, measured against the start
+        // With --cut the candidates were measured; the run's own iterate is the last of them.
+        std::size_t stopped = 0;
         for (std::size_t t = 1; t < map.iterations.size(); ++t)
-            reweighted = std::max(reweighted, map.iterations[t].image_rms);
-        if (cut && !o.select && map.selected == 0 && reweighted > 0.0) {
+            if (map.iterations[t].image_rms > 0.0) stopped = t;
+        if (cut && !o.select && stopped > 0 && map.selected != stopped)
             std::printf(
-                "note: the reweighted map rebuilds the cut surface worse (image RMS %.3e) than Floater's "
-                "start (%.3e), which is returned\n",
-                reweighted, map.iterations.front().image_rms);
-        }
+                "note: iterate %zu (%s) rebuilds the cut surface better (image RMS %.3e) than iterate %zu, "
+                "where the run stopped (%.3e), and is returned\n",
+                map.selected, map.selected == 0 ? "Floater's start" : "the least E_sigma",
+                map.iterations[map.selected].image_rms, stopped, map.iterations[stopped].image_rms);
         if (!map.unsolved.empty())
             std::printf("note: the run ended where a reweighted system could not be solved (%s)\n",
                         map.unsolved.c_str());

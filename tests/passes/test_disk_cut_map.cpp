@@ -396,6 +396,26 @@ TEST(DiskCutMapCpu, ACutSurfaceKeepsTheStartWhereReweightingRebuildsWorse) {
     EXPECT_LT(tree.map.iterations[tree.map.selected].image_rms, tree.map.iterations[0].image_rms);
 }
 
+// The third candidate: motorbike_piece's iterate of least E_sigma rebuilds it better at 13 x 13
+// than the start and the iterate the rule returns, and is returned.
+TEST(DiskCutMapCpu, ACutSurfaceCanKeepTheIterateOfLeastSigma) {
+    const geo::Mesh part = geo::load_mesh(std::filesystem::path(GIMG_TEST_DATA_DIR) / "real" / "motorbike_piece.ply");
+    const passes::CutMap cut = passes::cut_and_map(nullptr, part, 13, {});
+    ASSERT_GT(cut.cut.cut_edges, 0u);
+    const std::vector<passes::IterationReport>& runs = cut.map.iterations;
+    std::size_t least = 0, last = 0;  // the candidates besides the start
+    for (std::size_t t = 1; t < runs.size(); ++t) {
+        if (runs[t].flipped > 0) continue;
+        last = t;
+        if (least == 0 || runs[t].sigma_error < runs[least].sigma_error) least = t;
+    }
+    ASSERT_GT(least, 0u);
+    ASSERT_GT(last, least);
+    EXPECT_EQ(cut.map.selected, least);
+    EXPECT_LT(runs[least].image_rms, 0.95 * runs[last].image_rms);
+    EXPECT_LT(runs[least].image_rms, 0.95 * runs[0].image_rms);
+}
+
 TEST(DiskCutMapCpu, RefusesWhatNoCutMakesADisk) {
     auto refusal = [](const geo::Mesh& m) {
         try {

@@ -193,11 +193,12 @@ struct ParameterizeOptions {
     // candidate, so by that measure the map returned is never worse than the start.
     std::uint32_t select_size = 0;
     std::size_t select_samples = 50'000;
-    // Without select_size: measure the start (Floater's map) and the iterate the rule returns as
-    // select does (with 10,000 samples each way), at this size, and return the start where it
-    // rebuilds the mesh better. cut_and_map
-    // sets it on a surface it cut, where reweighting can crush parts that the start keeps.
-    std::uint32_t keep_start_size = 0;
+    // Without select_size: measure three candidates as select does (with 10,000 samples each way),
+    // at this size, and return the one that rebuilds the mesh best: the iterate the rule returns,
+    // the start (Floater's map) and the iterate of least E_sigma that does not fold. cut_and_map sets
+    // it on a surface it cut, where reweighting can crush parts that the start keeps, or run on
+    // through a rise of E_sigma past its best.
+    std::uint32_t candidates_size = 0;
 };
 
 struct IterationReport {
@@ -210,7 +211,7 @@ struct IterationReport {
     double seconds = 0.0;               // reweighting and solve of this iteration
     double solve_seconds = 0.0;         // of seconds: the linear solves (system, upload, iterations, result)
     double image_rms = 0.0;             // with select_size: geometry_image_rms of this iterate (with
-                                        // keep_start_size: of the start and the returned one; else 0)
+                                        // candidates_size: of the candidates measured; else 0)
 };
 
 struct Parameterization {
