@@ -31,12 +31,13 @@ void check_input(const geo::Mesh& mesh, std::uint32_t& genus) {
         refuse(info.boundary_loops == 1
                    ? std::string("the mesh has a boundary loop (a hole)")
                    : "the mesh has " + std::to_string(info.boundary_loops) + " boundary loops (holes)");
-    if (!info.manifold) refuse("the mesh has non-manifold edges or vertices");
-    if (!info.oriented) refuse("the faces are not consistently oriented");
+    if (!info.manifold) refuse("the mesh has non-manifold edges or vertices (gimg repair opens them)");
+    if (!info.oriented) refuse("the faces are not consistently oriented (gimg repair turns them)");
     if (info.collapsed_faces || info.duplicate_faces)
         refuse("the mesh has " + std::to_string(info.collapsed_faces + info.duplicate_faces) +
-               " collapsed or duplicate faces");
-    if (info.isolated_vertices) refuse(std::to_string(info.isolated_vertices) + " vertices belong to no face");
+               " collapsed or duplicate faces (gimg repair removes them)");
+    if (info.isolated_vertices)
+        refuse(std::to_string(info.isolated_vertices) + " vertices belong to no face (gimg repair removes them)");
     genus = 0;
     for (const geo::ComponentInfo& c : info.component_info) genus += std::uint32_t(c.genus.value_or(0));
 }

@@ -21,14 +21,19 @@ geo::MeshInfo check_one_surface(const geo::Mesh& mesh, const std::string& needs)
     const geo::MeshInfo info = geo::analyze_topology(mesh);
     auto refuse = [&](const std::string& why) { throw geo::InputError(needs + why); };
     if (info.nonfinite_vertices) refuse(std::to_string(info.nonfinite_vertices) + " vertices are not finite");
-    if (info.components != 1) refuse("this mesh has " + std::to_string(info.components) + " components");
+    if (info.components != 1)
+        refuse("this mesh has " + std::to_string(info.components) +
+               " components (gimg repair --largest keeps the largest)");
     if (info.isolated_vertices)
-        refuse(std::to_string(info.isolated_vertices) + " vertices are in no face (remove them first)");
+        refuse(std::to_string(info.isolated_vertices) + " vertices are in no face (gimg repair removes them)");
     if (!info.manifold)
         refuse("this mesh has " + std::to_string(info.non_manifold_edges) + " non-manifold edges and " +
-               std::to_string(info.non_manifold_vertices) + " non-manifold vertices");
-    if (info.degenerate_faces) refuse(std::to_string(info.degenerate_faces) + " faces have no area");
-    if (!info.oriented) refuse(std::to_string(info.inconsistent_edges) + " edges join faces of opposite orientation");
+               std::to_string(info.non_manifold_vertices) + " non-manifold vertices (gimg repair opens them)");
+    if (info.degenerate_faces)
+        refuse(std::to_string(info.degenerate_faces) + " faces have no area (gimg repair removes them)");
+    if (!info.oriented)
+        refuse(std::to_string(info.inconsistent_edges) +
+               " edges join faces of opposite orientation (gimg repair turns them)");
     return info;
 }
 

@@ -151,11 +151,14 @@ CappedMesh cap_holes(const geo::Mesh& mesh) {
     if (info.nonfinite_vertices) throw geo::InputError("the mesh has vertices with NaN or infinite coordinates");
     if (info.components != 1)
         throw geo::InputError("the mesh has " + std::to_string(info.components) +
-                              " pieces; a polycube needs one (split it, e.g. gimg info lists them)");
-    if (!info.manifold) throw geo::InputError("the mesh is not manifold (non-manifold edges or vertices)");
-    if (!info.oriented) throw geo::InputError("the mesh's faces are not consistently oriented");
+                              " pieces; a polycube needs one (gimg repair --largest keeps the largest)");
+    if (!info.manifold)
+        throw geo::InputError("the mesh is not manifold (non-manifold edges or vertices; gimg repair opens them)");
+    if (!info.oriented)
+        throw geo::InputError("the mesh's faces are not consistently oriented (gimg repair turns them)");
     if (info.degenerate_faces)
-        throw geo::InputError("the mesh has " + std::to_string(info.degenerate_faces) + " degenerate faces");
+        throw geo::InputError("the mesh has " + std::to_string(info.degenerate_faces) +
+                              " degenerate faces (gimg repair removes them)");
     CappedMesh c;
     c.mesh.positions = mesh.positions;
     c.mesh.triangles = mesh.triangles;

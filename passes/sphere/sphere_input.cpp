@@ -30,7 +30,9 @@ void check_sphere_input(const geo::Mesh& mesh) {
     if (info.nonfinite_vertices)
         throw geo::InputError(plural(info.nonfinite_vertices, "vertex has", "vertices have") +
                               " NaN or infinite coordinates");
-    if (info.components > 1) throw geo::InputError(std::to_string(info.components) + " separate pieces" + need + "one");
+    if (info.components > 1)
+        throw geo::InputError(std::to_string(info.components) + " separate pieces" + need +
+                              "one (gimg repair --largest keeps the largest)");
     if (info.non_manifold_edges) {
         const geo::MeshAdjacency adj = geo::build_adjacency(mesh);
         for (std::size_t e = 0; e < adj.edge_count(); ++e)
@@ -38,11 +40,13 @@ void check_sphere_input(const geo::Mesh& mesh) {
                 throw geo::InputError(
                     "non-manifold edge at " +
                     at(0.5 * (mesh.positions[adj.edges[2 * e]] + mesh.positions[adj.edges[2 * e + 1]])) + " (" +
-                    plural(info.non_manifold_edges, "such edge", "such edges") + ")" + need + "a manifold surface");
+                    plural(info.non_manifold_edges, "such edge", "such edges") + ")" + need +
+                    "a manifold surface (gimg repair opens them)");
     }
     if (info.non_manifold_vertices)
         throw geo::InputError(plural(info.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices") +
-                              " (faces meeting at a point only)" + need + "a manifold surface");
+                              " (faces meeting at a point only)" + need +
+                              "a manifold surface (gimg repair opens them)");
     if (info.boundary_loops)
         throw geo::InputError(plural(info.boundary_loops, "boundary loop", "boundary loops") + need +
                               "a closed surface");
@@ -51,16 +55,17 @@ void check_sphere_input(const geo::Mesh& mesh) {
     if (!info.oriented)
         throw geo::InputError("faces are not consistently oriented (" +
                               plural(info.inconsistent_edges, "edge disagrees", "edges disagree") + ")" + need +
-                              "one orientation");
+                              "one orientation (gimg repair turns them)");
     if (info.degenerate_faces)
         throw geo::InputError(plural(info.degenerate_faces, "degenerate face", "degenerate faces") +
-                              " (zero area or a repeated vertex)" + need + "proper triangles");
+                              " (zero area or a repeated vertex)" + need +
+                              "proper triangles (gimg repair removes them)");
     if (info.duplicate_faces)
         throw geo::InputError(plural(info.duplicate_faces, "duplicate face", "duplicate faces") + need +
-                              "a simple surface");
+                              "a simple surface (gimg repair removes them)");
     if (info.isolated_vertices)
         throw geo::InputError(plural(info.isolated_vertices, "vertex belongs", "vertices belong") + " to no face" +
-                              need + "every vertex on the surface");
+                              need + "every vertex on the surface (gimg repair removes the others)");
 }
 
 }  // namespace gimg::passes
