@@ -259,6 +259,7 @@ Parameterization parameterize_square(Context* ctx, const geo::Mesh& mesh, const 
             if (rose ? options.rise_ends_run : !(report.sigma_error < before * (1.0 - options.stop_fall))) break;
         }
     }
+    out.rule_iteration = out.selected;
     if (candidates && out.selected > 0) {
         const geo::TriangleBvh bvh(mesh);
         auto measure_image = [&](std::size_t t, const std::vector<glm::dvec2>& map) {

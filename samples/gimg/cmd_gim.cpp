@@ -161,11 +161,8 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
             "flipped triangles; %ux%u image (%zu of %zu pixels covered, %.1f ms) -> %zu faces (%.1f ms)\n",
             map.iterations.size() - 1, map.selected, map.final_solver_iterations, map.seconds, flipped, size, size,
             covered, std::size_t(size) * size, sample_ms, back.face_count(), reconstruct_ms);
-        // With --cut the candidates were measured; the run's own iterate is the last of them.
-        std::size_t stopped = 0;
-        for (std::size_t t = 1; t < map.iterations.size(); ++t)
-            if (map.iterations[t].image_rms > 0.0) stopped = t;
-        if (cut && !o.select && stopped > 0 && map.selected != stopped)
+        const std::size_t stopped = map.rule_iteration;
+        if (cut && !o.select && map.selected != stopped)
             std::printf(
                 "note: iterate %zu (%s) rebuilds the cut surface better (image RMS %.3e) than iterate %zu, "
                 "where the run stopped (%.3e), and is returned\n",
@@ -192,6 +189,7 @@ void run_gim(const GimOptions& o, const GlobalOptions& global) {
                      {"corners", map.boundary.corners},
                      {"iterations", iterations},
                      {"selected_iteration", map.selected},
+                     {"rule_iteration", map.rule_iteration},
                      {"final_solver_iterations", map.final_solver_iterations},
                      {"unsolved", map.unsolved.empty() ? nlohmann::json(nullptr) : nlohmann::json(map.unsolved)},
                      {"map_seconds", map.seconds},

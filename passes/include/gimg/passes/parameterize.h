@@ -221,6 +221,9 @@ struct Parameterization {
     std::vector<std::vector<glm::dvec2>> iterates;  // with keep_iterates: every iterate's uv, 0 first
     std::size_t final_solver_iterations = 0;        // the returned map's solve to solve_tolerance
     std::size_t selected = 0;                       // the iterate returned
+    // The iterate the run would return before candidates_size's candidates are measured (with
+    // select_size, the one select chose); selected where no other candidate won.
+    std::size_t rule_iteration = 0;
     // Where a reweighted iterate's solve failed ("iteration T: " and the solver's message), which
     // ended the run; empty otherwise.
     std::string unsolved;
