@@ -36,9 +36,8 @@ glm::dvec3 position(const TriMesh& m, OpenMesh::VertexHandle v) {
 }
 
 bool zero_area(const TriMesh& m, Handle f) {
-    Mesh one;
-    for (auto v : f.vertices()) one.positions.push_back(position(m, v));
-    return zero_area_face(one, {0, 1, 2});
+    const auto h = f.halfedge();
+    return zero_area_triangle(position(m, h.from()), position(m, h.to()), position(m, h.next().to()));
 }
 
 // Removes one face of zero area, or returns false where no allowed change does.

@@ -113,7 +113,10 @@ void check_orientation(const Mesh& mesh, const topo::EdgeTable& edges, const std
 
 // Zero area relative to the face's size, so that the test does not depend on the mesh's scale.
 bool zero_area_face(const Mesh& mesh, const glm::uvec3& t) {
-    const glm::dvec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    return zero_area_triangle(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]);
+}
+
+bool zero_area_triangle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
     const double longest = std::max({glm::dot(b - a, b - a), glm::dot(c - a, c - a), glm::dot(c - b, c - b)});
     return glm::length(glm::cross(b - a, c - a)) <= 1e-12 * longest;
 }

@@ -79,7 +79,8 @@ nlohmann::json to_json(const std::string& file, const geo::LoadReport& load, con
     return j;
 }
 
-// "0" for one component; "0, 1, -" for a few; "0 x30, 1 x2, - x1" for many ("-": undefined).
+}  // namespace
+
 std::string genus_text(const geo::MeshInfo& info) {
     auto one = [](const geo::ComponentInfo& c) { return c.genus ? std::to_string(*c.genus) : std::string("-"); };
     std::string out;
@@ -93,6 +94,8 @@ std::string genus_text(const geo::MeshInfo& info) {
         out += (out.empty() ? "" : ", ") + genus + " x" + std::to_string(count);
     return out;
 }
+
+namespace {
 
 const char* yes_no(bool b) { return b ? "yes" : "no"; }
 

@@ -35,15 +35,6 @@ nlohmann::json report_json(const geo::RepairReport& r) {
             {"unused_vertices", r.unused_vertices}, {"changed", r.changed()}};
 }
 
-std::string genus_list(const geo::MeshInfo& info) {
-    std::string out;
-    for (std::size_t i = 0; i < info.component_info.size() && i < 8; ++i) {
-        const auto& g = info.component_info[i].genus;
-        out += (i ? ", " : "") + (g ? std::to_string(*g) : std::string("-"));
-    }
-    return out + (info.component_info.size() > 8 ? ", ..." : "");
-}
-
 void print_report(const RepairArgs& args, const geo::MeshInfo& before, const geo::RepairReport& r,
                   const geo::MeshInfo& after) {
     std::printf("%s: %zu vertices, %zu faces -> %zu vertices, %zu faces\n", args.mesh.c_str(), before.vertices,
@@ -66,7 +57,7 @@ void print_report(const RepairArgs& args, const geo::MeshInfo& before, const geo
     if (r.unused_vertices) std::printf("  unused     %zu vertices in no face removed\n", r.unused_vertices);
     std::printf("  result     %s, %s, %zu piece%s of genus %s, %zu boundary loops, %zu faces of zero area\n",
                 after.manifold ? "manifold" : "NOT manifold", after.oriented ? "oriented" : "NOT oriented",
-                after.components, after.components == 1 ? "" : "s", genus_list(after).c_str(), after.boundary_loops,
+                after.components, after.components == 1 ? "" : "s", genus_text(after).c_str(), after.boundary_loops,
                 after.zero_area_faces);
 }
 

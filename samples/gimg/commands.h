@@ -11,6 +11,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace gimg::cli {
@@ -71,6 +72,9 @@ void add_info_command(CLI::App& app, const GlobalOptions& global);
 // The topology keys of info's JSON that DESIGN.md fixes, with `manifold` and `oriented`; repair's
 // `before` and `after` too (cmd_info.cpp).
 nlohmann::json topology_json(const geo::MeshInfo& info);
+// The genus per component as info prints it: "0" for one component, "0, 1, -" for a few, "0 x30,
+// 1 x2, - x1" for many ("-": undefined).
+std::string genus_text(const geo::MeshInfo& info);
 // gimg repair MESH --out FILE [--weld] [--largest] [--json FILE] (cmd_repair.cpp)
 void add_repair_command(CLI::App& app, const GlobalOptions& global);
 

@@ -76,7 +76,9 @@ struct MeshInfo {
 // Throws InputError when a triangle names a vertex that does not exist.
 MeshInfo analyze_topology(const Mesh& mesh);
 
-// The zero-area test of the definitions above, for one face of distinct, existing vertices.
+// The zero-area test of the definitions above, for one face of distinct, existing vertices, and
+// for a triangle given by its corners.
 bool zero_area_face(const Mesh& mesh, const glm::uvec3& t);
+bool zero_area_triangle(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
 
 }  // namespace gimg::geo
